@@ -1,0 +1,3 @@
+from vlab.cli import app
+
+app(prog_name="vlab")
