@@ -1,0 +1,195 @@
+"""Exact homogeneous states of a block with roller grips and free lateral faces.
+
+These are the test oracles for the finite-element solver: a block stretched by frictionless
+grips deforms homogeneously, so the stress–stretch curve follows from one scalar equation.
+
+- Uniaxial: F = diag(λ, t, t) with the lateral stretch t > 0 solving P₂₂(F) = 0 (by isotropy
+  P₃₃ = P₂₂); the nominal (engineering) stress is P₁₁.
+- Biaxial: F = diag(λx, λy, t) with P₃₃(F) = 0.
+
+The root is found with a bracketing solver (``scipy.optimize.brentq``) on g(t) = P_free(t)/t,
+starting from t = 1 and expanding the bracket geometrically. For the four built-in models
+the root is unique on t > 0 (so it is the branch through t = 1 at λ = 1):
+
+- linear:          λ_L(λ − 1 + 2(t − 1)) + 2μ(t − 1) = 0        (always solvable)
+- stvk:            t² = 1 − ν(λ² − 1)                           (only for λ² < 1 + 1/ν)
+- stvk-volumetric: 2ηλ(λt² − 1) + μ(t² − 1) = 0, η = λ_L/2      (always solvable)
+- neo-hookean:     μ(t² − 1) + λ_L ln(λt²) = 0                  (always solvable)
+
+(λ_L is the Lamé constant, λ the stretch.) If no positive root exists, InadmissibleState is
+raised; its message always contains "no admissible state beyond stretch".
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+from scipy.optimize import brentq
+
+__all__ = ["InadmissibleState", "HomogeneousState", "uniaxial", "biaxial"]
+
+_T_MIN = 1e-6      # smallest lateral stretch searched
+_T_MAX = 1e6       # largest lateral stretch searched
+_XTOL = 1e-15
+_RTOL = 4.0 * np.finfo(float).eps
+
+
+class InadmissibleState(ValueError):
+    """No homogeneous equilibrium with a positive lateral stretch exists."""
+
+
+@dataclass(frozen=True, eq=False)
+class HomogeneousState:
+    """A homogeneous equilibrium state.
+
+    ``F``: (3,3) deformation gradient (diagonal), ``P``: (3,3) first Piola–Kirchhoff stress in
+    MPa (zero on the free faces), ``lateral_stretch``: the solved free stretch t.
+    Arrays are read-only.
+    """
+
+    F: np.ndarray
+    P: np.ndarray
+    lateral_stretch: float
+
+    @property
+    def nominal_stress(self) -> float:
+        """Nominal (engineering) stress along x, P[0, 0], MPa."""
+        return float(self.P[0, 0])
+
+    @property
+    def cauchy(self) -> np.ndarray:
+        """True (Cauchy) stress σ = P Fᵀ / J, (3,3), MPa."""
+        return self.P @ self.F.T / np.linalg.det(self.F)
+
+
+def _free_residual(material, diag_of_t: Callable[[float], tuple], idx: int) -> Callable[[float], float]:
+    def g(t: float) -> float:
+        F = np.diag(diag_of_t(t))
+        return float(material.stress(F)[idx, idx]) / t
+
+    return g
+
+
+def _bracket(g: Callable[[float], float]) -> tuple[float, float] | None:
+    """Bracket the root of g on (T_MIN, T_MAX) starting at t = 1; None if there is none."""
+    g1 = g(1.0)
+    if g1 == 0.0:
+        return (1.0, 1.0)
+    if not np.isfinite(g1):
+        return None
+    if g1 > 0.0:  # lateral faces pulled in tension at t = 1: root below 1
+        hi, lo = 1.0, 0.5
+        while lo >= _T_MIN:
+            v = g(lo)
+            if np.isfinite(v) and v < 0.0:
+                return (lo, hi)
+            if np.isfinite(v) and v > 0.0:
+                hi = lo
+            lo *= 0.5
+        v = g(_T_MIN)
+        return (_T_MIN, hi) if np.isfinite(v) and v < 0.0 else None
+    lo, hi = 1.0, 2.0
+    while hi <= _T_MAX:
+        v = g(hi)
+        if np.isfinite(v) and v > 0.0:
+            return (lo, hi)
+        if np.isfinite(v) and v < 0.0:
+            lo = hi
+        hi *= 2.0
+    return None
+
+
+def _solve(g: Callable[[float], float]) -> float | None:
+    br = _bracket(g)
+    if br is None:
+        return None
+    lo, hi = br
+    if lo == hi:
+        return lo
+    return brentq(g, lo, hi, xtol=_XTOL, rtol=_RTOL, maxiter=500)
+
+
+def _limit_along(admissible: Callable[[float], bool]) -> float:
+    """Largest s in [0, 1] with ``admissible(s)`` (bisection; s = 0 is the unloaded state)."""
+    a, b = 0.0, 1.0
+    if not admissible(a):
+        return a
+    for _ in range(60):
+        m = 0.5 * (a + b)
+        if admissible(m):
+            a = m
+        else:
+            b = m
+        if b - a <= 1e-13:
+            break
+    return 0.5 * (a + b)
+
+
+def _describe(material) -> str:
+    nu = getattr(material, "poisson_ratio", None)
+    name = getattr(material, "name", type(material).__name__)
+    return f"{name} with nu={nu:.4g}" if nu is not None else str(name)
+
+
+def _check_stretch(value: float, label: str) -> float:
+    value = float(value)
+    if not (np.isfinite(value) and value > 0.0):
+        raise ValueError(f"{label} must be a finite positive number, got {value}")
+    return value
+
+
+def _state(material, diag: tuple, t: float) -> HomogeneousState:
+    F = np.diag(np.asarray(diag, dtype=float))
+    P = np.asarray(material.stress(F), dtype=float)
+    F.setflags(write=False)
+    P.setflags(write=False)
+    return HomogeneousState(F=F, P=P, lateral_stretch=float(t))
+
+
+def uniaxial(material, stretch: float) -> HomogeneousState:
+    """Uniaxial state F = diag(stretch, t, t) with P₂₂ = P₃₃ = 0, t > 0.
+
+    Raises InadmissibleState if no positive lateral stretch gives equilibrium (e.g. StVK beyond
+    stretch √(1 + 1/ν)), ValueError if ``stretch`` is not a finite positive number.
+    """
+    lam = _check_stretch(stretch, "stretch")
+    t = _solve(_free_residual(material, lambda t: (lam, t, t), 1))
+    if t is None:
+        def ok(s: float) -> bool:
+            ls = 1.0 + s * (lam - 1.0)
+            return _bracket(_free_residual(material, lambda t: (ls, t, t), 1)) is not None
+
+        lim = 1.0 + _limit_along(ok) * (lam - 1.0)
+        raise InadmissibleState(
+            f"no admissible state beyond stretch {lim:.6g} for {_describe(material)} "
+            f"(requested stretch {lam:.6g}): free lateral faces have no equilibrium "
+            f"(no lateral stretch t > {_T_MIN:g} makes P22 = 0)"
+        )
+    return _state(material, (lam, t, t), t)
+
+
+def biaxial(material, stretch_x: float, stretch_y: float) -> HomogeneousState:
+    """Biaxial state F = diag(stretch_x, stretch_y, t) with P₃₃ = 0, t > 0.
+
+    Raises InadmissibleState if no positive thickness stretch gives equilibrium; the reported
+    limit is on the straight path from (1, 1) to the requested stretches.
+    """
+    lx = _check_stretch(stretch_x, "stretch_x")
+    ly = _check_stretch(stretch_y, "stretch_y")
+    t = _solve(_free_residual(material, lambda t: (lx, ly, t), 2))
+    if t is None:
+        def ok(s: float) -> bool:
+            sx, sy = 1.0 + s * (lx - 1.0), 1.0 + s * (ly - 1.0)
+            return _bracket(_free_residual(material, lambda t: (sx, sy, t), 2)) is not None
+
+        s_lim = _limit_along(ok)
+        lim_x, lim_y = 1.0 + s_lim * (lx - 1.0), 1.0 + s_lim * (ly - 1.0)
+        raise InadmissibleState(
+            f"no admissible state beyond stretch ({lim_x:.6g}, {lim_y:.6g}) "
+            f"(requested ({lx:.6g}, {ly:.6g}), along the straight path from (1, 1)) "
+            f"for {_describe(material)}: the free face has no equilibrium "
+            f"(no thickness stretch t > {_T_MIN:g} makes P33 = 0)"
+        )
+    return _state(material, (lx, ly, t), t)

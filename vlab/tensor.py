@@ -1,0 +1,150 @@
+"""Small tensor helpers on LEADING axes with trailing batch axes.
+
+Convention: a second-order tensor field is an array of shape ``(3, 3, *batch)`` and a
+fourth-order one ``(3, 3, 3, 3, *batch)``; the tensor indices come first so every
+component is one contiguous batch array and all operations vectorise over the batch.
+A single tensor is the special case ``batch == ()``. Nothing here loops over the batch.
+
+Outer-product names (Holzapfel's notation):
+
+- ``dyad(A, B)``      (A ⊗ B)_ijkl = A_ij B_kl
+- ``dyad_ik(A, B)``   (A ⊗̄ B)_ijkl = A_ik B_jl
+- ``dyad_il(A, B)``   (A ⊗̲ B)_ijkl = A_il B_jk
+
+Each takes an optional ``out`` array to ACCUMULATE into (``out += ...``), built block by
+block so no full (3,3,3,3,*batch) temporary is created.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = [
+    "as_tensor_field",
+    "identity_like",
+    "transpose",
+    "trace",
+    "dot",
+    "ddot",
+    "cofactor",
+    "det",
+    "inv",
+    "inv_transpose",
+    "dyad",
+    "dyad_ik",
+    "dyad_il",
+    "IDENTITY",
+]
+
+#: The 3x3 identity (read-only).
+IDENTITY = np.eye(3)
+IDENTITY.setflags(write=False)
+
+
+def as_tensor_field(F) -> np.ndarray:
+    """Return ``F`` as a float array of shape ``(3, 3, *batch)``; raise ValueError otherwise."""
+    F = np.asarray(F, dtype=float)
+    if F.ndim < 2 or F.shape[:2] != (3, 3):
+        raise ValueError(f"expected an array of shape (3, 3, *batch), got shape {F.shape}")
+    return F
+
+
+def identity_like(F: np.ndarray) -> np.ndarray:
+    """Identity tensors with the batch shape of ``F``: a new (3,3,*batch) array."""
+    out = np.zeros(F.shape[:2] + F.shape[2:], dtype=float)
+    for i in range(3):
+        out[i, i] = 1.0
+    return out
+
+
+def transpose(A: np.ndarray) -> np.ndarray:
+    """Transpose of each tensor, (A^T)_ij = A_ji, shape (3,3,*batch) (a view)."""
+    return np.swapaxes(A, 0, 1)
+
+
+def trace(A: np.ndarray) -> np.ndarray:
+    """Trace of each tensor, tr A = A_ii, shape (*batch)."""
+    return A[0, 0] + A[1, 1] + A[2, 2]
+
+
+def dot(A: np.ndarray, B: np.ndarray) -> np.ndarray:
+    """Matrix product per batch point, (A B)_ik = A_ij B_jk, shape (3,3,*batch)."""
+    return np.einsum("ij...,jk...->ik...", A, B)
+
+
+def ddot(A: np.ndarray, B: np.ndarray) -> np.ndarray:
+    """Double contraction A : B = A_ij B_ij, shape (*batch)."""
+    return np.einsum("ij...,ij...->...", A, B)
+
+
+def cofactor(F: np.ndarray) -> np.ndarray:
+    """Cofactor cof F = ∂(det F)/∂F = det(F) F^{-T} (closed form, no division), (3,3,*batch)."""
+    c = np.empty(F.shape, dtype=float)
+    c[0, 0] = F[1, 1] * F[2, 2] - F[1, 2] * F[2, 1]
+    c[0, 1] = F[1, 2] * F[2, 0] - F[1, 0] * F[2, 2]
+    c[0, 2] = F[1, 0] * F[2, 1] - F[1, 1] * F[2, 0]
+    c[1, 0] = F[2, 1] * F[0, 2] - F[2, 2] * F[0, 1]
+    c[1, 1] = F[2, 2] * F[0, 0] - F[2, 0] * F[0, 2]
+    c[1, 2] = F[2, 0] * F[0, 1] - F[2, 1] * F[0, 0]
+    c[2, 0] = F[0, 1] * F[1, 2] - F[0, 2] * F[1, 1]
+    c[2, 1] = F[0, 2] * F[1, 0] - F[0, 0] * F[1, 2]
+    c[2, 2] = F[0, 0] * F[1, 1] - F[0, 1] * F[1, 0]
+    return c
+
+
+def det(F: np.ndarray, cof: np.ndarray | None = None) -> np.ndarray:
+    """Determinant J = det F per batch point, shape (*batch). Pass ``cof`` to reuse it."""
+    if cof is None:
+        return (
+            F[0, 0] * (F[1, 1] * F[2, 2] - F[1, 2] * F[2, 1])
+            + F[0, 1] * (F[1, 2] * F[2, 0] - F[1, 0] * F[2, 2])
+            + F[0, 2] * (F[1, 0] * F[2, 1] - F[1, 1] * F[2, 0])
+        )
+    return F[0, 0] * cof[0, 0] + F[0, 1] * cof[0, 1] + F[0, 2] * cof[0, 2]
+
+
+def inv_transpose(F: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Return ``(F^{-T}, J)``: inverse transpose (3,3,*batch) and determinant (*batch).
+
+    Singular points give inf/nan silently (no numpy warning).
+    """
+    cof = cofactor(F)
+    J = det(F, cof)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        cof /= J
+    return cof, J
+
+
+def inv(F: np.ndarray) -> np.ndarray:
+    """Inverse F^{-1} per batch point, shape (3,3,*batch) (closed form via the cofactor)."""
+    return np.ascontiguousarray(transpose(inv_transpose(F)[0]))
+
+
+def dyad(A: np.ndarray, B: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+    """(A ⊗ B)_ijkl = A_ij B_kl, shape (3,3,3,3,*batch); with ``out``: out += A ⊗ B."""
+    if out is None:
+        return A[:, :, None, None] * B[None, None]
+    for i in range(3):
+        for j in range(3):
+            out[i, j] += A[i, j] * B
+    return out
+
+
+def dyad_ik(A: np.ndarray, B: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+    """(A ⊗̄ B)_ijkl = A_ik B_jl, shape (3,3,3,3,*batch); with ``out``: out += A ⊗̄ B."""
+    if out is None:
+        return A[:, None, :, None] * B[None, :, None, :]
+    for i in range(3):
+        for k in range(3):
+            out[i, :, k, :] += A[i, k] * B
+    return out
+
+
+def dyad_il(A: np.ndarray, B: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+    """(A ⊗̲ B)_ijkl = A_il B_jk, shape (3,3,3,3,*batch); with ``out``: out += A ⊗̲ B."""
+    if out is None:
+        return A[:, None, None, :] * B[None, :, :, None]
+    for i in range(3):
+        for l in range(3):
+            out[i, :, :, l] += A[i, l] * B
+    return out
