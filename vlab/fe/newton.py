@@ -1,0 +1,154 @@
+"""Newton's method on the total energy for one load level, with an energy line search.
+
+Equilibrium is a stationary point of W(u) over the free DOFs (prescribed DOFs fixed):
+    r = ∂W/∂u_f = f_int,f (N),   K_ff Δu = -r,   u ← u + α Δu.
+The step length α backtracks from 1 until the sufficient-decrease (Armijo) condition
+    W(u + αΔu) <= W(u) + c α rᵀΔu
+holds, a trial with J <= 0 anywhere counting as W = +inf. Close to the solution W changes by less
+than its round-off, so a trial that cuts ‖r‖ by the same factor is accepted as well.
+
+Exact Newton is the default, so quadratic convergence stays visible. A direction with rᵀΔu >= 0
+(indefinite tangent) is not a descent direction: it is repaired with a diagonal shift
+K_ff + τ diag|K_ff| (τ grown tenfold until descent), or as a last resort a scaled gradient step,
+and the repair is counted.
+
+Converged means ‖r_f‖ <= rtol · (force scale) and the last update ‖Δu‖∞ <= utol · (length scale);
+both histories are recorded.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+
+from vlab.fe.assembly import Partition
+from vlab.fe.linsolve import Factorization, SingularSystem, factorize
+from vlab.fe.problem import Evaluation, HyperelasticBody
+
+
+@dataclass(frozen=True)
+class NewtonOptions:
+    rtol: float = 1e-8
+    utol: float = 1e-6
+    max_iterations: int = 25
+    max_backtracks: int = 30
+    sufficient_decrease: float = 1e-4
+
+
+@dataclass
+class NewtonRecord:
+    """History of one Newton solve: relative residual per iterate, relative update per iteration."""
+
+    residuals: list[float] = field(default_factory=list)
+    updates: list[float] = field(default_factory=list)
+    step_lengths: list[float] = field(default_factory=list)
+    repairs: int = 0
+    converged: bool = False
+    reason: str = ""
+
+    @property
+    def iterations(self) -> int:
+        return len(self.updates)
+
+
+@dataclass(frozen=True)
+class Tangent:
+    """A factorized K_ff with its coupling block K_fp (used by the load-step predictor)."""
+
+    factor: Factorization
+    Kfp: sp.csr_matrix
+
+
+class NewtonFailure(RuntimeError):
+    def __init__(self, reason: str, record: NewtonRecord, evaluation: Evaluation | None):
+        super().__init__(reason)
+        self.reason = reason
+        self.record = record
+        self.evaluation = evaluation
+
+
+def tangent_at(body: HyperelasticBody, partition: Partition, evaluation: Evaluation) -> Tangent:
+    Kff, Kfp = partition.blocks(body.stiffness(evaluation))
+    return Tangent(factorize(Kff), Kfp)
+
+
+def solve_equilibrium(body: HyperelasticBody, partition: Partition, u0: np.ndarray,
+                      scales: tuple[float, float], options: NewtonOptions,
+                      ) -> tuple[Evaluation, NewtonRecord, Tangent | None]:
+    """Newton iterations from u0 (prescribed DOFs already at their targets).
+
+    ``scales`` = (force scale floor in N, length scale in mm). Returns the converged evaluation,
+    its record and the last tangent factorized (None if no iteration was needed). Raises
+    NewtonFailure with the record on divergence, inadmissible states or singular tangents.
+    """
+    record = NewtonRecord()
+    force_floor, length = scales
+    free = partition.free
+    ev = body.evaluate(u0)
+    if not ev.admissible:
+        record.reason = f"predicted state is inverted (min J = {ev.min_J:.3g})"
+        raise NewtonFailure(record.reason, record, ev)
+    tangent = None
+    for k in range(options.max_iterations + 1):
+        r = ev.f_int[free]
+        scale = max(force_floor, float(np.linalg.norm(ev.f_int[partition.prescribed])))
+        record.residuals.append(float(np.linalg.norm(r)) / scale)
+        if record.residuals[-1] <= options.rtol and (k == 0 or record.updates[-1] <= options.utol):
+            record.converged = True
+            return ev, record, tangent
+        if k == options.max_iterations:
+            break
+        try:
+            Kff, Kfp = partition.blocks(body.stiffness(ev))
+            tangent = Tangent(factorize(Kff), Kfp)
+            du = tangent.factor.solve(-r)
+        except SingularSystem as exc:
+            record.reason = f"singular tangent: {exc}"
+            raise NewtonFailure(record.reason, record, ev) from exc
+        if not float(r @ du) < 0.0:
+            du = _repaired_direction(Kff, r)
+            record.repairs += 1
+        ev, alpha = _line_search(body, free, ev, du, options)
+        if ev is None:
+            record.reason = "line search found no admissible decrease along the Newton direction"
+            raise NewtonFailure(record.reason, record, alpha)
+        record.step_lengths.append(alpha)
+        record.updates.append(alpha * float(np.max(np.abs(du), initial=0.0)) / length)
+    record.reason = f"no convergence in {options.max_iterations} iterations"
+    raise NewtonFailure(record.reason, record, ev)
+
+
+def _repaired_direction(Kff: sp.csr_matrix, r: np.ndarray) -> np.ndarray:
+    """A descent direction from a shifted tangent K_ff + τ diag|K_ff|, else a scaled gradient."""
+    d = np.abs(Kff.diagonal())
+    d[d == 0.0] = 1.0
+    for tau in 10.0 ** np.arange(-4, 3):
+        try:
+            du = factorize(Kff + sp.diags(tau * d)).solve(-r)
+        except SingularSystem:
+            continue
+        if float(r @ du) < 0.0:
+            return du
+    return -r / d
+
+
+def _line_search(body: HyperelasticBody, free: np.ndarray, ev: Evaluation, du: np.ndarray,
+                 options: NewtonOptions):
+    """Backtracking on W; returns (accepted evaluation, α) or (None, last inadmissible trial)."""
+    slope = float(ev.f_int[free] @ du)
+    r0 = float(np.linalg.norm(ev.f_int[free]))
+    alpha, last = 1.0, None
+    for _ in range(options.max_backtracks):
+        u = ev.u.copy()
+        u[free] += alpha * du
+        trial = body.evaluate(u)
+        if trial.admissible:
+            decrease = trial.W <= ev.W + options.sufficient_decrease * alpha * slope
+            rn = float(np.linalg.norm(trial.f_int[free]))
+            if decrease or rn <= (1.0 - options.sufficient_decrease * alpha) * r0:
+                return trial, alpha
+        last = trial
+        alpha *= 0.5
+    return None, last

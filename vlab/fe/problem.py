@@ -1,0 +1,62 @@
+"""A hyperelastic body on a discrete space: energy, internal force and tangent at a state u.
+
+Everything here is evaluated on all quadrature points at once; a trial state whose deformation
+gradient has J = det F <= 0 at any quadrature point is inadmissible (its energy is +inf), which is
+how the line search keeps elements from inverting.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+from vlab.fe.assembly import SparsityPattern, element_forces, element_stiffness, scatter_vector
+from vlab.fe.space import DisplacementSpace
+
+
+@dataclass(frozen=True)
+class Evaluation:
+    """A state u with its deformation gradient (3,3,e,q), energy W (mJ) and force f_int (N).
+
+    ``min_J`` is the smallest volume ratio over all quadrature points; ``worst`` its
+    (element, quadrature point) index. An inadmissible state has W = +inf and no force.
+    """
+
+    u: np.ndarray
+    F: np.ndarray
+    W: float
+    f_int: np.ndarray | None
+    min_J: float
+    worst: tuple[int, int]
+
+    @property
+    def admissible(self) -> bool:
+        return self.f_int is not None
+
+
+class HyperelasticBody:
+    """Couples a material model to a displacement space through vectorized kernels."""
+
+    def __init__(self, space: DisplacementSpace, material):
+        self.space = space
+        self.material = material
+        self.pattern = SparsityPattern.build(space.element_dofs)
+
+    def evaluate(self, u: np.ndarray) -> Evaluation:
+        F = self.space.deformation_gradient(u)
+        J = np.linalg.det(np.moveaxis(F, (0, 1), (-2, -1)))
+        worst = np.unravel_index(int(np.argmin(J)), J.shape)
+        min_J = float(J[worst])
+        if not min_J > 0.0:
+            return Evaluation(u, F, np.inf, None, min_J, (int(worst[0]), int(worst[1])))
+        W = float(np.sum(self.material.energy(F) * self.space.dx))
+        if not np.isfinite(W):
+            return Evaluation(u, F, np.inf, None, min_J, (int(worst[0]), int(worst[1])))
+        f_int = scatter_vector(self.space, element_forces(self.space, self.material.stress(F)))
+        return Evaluation(u, F, W, f_int, min_J, (int(worst[0]), int(worst[1])))
+
+    def stiffness(self, evaluation: Evaluation) -> sp.csr_matrix:
+        """Tangent stiffness K = ∂f_int/∂u at an admissible state, N/mm."""
+        return self.pattern.matrix(element_stiffness(self.space, self.material.tangent(evaluation.F)))

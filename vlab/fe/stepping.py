@@ -1,0 +1,136 @@
+"""Displacement-controlled load stepping with a tangent predictor and automatic cutback.
+
+The grips prescribe u_p(t) = t · û_p for a load parameter t (0 = unloaded, 1 = target). Each
+scheduled level is reached in one or more substeps. A substep starts from the linearised response
+of the last factorized tangent,
+    Δu_f = -K_ff⁻¹ K_fp Δu_p,
+which for the linear model is already the exact solution (so it runs no Newton iteration and
+reuses one factorization for the whole test). A substep that fails (no convergence, inverted
+element, singular tangent) is retried from the last converged state with half the increment; easy
+substeps let the increment grow back. After ``max_cutbacks`` consecutive halvings the test stops
+with a diagnosis.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+from vlab.fe.assembly import Partition
+from vlab.fe.newton import (NewtonFailure, NewtonOptions, NewtonRecord, Tangent,
+                            solve_equilibrium, tangent_at)
+from vlab.fe.problem import Evaluation, HyperelasticBody
+
+EASY_ITERATIONS = 4
+
+
+@dataclass(frozen=True)
+class Level:
+    """A converged state at a scheduled load level t."""
+
+    t: float
+    evaluation: Evaluation
+    newton: list[NewtonRecord]
+    cutbacks: int
+
+    @property
+    def iterations(self) -> int:
+        return sum(rec.iterations for rec in self.newton)
+
+
+@dataclass(frozen=True)
+class Failure:
+    """Why a test stopped: the level it was heading for, the last converged t, the history."""
+
+    level: int
+    t_target: float
+    t_attempted: float
+    t_converged: float
+    reason: str
+    residuals: list[float]
+    min_J: float | None = None
+    element: int | None = None
+    quadrature_point: int | None = None
+
+
+@dataclass
+class SolveHistory:
+    levels: list[Level] = field(default_factory=list)
+    failure: Failure | None = None
+    factorizations: int = 0
+    seconds: float = 0.0
+
+
+@dataclass(frozen=True)
+class Stepping:
+    schedule: np.ndarray
+    max_cutbacks: int = 8
+    newton: NewtonOptions = NewtonOptions()
+
+
+def run_schedule(body: HyperelasticBody, partition: Partition, u_hat: np.ndarray,
+                 stepping: Stepping, scales: tuple[float, float],
+                 on_level: Callable[[Level], None] | None = None) -> SolveHistory:
+    """Follow ``stepping.schedule`` (increasing or not) from the unloaded state."""
+    start = time.perf_counter()
+    history = SolveHistory()
+    u = np.zeros(body.space.n_dofs)
+    current = body.evaluate(u)
+    tangent = tangent_at(body, partition, current)
+    history.factorizations += 1
+    t = 0.0
+    for index, target in enumerate(stepping.schedule, start=1):
+        dt, cutbacks, consecutive, records = target - t, 0, 0, []
+        while t != target:
+            t_try = target if abs(target - t) <= abs(dt) * (1 + 1e-12) else t + dt
+            try:
+                current, record, new_tangent = _substep(body, partition, current, tangent,
+                                                        u_hat, t, t_try, stepping, scales)
+            except NewtonFailure as failure:
+                records.append(failure.record)
+                cutbacks, consecutive, dt = cutbacks + 1, consecutive + 1, dt / 2
+                if consecutive > stepping.max_cutbacks:
+                    history.failure = _diagnose(index, target, t_try, t, failure)
+                    history.seconds = time.perf_counter() - start
+                    return history
+                continue
+            records.append(record)
+            if new_tangent is not None:
+                tangent = new_tangent
+                history.factorizations += record.iterations
+            t, consecutive = t_try, 0
+            if record.iterations <= EASY_ITERATIONS:
+                dt *= 2.0
+        level = Level(float(t), current, records, cutbacks)
+        history.levels.append(level)
+        if on_level is not None:
+            on_level(level)
+    history.seconds = time.perf_counter() - start
+    return history
+
+
+def _substep(body, partition, current: Evaluation, tangent: Tangent, u_hat, t0, t1,
+             stepping: Stepping, scales):
+    prescribed, free = partition.prescribed, partition.free
+    du_p = (t1 - t0) * u_hat[prescribed]
+    u = current.u.copy()
+    u[prescribed] += du_p
+    u[free] -= tangent.factor.solve(tangent.Kfp @ du_p)
+    return solve_equilibrium(body, partition, u, scales, stepping.newton)
+
+
+def _diagnose(index: int, target: float, attempted: float, converged: float,
+              failure: NewtonFailure) -> Failure:
+    ev = failure.evaluation
+    inverted = ev is not None and not ev.admissible
+    return Failure(
+        level=index, t_target=float(target), t_attempted=float(attempted),
+        t_converged=float(converged), reason=failure.reason,
+        residuals=list(failure.record.residuals),
+        min_J=None if ev is None else ev.min_J,
+        element=ev.worst[0] if inverted else None,
+        quadrature_point=ev.worst[1] if inverted else None,
+    )

@@ -1,0 +1,64 @@
+"""What every specimen offers the lab: a mesh plus the named places a test needs.
+
+Grips are chosen on reference coordinates, so the same selection works for the vertices of an
+order-1 mesh and the extra nodes of an order-2 one. Gauge marks are material points on the
+surface, evaluated through the finite-element interpolation, so they need not be mesh nodes.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+import skfem
+
+Selector = Callable[[np.ndarray], np.ndarray]  # reference coordinates (n, 3) -> bool mask (n,)
+
+
+@dataclass(frozen=True)
+class Grip:
+    """A grip pulling along ``axis`` (0 = x, 1 = y) from side -1 (fixed) or +1 (moving)."""
+
+    name: str
+    axis: int
+    side: int
+    select: Selector
+
+
+@dataclass(frozen=True)
+class GaugeMarks:
+    """Two material points whose distance an extensometer reads (reference positions, mm)."""
+
+    a: tuple[float, float, float]
+    b: tuple[float, float, float]
+
+    @property
+    def length(self) -> float:
+        return float(np.linalg.norm(np.subtract(self.b, self.a)))
+
+
+@dataclass(frozen=True)
+class Specimen:
+    """A meshed specimen.
+
+    ``grip_separation[axis]`` is the initial distance between the two grips on that axis (mm);
+    ``extensometers[axis]`` the axial gauge marks; ``transverse[axis]`` the marks across the
+    width at the gauge centre for a test loaded along ``axis``; ``thickness`` the marks through
+    the thickness at the gauge centre; ``area0[axis]`` the gauge-section area normal to the axis.
+    """
+
+    shape: str
+    mesh: skfem.Mesh
+    grips: tuple[Grip, ...]
+    grip_separation: dict[int, float]
+    extensometers: dict[int, GaugeMarks]
+    transverse: dict[int, GaugeMarks]
+    thickness: GaugeMarks
+    area0: dict[int, float]
+    length_scale: float
+
+    def grips_on(self, axis: int) -> tuple[Grip, Grip]:
+        fixed = next(g for g in self.grips if g.axis == axis and g.side < 0)
+        moving = next(g for g in self.grips if g.axis == axis and g.side > 0)
+        return fixed, moving

@@ -1,0 +1,35 @@
+"""Analytic homogeneous responses used as the oracle for block tests with roller grips.
+
+With roller grips and free lateral faces a block deforms homogeneously: F = diag(λ, t, t)
+(uniaxial, P22 = 0) or diag(λx, λy, t) (biaxial, P33 = 0); the load-cell stress equals P11.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from vlab.materials.homogeneous import InadmissibleState, biaxial, uniaxial
+
+
+def homogeneous_curve(material, stretches: dict[int, list[float]]) -> dict | None:
+    """Nominal stress per axis and lateral stretch at the recorded grip stretches, or None."""
+    axes = sorted(stretches)
+    out = {f"stress_{'xy'[a]}": [] for a in axes} | {"lateral_stretch": []}
+    try:
+        for row in zip(*(stretches[a] for a in axes)):
+            state = uniaxial(material, row[0]) if len(axes) == 1 else biaxial(material, *row)
+            for a in axes:
+                out[f"stress_{'xy'[a]}"].append(float(state.P[a, a]))
+            out["lateral_stretch"].append(float(state.lateral_stretch))
+    except InadmissibleState as exc:
+        out["note"] = str(exc)
+    return out
+
+
+def relative_error(measured, reference) -> float:
+    """max |measured − reference| / max |reference| over the common rows."""
+    n = min(len(measured), len(reference))
+    if n == 0:
+        return float("nan")
+    m, r = np.asarray(measured[:n]), np.asarray(reference[:n])
+    return float(np.max(np.abs(m - r)) / max(np.max(np.abs(r)), 1e-300))

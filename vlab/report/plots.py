@@ -1,0 +1,46 @@
+"""Matplotlib figures from a results dict (never from solver objects): headless Agg backend."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def plot_stress_strain(data: dict, path: Path) -> None:
+    """Engineering stress against extensometer strain, the analytic curve dashed if known,
+    the modulus window shaded and the fitted line drawn."""
+    curve, measured = data["curve"], data["measured"]
+    fig, ax = plt.subplots(figsize=(6.4, 4.4), dpi=120)
+    for sfx, label in (("", "x"), ("_y", "y")):
+        if "strain" + sfx not in curve:
+            continue
+        strain = [0.0] + curve["strain" + sfx]
+        stress = [0.0] + curve["stress" + sfx]
+        ax.plot(strain, stress, "o-", ms=3, label=f"FE, load cell / extensometer ({label})")
+        ref = (data.get("reference") or {}).get(f"stress_{label}")
+        if ref:
+            ax.plot(curve["strain" + sfx][: len(ref)], ref, "k--", lw=1,
+                    label=f"analytic homogeneous ({label})")
+    fit = measured.get("E_fit")
+    if fit:
+        lo, hi = fit["window"]
+        sign = -1.0 if curve["strain"][-1] < 0 else 1.0
+        ax.axvspan(sign * lo, sign * hi, color="tab:orange", alpha=0.25,
+                   label=f"modulus window {lo:g}–{hi:g}")
+    title = f"{data['scene']['name']}: {data['input']['model']}"
+    if measured.get("E") is not None:
+        title += f"  —  E = {measured['E']:.4g} MPa, ν = {measured['nu']:.4f}"
+    ax.set_title(title, fontsize=10)
+    ax.set_xlabel("extensometer strain (engineering) [–]")
+    ax.set_ylabel("engineering stress [MPa]")
+    ax.axhline(0, color="0.7", lw=0.5)
+    ax.axvline(0, color="0.7", lw=0.5)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, loc="best")
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)

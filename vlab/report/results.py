@@ -1,0 +1,77 @@
+"""RunResult -> the plain dict written as results.json (and read back by reports and tests)."""
+
+from __future__ import annotations
+
+import datetime as _dt
+import math
+
+from vlab.run import RunResult, failure_dict, observed_order, vlab_version
+
+
+def _clean(value):
+    """JSON-safe: numpy scalars to float, NaN/inf to None (results never carry NaN)."""
+    if isinstance(value, dict):
+        return {str(k): _clean(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_clean(v) for v in value]
+    if hasattr(value, "item") and not isinstance(value, (str, bytes)):
+        value = value.item()
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
+
+
+def curve_columns(result: RunResult) -> dict[str, list[float]]:
+    """Named curve columns; axis 0 unsuffixed, axis 1 (biaxial) suffixed ``_y``."""
+    c = result.curve
+    cols: dict[str, list[float]] = {}
+    for axis in c.axes:
+        sfx = "" if axis == 0 else "_y"
+        cols["stretch" + sfx] = list(c.stretch[axis])
+        cols["strain" + sfx] = list(c.strain[axis])
+        cols["stress" + sfx] = list(c.column("stress", axis))
+        cols["force" + sfx] = list(c.force[axis])
+        cols["true_strain" + sfx] = list(c.column("true_strain", axis))
+        cols["true_stress" + sfx] = list(c.column("true_stress", axis))
+    cols["transverse_strain"] = list(c.transverse_strain)
+    cols["thickness_strain"] = list(c.thickness_strain)
+    return cols
+
+
+def result_to_dict(result: RunResult) -> dict:
+    scene, history, const = result.scene, result.history, result.constants
+    levels = history.levels
+    residuals = [[x for rec in lv.newton for x in rec.residuals] for lv in levels]
+    space = result.space
+    return _clean({
+        "vlab_version": vlab_version(),
+        "date": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
+        "scene": {"name": scene.name, "hash": scene.content_hash(), "source": scene.source},
+        "converged": result.converged,
+        "measured": {
+            "E": const.E, "nu": const.nu, "E_fit": const.E_fit, "nu_fit": const.nu_fit,
+            "axes": const.per_axis, "note": const.note,
+            "units": {"E": "MPa", "nu": "1"},
+        },
+        "input": {"model": scene.material.model, **scene.material.moduli.as_dict()},
+        "curve": curve_columns(result) | {
+            "units": {"stretch": "1 (grip)", "strain": "1 (extensometer, engineering)",
+                      "stress": "MPa (engineering)", "force": "N", "true_stress": "MPa"},
+        },
+        "reference": result.reference,
+        "solver": {
+            "newton_iterations": [lv.iterations for lv in levels],
+            "cutbacks": [lv.cutbacks for lv in levels],
+            "repairs": [sum(r.repairs for r in lv.newton) for lv in levels],
+            "residual_history": residuals,
+            "observed_order": [observed_order(r.residuals) for lv in levels for r in lv.newton[-1:]],
+            "factorizations": history.factorizations,
+            "rtol": scene.solver.rtol,
+        },
+        "timing": result.timing,
+        "mesh": {
+            "cell": scene.mesh.cell, "order": scene.mesh.order, "size": scene.mesh.size,
+            "elements": int(space.basis.nelems), "nodes": int(space.n_nodes), "dofs": int(space.n_dofs),
+        },
+        "failure": None if history.failure is None else failure_dict(scene, history.failure),
+    })
