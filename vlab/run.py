@@ -125,8 +125,11 @@ def failure_dict(scene: Scene, failure: Failure) -> dict:
     }
 
 
-def observed_order(residuals: list[float], floor: float = 1e-13) -> float | None:
-    """Convergence order p from the last three residuals above round-off: r₊ ≈ C r^p."""
+def observed_order(residuals: list[float], floor: float = 1e-10) -> float | None:
+    """Convergence order p from the last three relative residuals above ``floor``: r₊ ≈ C r^p.
+
+    Relative residuals below ~1e-10 are dominated by round-off in the force sums, so they say
+    nothing about the order; None when fewer than three iterates lie above the floor."""
     r = [x for x in residuals if x > floor]
     if len(r) < 3 or r[-2] == r[-3]:
         return None

@@ -88,7 +88,8 @@ def solve_equilibrium(body: HyperelasticBody, partition: Partition, u0: np.ndarr
     free = partition.free
     ev = body.evaluate(u0)
     if not ev.admissible:
-        record.reason = f"predicted state is inverted (min J = {ev.min_J:.3g})"
+        record.reason = (f"moving the grips alone collapses or inverts an element "
+                         f"(min J = {ev.min_J:.3g} at element {ev.worst[0]})")
         raise NewtonFailure(record.reason, record, ev)
     tangent = None
     for k in range(options.max_iterations + 1):

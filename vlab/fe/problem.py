@@ -1,8 +1,11 @@
 """A hyperelastic body on a discrete space: energy, internal force and tangent at a state u.
 
 Everything here is evaluated on all quadrature points at once; a trial state whose deformation
-gradient has J = det F <= 0 at any quadrature point is inadmissible (its energy is +inf), which is
-how the line search keeps elements from inverting.
+gradient has J = det F <= J_COLLAPSE at any quadrature point is inadmissible (its energy is +inf),
+which is how the line search keeps elements from inverting. The floor is not zero because some
+models have spurious equilibria at J -> 0: StVK's P = F S vanishes as the cross-section collapses
+to a line (P22 = t S22 -> 0 as t -> 0), so Newton can "converge" to a degenerate state that is
+garbage, not physics. No solid in a lab test reaches a volume ratio of 1e-4.
 """
 
 from __future__ import annotations
@@ -14,6 +17,8 @@ import scipy.sparse as sp
 
 from vlab.fe.assembly import SparsityPattern, element_forces, element_stiffness, scatter_vector
 from vlab.fe.space import DisplacementSpace
+
+J_COLLAPSE = 1e-4  # smallest admissible volume ratio det F
 
 
 @dataclass(frozen=True)
@@ -49,7 +54,7 @@ class HyperelasticBody:
         J = np.linalg.det(np.moveaxis(F, (0, 1), (-2, -1)))
         worst = np.unravel_index(int(np.argmin(J)), J.shape)
         min_J = float(J[worst])
-        if not min_J > 0.0:
+        if not min_J > J_COLLAPSE:
             return Evaluation(u, F, np.inf, None, min_J, (int(worst[0]), int(worst[1])))
         W = float(np.sum(self.material.energy(F) * self.space.dx))
         if not np.isfinite(W):

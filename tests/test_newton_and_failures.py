@@ -1,0 +1,50 @@
+"""Newton converges quadratically; the linear model needs no iteration; failures are diagnosed."""
+
+import json
+
+import numpy as np
+import pytest
+from scenes import scene_dict
+
+from vlab.report.results import result_to_dict
+from vlab.run import observed_order, run_scene
+from vlab.scene import parse_scene
+
+
+def test_newton_converges_quadratically_near_the_solution():
+    data = result_to_dict(run_scene(parse_scene(scene_dict(
+        mesh={"cell": "tet", "size": 4.0}, test={"stretch": 1.6, "steps": 4, "grips": "clamped"},
+        solver={"rtol": 1e-12}))))
+    orders = [p for p in data["solver"]["observed_order"] if p is not None]
+    assert orders and min(orders) > 1.8
+    for history in data["solver"]["residual_history"]:
+        assert history[-1] <= 1e-12
+
+
+def test_linear_model_uses_one_solve_per_step_and_no_newton_iteration():
+    result = run_scene(parse_scene(scene_dict(material={"model": "linear", "E": 10, "nu": 0.3},
+                                              test={"grips": "clamped", "steps": 5})))
+    assert all(level.iterations == 0 for level in result.history.levels)
+    assert result.history.factorizations == 1
+
+
+def test_observed_order_reads_the_residual_history():
+    assert observed_order([1e-2, 1e-4, 1e-8]) == pytest.approx(2.0)
+    assert observed_order([1e-2, 1e-3]) is None
+
+
+def test_a_failed_test_reports_step_stretch_reason_and_history_without_nan():
+    # StVK in uniaxial tension has no equilibrium with free lateral faces beyond sqrt(1 + 1/nu).
+    result = run_scene(parse_scene(scene_dict(
+        material={"model": "stvk", "E": 10, "nu": 0.45}, test={"stretch": 2.2, "steps": 4},
+        solver={"max_cutbacks": 3, "max_iterations": 15})))
+    data = result_to_dict(result)
+    assert data["converged"] is False
+    failure = data["failure"]
+    assert failure["step"] >= 1 and failure["reason"]
+    assert failure["last_converged_stretch"][0] < np.sqrt(1 + 1 / 0.45) + 1e-9
+    assert failure["residual_history"]
+    text = json.dumps(data)
+    assert "NaN" not in text and "Infinity" not in text
+    # The recorded curve stops at the last converged level and holds only finite numbers.
+    assert np.all(np.isfinite(data["curve"]["stress"]))
