@@ -8,8 +8,14 @@ gauge_length = None, fit = "regression"; [solver] rtol = 1e-8, max_iterations = 
 max_cutbacks = 8. Unknown sections and keys are errors. Every :class:`SceneError` names the
 dotted field, the allowed values and what was got.
 
+Dogbones: ``[specimen] shape = "dogbone"`` with ``standard = "<name>"`` (dimensions shipped in
+vlab/data/standards/) and/or the explicit keys of ``DIMENSION_KEYS`` (explicit keys win); tested
+uniaxially between clamped grips. ``[mesh] gauge_size`` refines a dogbone's parallel section and
+fillets; ``[mesh] min_quality`` (default 0.15) is the worst element quality a run accepts.
+
 New specimen shapes: write a frozen dataclass with ``length`` and ``max_dimension``
-properties and a parser ``(_Table) -> spec``, and register both in ``SPECIMEN_SHAPES``.
+properties and a parser ``(_Table) -> spec``, and register both in ``SPECIMEN_SHAPES`` (and the
+test kinds and grips it allows in ``SPECIMEN_TESTS``).
 """
 
 from __future__ import annotations

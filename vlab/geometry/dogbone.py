@@ -16,7 +16,9 @@ Mesh: a structured block in (x, η, z), η ∈ [−1, 1], mapped by y = η · ha
 at the grip edges, the ends of the parallel section and the arc junctions, so the parallel section
 is meshed with undistorted boxes (a homogeneous uniaxial state is represented exactly there) and
 the grips select whole element layers. Hexahedra, or tetrahedra from scikit-fem's tensor-product
-tet split of the same lattice.
+tet split of the same lattice. (Why not Gmsh: the PyPI ``gmsh`` wheel's libgmsh links libGLU,
+libGL, libXrender, libXft, libXcursor, libXinerama and libX11 — ldd on gmsh 4.15.2 — which a
+pip-only machine need not have; this mesher needs only numpy and scikit-fem.)
 """
 
 from __future__ import annotations
