@@ -54,7 +54,11 @@ def run(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (defa
     if not quiet:
         console.print(f"[bold]{parsed.name}[/bold]: {parsed.material.model}, {parsed.test.kind} "
                       f"to stretch {list(parsed.test.stretch)}", highlight=False)
-    result = run_scene(parsed, on_level=progress)
+    try:
+        result = run_scene(parsed, on_level=progress)
+    except SceneError as exc:  # e.g. a mesh below mesh.min_quality: nothing is written
+        console.print(f"[red]invalid scene[/red] {exc}", highlight=False)
+        raise typer.Exit(EXIT_INVALID)
     data = write_run(result, out, text)
     _print_summary(data)
     console.print(f"report: {out / 'index.html'}", highlight=False)

@@ -18,14 +18,21 @@ from vlab.fe.problem import HyperelasticBody
 from vlab.fe.space import DisplacementSpace
 from vlab.fe.stepping import Failure, SolveHistory, Stepping, run_schedule
 from vlab.geometry.block import block_specimen
+from vlab.geometry.dogbone import dogbone_specimen
+from vlab.geometry.quality import MeshQuality, mesh_quality
 from vlab.geometry.specimen import Specimen
 from vlab.loading.grips import grip_loading
 from vlab.loading.schedule import monotonic_schedule
 from vlab.materials import make_material
-from vlab.measure.elastic_constants import ElasticConstants, elastic_constants
+from vlab.measure.elastic_constants import ElasticConstants, crosshead_modulus, elastic_constants
+from vlab.measure.homogeneity import HomogeneityProbe
 from vlab.measure.recorder import Curve, Recorder
 from vlab.measure.reference import homogeneous_curve, relative_error
-from vlab.scene import Scene
+from vlab.scene import Scene, SceneError
+
+
+class MeshQualityError(SceneError):
+    """The mesh's worst element is below the scene's ``mesh.min_quality``."""
 
 
 @dataclass
@@ -54,15 +61,31 @@ def build_specimen(scene: Scene) -> Specimen:
     spec = scene.specimen
     if spec.shape == "block":
         return block_specimen(spec.size, scene.mesh.size, scene.mesh.cell, scene.measure.gauge_length)
+    if spec.shape == "dogbone":
+        return dogbone_specimen(spec.dimensions, scene.mesh.size, scene.mesh.cell, scene.mesh.gauge_size)
     raise ValueError(f"specimen.shape {spec.shape!r} is not supported by this build")
 
 
+def checked_quality(scene: Scene, specimen: Specimen) -> MeshQuality:
+    """The mesh's quality; MeshQualityError if its worst element is below mesh.min_quality."""
+    quality = mesh_quality(specimen.mesh)
+    if quality.min_quality < scene.mesh.min_quality:
+        raise MeshQualityError(
+            f"mesh.min_quality: the {specimen.shape} mesh's worst element (#{quality.worst_element}) has "
+            f"{quality.measure} quality {quality.min_quality:.3g} < mesh.min_quality = "
+            f"{scene.mesh.min_quality:g} (1 is ideal; max aspect ratio {quality.max_aspect_ratio:.3g}); "
+            f"change mesh.size / mesh.cell, or lower mesh.min_quality")
+    return quality
+
+
 def run_scene(scene: Scene, on_level=None) -> RunResult:
-    """Run the test a scene describes; never raises for solver trouble (see history.failure)."""
+    """Run the test a scene describes; never raises for solver trouble (see history.failure).
+    Raises MeshQualityError (a SceneError) before solving if the mesh is below mesh.min_quality."""
     clock = time.perf_counter
     timing: dict[str, float] = {}
     t0 = clock()
     specimen = build_specimen(scene)
+    quality = checked_quality(scene, specimen)
     space = DisplacementSpace.build(specimen.mesh, scene.mesh.order)
     material = make_material(scene.material.model, scene.material.moduli.lmbda, scene.material.moduli.mu)
     body = HyperelasticBody(space, material)
@@ -71,11 +94,15 @@ def run_scene(scene: Scene, on_level=None) -> RunResult:
     timing["mesh_s"] = clock() - t0
 
     recorder = Recorder(space, specimen, scene.test.stretch, loading.moving_dofs)
+    probe = HomogeneityProbe.build(space, specimen, material)
+    homogeneity: list[dict] = []
     measure_time = [0.0]
 
     def observe(level):
         t = clock()
         recorder(level)
+        if probe is not None:
+            homogeneity.append(probe.read(level.evaluation.F, recorder.curve.force[0][-1]))
         measure_time[0] += clock() - t
         if on_level is not None:
             on_level(level)
@@ -102,9 +129,25 @@ def run_scene(scene: Scene, on_level=None) -> RunResult:
             key = f"stress_{'xy'[axis]}"
             reference[f"max_relative_error_{'xy'[axis]}"] = relative_error(
                 curve.column("stress", axis), reference[key])
+    extra = {"mesh_quality": quality.as_dict(),
+             "crosshead": crosshead_modulus(curve, scene.measure.modulus_window, scene.measure.fit)}
+    if homogeneity:
+        extra["homogeneity"] = _homogeneity_report(curve, homogeneity, scene.measure.modulus_window)
     timing["measure_s"] += clock() - t2
     timing["total_s"] = clock() - t0
-    return RunResult(scene, specimen, space, curve, constants, history, timing, reference)
+    return RunResult(scene, specimen, space, curve, constants, history, timing, reference, extra)
+
+
+def _homogeneity_report(curve: Curve, rows: list[dict], window: tuple[float, float]) -> dict:
+    """The gauge-section statistics at small strain (last level with extensometer strain within
+    the modulus window; the elastic state) and at the final level."""
+    strain = np.abs(np.array(curve.strain[0]))
+    small = np.flatnonzero(strain <= window[1] * (1 + 1e-9))
+    out = {"final": rows[-1] | {"extensometer_strain": curve.strain[0][-1]}}
+    if len(small):
+        i = int(small[-1])
+        out["small_strain"] = rows[i] | {"extensometer_strain": curve.strain[0][i]}
+    return out
 
 
 def stretch_at(scene: Scene, t: float) -> list[float]:

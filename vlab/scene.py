@@ -8,8 +8,14 @@ gauge_length = None, fit = "regression"; [solver] rtol = 1e-8, max_iterations = 
 max_cutbacks = 8. Unknown sections and keys are errors. Every :class:`SceneError` names the
 dotted field, the allowed values and what was got.
 
+Dogbones: ``[specimen] shape = "dogbone"`` with ``standard = "<name>"`` (dimensions shipped in
+vlab/data/standards/) and/or the explicit keys of ``DIMENSION_KEYS`` (explicit keys win); tested
+uniaxially between clamped grips. ``[mesh] gauge_size`` refines a dogbone's parallel section and
+fillets; ``[mesh] min_quality`` (default 0.15) is the worst element quality a run accepts.
+
 New specimen shapes: write a frozen dataclass with ``length`` and ``max_dimension``
-properties and a parser ``(_Table) -> spec``, and register both in ``SPECIMEN_SHAPES``.
+properties and a parser ``(_Table) -> spec``, and register both in ``SPECIMEN_SHAPES`` (and the
+test kinds and grips it allows in ``SPECIMEN_TESTS``).
 """
 
 from __future__ import annotations
@@ -25,9 +31,11 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Mapping
 
+from vlab.geometry.dogbone import DIMENSION_KEYS, DogboneDimensions, GeometryError
+from vlab.geometry.standards import standard_dimensions, standard_names
 from vlab.moduli import ALIASES, KEYS as MODULI_KEYS, Moduli, ModuliError, from_pair
 
-__all__ = ["SceneError", "Scene", "BlockSpecimen", "MeshSpec", "MaterialSpec", "TestSpec",
+__all__ = ["SceneError", "Scene", "BlockSpecimen", "DogboneSpecimen", "MeshSpec", "MaterialSpec", "TestSpec",
            "MeasureSpec", "SolverSpec", "load_scene", "parse_scene", "apply_overrides",
            "SPECIMEN_SHAPES", "MODELS"]
 
@@ -57,7 +65,21 @@ class BlockSpecimen:
         return max(self.size)
 
 
-Specimen = BlockSpecimen  # becomes a Union as shapes are added
+@dataclass(frozen=True)
+class DogboneSpecimen:
+    shape: str
+    dimensions: DogboneDimensions  # mm; dimensions.standard names the source ("" if explicit)
+
+    @property
+    def length(self) -> float:
+        return self.dimensions.overall_length
+
+    @property
+    def max_dimension(self) -> float:
+        return self.dimensions.overall_length
+
+
+Specimen = BlockSpecimen | DogboneSpecimen
 
 
 @dataclass(frozen=True)
@@ -65,6 +87,8 @@ class MeshSpec:
     size: float  # target element edge, mm
     order: int  # 1 or 2
     cell: str  # "tet" or "hex"
+    gauge_size: float | None = None  # element edge over a dogbone's parallel section and fillets
+    min_quality: float = 0.15  # smallest acceptable element quality (geometry/quality.py)
 
 
 @dataclass(frozen=True)
@@ -206,9 +230,40 @@ def _parse_block(t: _Table) -> BlockSpecimen:
     return BlockSpecimen(shape="block", size=size)  # type: ignore[arg-type]
 
 
+def _parse_dogbone(t: _Table) -> DogboneSpecimen:
+    """``standard = "<name>"`` loads the shipped dimensions; explicit keys override them."""
+    values: dict[str, Any] = {"outer_radius": 0.0}
+    standard = t.get("standard", "")
+    if "standard" in t.raw:
+        data = standard_dimensions(standard) if isinstance(standard, str) else None
+        if data is None:
+            raise SceneError(f"{t.field('standard')} must be one of {', '.join(standard_names())}; "
+                             f"got {_show(standard)}{_suggest(str(standard), standard_names())}")
+        standard = data.pop("standard")
+        values.update(data)
+    for key in DIMENSION_KEYS:
+        if key in t.raw:
+            values[key] = t.number(key, ge=0) if key == "outer_radius" else t.number(key, gt=0)
+        elif key not in values:
+            raise SceneError(f"missing required key {t.field(key)} (or give specimen.standard, one of "
+                             f"{', '.join(standard_names())})")
+    dims = DogboneDimensions(**values, standard=standard)
+    try:
+        dims.check()
+    except GeometryError as exc:
+        raise SceneError(f"specimen.{exc}") from None
+    return DogboneSpecimen(shape="dogbone", dimensions=dims)
+
+
 # shape -> (allowed keys in [specimen], parser)
 SPECIMEN_SHAPES: dict[str, tuple[tuple[str, ...], Callable[[_Table], Specimen]]] = {
     "block": (("shape", "size"), _parse_block),
+    "dogbone": (("shape", "standard") + DIMENSION_KEYS, _parse_dogbone),
+}
+# shape -> (allowed test kinds, allowed grips); the first grip kind is the default
+SPECIMEN_TESTS: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
+    "block": (("uniaxial", "biaxial"), ("roller", "clamped")),
+    "dogbone": (("uniaxial",), ("clamped",)),
 }
 
 
@@ -223,10 +278,15 @@ def _parse_specimen(raw: Any) -> Specimen:
 
 
 def _parse_mesh(raw: Any, specimen: Specimen) -> MeshSpec:
-    t = _Table("mesh", raw, ("size", "order", "cell"))
+    t = _Table("mesh", raw, ("size", "order", "cell", "gauge_size", "min_quality"))
     size = t.number("size", gt=0, le=specimen.max_dimension, note=" (the largest specimen dimension)")
+    gauge_size = t.number("gauge_size", default=None, gt=0, le=size, note=" (mesh.size)")
+    if gauge_size is not None and specimen.shape != "dogbone":
+        raise SceneError(f"{t.field('gauge_size')} applies to specimen.shape = 'dogbone' only, "
+                         f"not {specimen.shape!r}")
     return MeshSpec(size=size, order=t.integer("order", 1, 2, default=1),
-                    cell=t.choice("cell", ("tet", "hex"), default="tet"))
+                    cell=t.choice("cell", ("tet", "hex"), default="tet"), gauge_size=gauge_size,
+                    min_quality=t.number("min_quality", default=0.15, gt=0, lt=1))
 
 
 def _parse_material(raw: Any) -> MaterialSpec:
@@ -253,10 +313,17 @@ def _stretch_value(field: str, v: Any) -> float:
     return v
 
 
-def _parse_test(raw: Any) -> TestSpec:
+def _parse_test(raw: Any, shape: str = "block") -> TestSpec:
     t = _Table("test", raw, ("kind", "grips", "stretch", "steps"))
+    kinds, grip_kinds = SPECIMEN_TESTS[shape]
     kind = t.choice("kind", ("uniaxial", "biaxial"))
-    grips = t.choice("grips", ("roller", "clamped"), default="roller")
+    if kind not in kinds:
+        raise SceneError(f"{t.field('kind')} must be one of {', '.join(kinds)} for specimen.shape = "
+                         f"{shape!r}, got {kind!r}")
+    grips = t.choice("grips", ("roller", "clamped"), default=grip_kinds[0])
+    if grips not in grip_kinds:
+        raise SceneError(f"{t.field('grips')} must be one of {', '.join(grip_kinds)} for specimen.shape = "
+                         f"{shape!r}, got {grips!r}")
     field, v = t.field("stretch"), t.get("stretch")
     if kind == "uniaxial":
         if isinstance(v, list):
@@ -319,7 +386,7 @@ def _parse(data: Mapping[str, Any]) -> Scene:
     return Scene(name=name, description=description, specimen=specimen,
                  mesh=_parse_mesh(data["mesh"], specimen),
                  material=_parse_material(data["material"]),
-                 test=_parse_test(data["test"]),
+                 test=_parse_test(data["test"], specimen.shape),
                  measure=_parse_measure(data.get("measure", {}), specimen),
                  solver=_parse_solver(data.get("solver", {})),
                  source=copy.deepcopy(dict(data)))

@@ -7,7 +7,7 @@ surface, evaluated through the finite-element interpolation, so they need not be
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
@@ -45,7 +45,9 @@ class Specimen:
     ``grip_separation[axis]`` is the initial distance between the two grips on that axis (mm);
     ``extensometers[axis]`` the axial gauge marks; ``transverse[axis]`` the marks across the
     width at the gauge centre for a test loaded along ``axis``; ``thickness`` the marks through
-    the thickness at the gauge centre; ``area0[axis]`` the gauge-section area normal to the axis.
+    the thickness at the gauge centre; ``area0[axis]`` the gauge-section area normal to the axis;
+    ``regions`` named selectors (reference coordinates) such as "gauge" and "fillets" that the
+    homogeneity measurement reads.
     """
 
     shape: str
@@ -57,6 +59,7 @@ class Specimen:
     thickness: GaugeMarks
     area0: dict[int, float]
     length_scale: float
+    regions: dict[str, Selector] = field(default_factory=dict)
 
     def grips_on(self, axis: int) -> tuple[Grip, Grip]:
         fixed = next(g for g in self.grips if g.axis == axis and g.side < 0)

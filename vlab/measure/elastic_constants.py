@@ -38,6 +38,20 @@ def elastic_constants(curve: Curve, window: tuple[float, float], method: str) ->
         return ElasticConstants(None, None, None, None, [], f"not measured: {exc}")
 
 
+def crosshead_modulus(curve: Curve, window, method) -> dict | None:
+    """The modulus a lab without an extensometer would report: slope of engineering stress
+    against crosshead strain λ_grip − 1 = Δ(grip separation)/(initial grip separation), fitted
+    over the same |strain| window (uniaxial tests only). It includes the fillets' and tabs'
+    compliance and the grips' lateral constraint, so on a dogbone it is not E."""
+    if len(curve.axes) != 1:
+        return None
+    try:
+        fit = fit_line(np.array(curve.stretch[0]) - 1.0, curve.column("stress", 0), window, method)
+    except FitError as exc:
+        return {"E": None, "fit": None, "note": f"not measured: {exc}"}
+    return {"E": fit.slope, "fit": fit.as_dict(), "note": ""}
+
+
 def _uniaxial(curve: Curve, window, method) -> ElasticConstants:
     eps = np.array(curve.strain[0])
     e_fit = fit_line(eps, curve.column("stress", 0), window, method)

@@ -22,6 +22,7 @@ def summary_rows(data: dict) -> list[tuple[str, str]]:
         ("model", inp["model"]),
         ("E measured / input [MPa]", f"{_fmt(m['E'])} / {_fmt(inp['E'])}"),
         ("ν measured / input", f"{_fmt(m['nu'])} / {_fmt(inp['nu'])}"),
+        ("E from crosshead strain [MPa]", _fmt(m.get("E_crosshead"))),
         ("force at last level [N]", _fmt(data["curve"]["force"][-1] if data["curve"]["force"] else None)),
         ("Newton iterations (total)", _fmt(sum(solver["newton_iterations"]))),
         ("cutbacks", _fmt(sum(solver["cutbacks"]))),

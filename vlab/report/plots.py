@@ -12,7 +12,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 def plot_stress_strain(data: dict, path: Path) -> None:
     """Engineering stress against extensometer strain, the analytic curve dashed if known,
-    the modulus window shaded and the fitted line drawn."""
+    the modulus window shaded and the fitted line drawn; beside it the same stress against the
+    crosshead (grip-to-grip) strain, which is what a test without an extensometer would plot."""
     curve, measured = data["curve"], data["measured"]
     fig, ax = plt.subplots(figsize=(6.4, 4.4), dpi=120)
     for sfx, label in (("", "x"), ("_y", "y")):
@@ -25,6 +26,9 @@ def plot_stress_strain(data: dict, path: Path) -> None:
         if ref:
             ax.plot(curve["strain" + sfx][: len(ref)], ref, "k--", lw=1,
                     label=f"analytic homogeneous ({label})")
+    if "crosshead_strain" in curve and measured.get("E_crosshead") is not None:
+        ax.plot([0.0] + curve["crosshead_strain"], [0.0] + curve["stress"], "s:", ms=2, color="tab:gray",
+                label=f"FE, load cell / crosshead strain (E would read {measured['E_crosshead']:.4g})")
     fit = measured.get("E_fit")
     if fit:
         lo, hi = fit["window"]
@@ -35,7 +39,7 @@ def plot_stress_strain(data: dict, path: Path) -> None:
     if measured.get("E") is not None:
         title += f"  —  E = {measured['E']:.4g} MPa, ν = {measured['nu']:.4f}"
     ax.set_title(title, fontsize=10)
-    ax.set_xlabel("extensometer strain (engineering) [–]")
+    ax.set_xlabel("engineering strain [–] (extensometer, unless labelled crosshead)")
     ax.set_ylabel("engineering stress [MPa]")
     ax.axhline(0, color="0.7", lw=0.5)
     ax.axvline(0, color="0.7", lw=0.5)

@@ -33,6 +33,8 @@ def curve_columns(result: RunResult) -> dict[str, list[float]]:
         cols["force" + sfx] = list(c.force[axis])
         cols["true_strain" + sfx] = list(c.column("true_strain", axis))
         cols["true_stress" + sfx] = list(c.column("true_stress", axis))
+    if len(c.axes) == 1:
+        cols["crosshead_strain"] = [s - 1.0 for s in c.stretch[0]]
     cols["transverse_strain"] = list(c.transverse_strain)
     cols["thickness_strain"] = list(c.thickness_strain)
     return cols
@@ -51,14 +53,18 @@ def result_to_dict(result: RunResult) -> dict:
         "measured": {
             "E": const.E, "nu": const.nu, "E_fit": const.E_fit, "nu_fit": const.nu_fit,
             "axes": const.per_axis, "note": const.note,
+            "E_crosshead": (result.extra.get("crosshead") or {}).get("E"),
+            "E_crosshead_fit": (result.extra.get("crosshead") or {}).get("fit"),
             "units": {"E": "MPa", "nu": "1"},
         },
         "input": {"model": scene.material.model, **scene.material.moduli.as_dict()},
         "curve": curve_columns(result) | {
             "units": {"stretch": "1 (grip)", "strain": "1 (extensometer, engineering)",
-                      "stress": "MPa (engineering)", "force": "N", "true_stress": "MPa"},
+                      "stress": "MPa (engineering)", "force": "N", "true_stress": "MPa",
+                      "crosshead_strain": "1 (grip separation change / initial grip separation)"},
         },
         "reference": result.reference,
+        "homogeneity": result.extra.get("homogeneity"),
         "solver": {
             "newton_iterations": [lv.iterations for lv in levels],
             "cutbacks": [lv.cutbacks for lv in levels],
@@ -72,6 +78,7 @@ def result_to_dict(result: RunResult) -> dict:
         "mesh": {
             "cell": scene.mesh.cell, "order": scene.mesh.order, "size": scene.mesh.size,
             "elements": int(space.basis.nelems), "nodes": int(space.n_nodes), "dofs": int(space.n_dofs),
+            "quality": result.extra.get("mesh_quality"),
         },
         "failure": None if history.failure is None else failure_dict(scene, history.failure),
     })
