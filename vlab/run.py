@@ -16,6 +16,7 @@ from vlab.fe.assembly import Partition
 from vlab.fe.newton import NewtonOptions
 from vlab.fe.problem import HyperelasticBody
 from vlab.fe.space import DisplacementSpace
+from vlab.fe.spring_network import SpringNetwork
 from vlab.fe.stepping import Failure, SolveHistory, Stepping, run_schedule
 from vlab.geometry.block import block_specimen
 from vlab.geometry.specimen import Specimen
@@ -25,7 +26,7 @@ from vlab.materials import make_material
 from vlab.measure.elastic_constants import ElasticConstants, elastic_constants
 from vlab.measure.recorder import Curve, Recorder
 from vlab.measure.reference import homogeneous_curve, relative_error
-from vlab.scene import Scene
+from vlab.scene import SPRING_NETWORK, Scene
 
 
 @dataclass
@@ -57,6 +58,14 @@ def build_specimen(scene: Scene) -> Specimen:
     raise ValueError(f"specimen.shape {spec.shape!r} is not supported by this build")
 
 
+def make_body(scene: Scene, space: DisplacementSpace):
+    """The body a scene's material.model asks for: a continuum material or the spring network."""
+    moduli = scene.material.moduli
+    if scene.material.model == SPRING_NETWORK:
+        return SpringNetwork(space, moduli.E)
+    return HyperelasticBody(space, make_material(scene.material.model, moduli.lmbda, moduli.mu))
+
+
 def run_scene(scene: Scene, on_level=None) -> RunResult:
     """Run the test a scene describes; never raises for solver trouble (see history.failure)."""
     clock = time.perf_counter
@@ -64,8 +73,8 @@ def run_scene(scene: Scene, on_level=None) -> RunResult:
     t0 = clock()
     specimen = build_specimen(scene)
     space = DisplacementSpace.build(specimen.mesh, scene.mesh.order)
-    material = make_material(scene.material.model, scene.material.moduli.lmbda, scene.material.moduli.mu)
-    body = HyperelasticBody(space, material)
+    body = make_body(scene, space)
+    material = getattr(body, "material", None)  # None for the spring network: no analytic oracle
     loading = grip_loading(specimen, space.node_coordinates, scene.test.stretch, scene.test.grips)
     partition = Partition.build(body.pattern, loading.prescribed)
     timing["mesh_s"] = clock() - t0
@@ -85,7 +94,7 @@ def run_scene(scene: Scene, on_level=None) -> RunResult:
         max_cutbacks=scene.solver.max_cutbacks,
         newton=NewtonOptions(rtol=scene.solver.rtol, max_iterations=scene.solver.max_iterations),
     )
-    force_floor = 1e-12 * material.mu * specimen.length_scale**2
+    force_floor = 1e-12 * scene.material.moduli.mu * specimen.length_scale**2
     t1 = clock()
     history = run_schedule(body, partition, loading.u_hat, stepping,
                            (force_floor, specimen.length_scale), observe)
@@ -96,7 +105,7 @@ def run_scene(scene: Scene, on_level=None) -> RunResult:
     curve = recorder.curve
     constants = elastic_constants(curve, scene.measure.modulus_window, scene.measure.fit)
     reference = None
-    if specimen.shape == "block" and scene.test.grips == "roller":
+    if material is not None and specimen.shape == "block" and scene.test.grips == "roller":
         reference = homogeneous_curve(material, curve.stretch)
         for axis in curve.axes:
             key = f"stress_{'xy'[axis]}"
@@ -104,7 +113,8 @@ def run_scene(scene: Scene, on_level=None) -> RunResult:
                 curve.column("stress", axis), reference[key])
     timing["measure_s"] += clock() - t2
     timing["total_s"] = clock() - t0
-    return RunResult(scene, specimen, space, curve, constants, history, timing, reference)
+    return RunResult(scene, specimen, space, curve, constants, history, timing, reference,
+                     extra={"body": body})
 
 
 def stretch_at(scene: Scene, t: float) -> list[float]:
