@@ -63,7 +63,7 @@ def run(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (defa
     result = run_scene(parsed, on_level=progress)
     data = write_run(result, out, text, options)
     _print_summary(data)
-    console.print(f"report: {out / 'index.html'}", highlight=False)
+    console.print(f"report: {out / 'index.html'}", highlight=False, soft_wrap=True)
     raise typer.Exit(EXIT_OK if data["converged"] else EXIT_FAILED)
 
 
@@ -185,5 +185,5 @@ def compare(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (
         if not quiet:
             console.print(f"[bold]{outcome.model}[/bold]", highlight=False)
             _print_summary(outcome.data)
-    console.print(f"report: {out / 'index.html'}", highlight=False)
+    console.print(f"report: {out / 'index.html'}", highlight=False, soft_wrap=True)
     raise typer.Exit(EXIT_OK if all(o.data["converged"] for o in outcomes) else EXIT_FAILED)
