@@ -26,7 +26,7 @@ VIEW_DIRECTION = np.array([0.55, -1.0, 0.75])  # from the front-right, above: x 
 @dataclass(frozen=True)
 class RenderOptions:
     field: str = "von-mises"
-    panel_size: tuple[int, int] = (440, 420)  # pixels per panel
+    panel_size: tuple[int, int] = (440, 440)  # pixels per panel
     cmap: str = "viridis"
     frame: int = -1  # which snapshot frame (default: the last recorded level)
 
@@ -64,8 +64,10 @@ def _camera(points: np.ndarray) -> dict:
     lo, hi = points.min(axis=0), points.max(axis=0)
     centre, radius = (lo + hi) / 2, 0.5 * float(np.linalg.norm(hi - lo))
     direction = VIEW_DIRECTION / np.linalg.norm(VIEW_DIRECTION)
-    return {"position": tuple(centre + 4.0 * radius * direction), "focal_point": tuple(centre),
-            "viewup": (0.0, 0.0, 1.0), "parallel_scale": 1.15 * radius}
+    up = np.array([0.0, 0.0, 1.0]) - direction[2] * direction  # screen "up" in world coordinates
+    focal = centre + 0.22 * radius * up / np.linalg.norm(up)  # leaves room for the label on top
+    return {"position": tuple(focal + 4.0 * radius * direction), "focal_point": tuple(focal),
+            "viewup": (0.0, 0.0, 1.0), "parallel_scale": 1.25 * radius}
 
 
 def _apply_camera(plotter, camera: dict) -> None:
@@ -74,6 +76,16 @@ def _apply_camera(plotter, camera: dict) -> None:
     plotter.camera.focal_point = camera["focal_point"]
     plotter.camera.up = camera["viewup"]
     plotter.camera.parallel_scale = camera["parallel_scale"]
+
+
+def _outline(grid):
+    """Edges where the undeformed surface bends by more than 30°: the specimen's silhouette lines.
+    The surface's faces are first oriented consistently, or coplanar faces of opposite winding
+    would count as a fold and every surface triangle edge would be drawn."""
+    surface = grid.extract_surface(algorithm="dataset_surface").compute_normals(
+        cell_normals=True, point_normals=False, consistent_normals=True, auto_orient_normals=True)
+    return surface.extract_feature_edges(feature_angle=30, boundary_edges=True,
+                                         non_manifold_edges=False, manifold_edges=False)
 
 
 class _Scene:
@@ -86,8 +98,7 @@ class _Scene:
 
         self.snapshot, self.field = snapshot, field
         self.reference = reference_grid(snapshot.mesh)
-        outline = self.reference.extract_surface(algorithm="dataset_surface").extract_feature_edges(
-            feature_angle=30, boundary_edges=True, non_manifold_edges=False, manifold_edges=False)
+        outline = _outline(self.reference)
         plotter.add_mesh(outline, color="#737373", line_width=1.5)
         self.deformed = self.reference.copy()
         self.deformed.cell_data[field] = snapshot.fields[field][0]
@@ -114,12 +125,12 @@ def _label(snapshot: Snapshot, field: str, frame: int) -> str:
     unit = FIELDS[field][1]
     unit = "" if unit == "1" else f" {unit}"
     span = f"{lo:.3g}{unit}" if f"{lo:.3g}" == f"{hi:.3g}" else f"{lo:.3g} to {hi:.3g}{unit}"
-    return f"{snapshot.model}\n{FIELDS[field][0]}: {span}"
+    return f"{snapshot.model}\n{FIELDS[field][0]}\n{span}"
 
 
 def _add_label(plotter, text: str):
     """Fixed-size text in the panel's top-left corner (viewport coordinates, no auto-scaling)."""
-    return plotter.add_text(text, position=(0.03, 0.86), viewport=True, font_size=11, color="black")
+    return plotter.add_text(text, position=(0.03, 0.82), viewport=True, font_size=11, color="black")
 
 
 def _new_plotter(n_panels: int, panel_size, bar: bool):

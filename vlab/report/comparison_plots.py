@@ -51,11 +51,12 @@ def analytic_curve(data: dict, true: bool) -> tuple[np.ndarray, np.ndarray] | No
 
 
 def _window(datas: list[dict]) -> tuple[float, float, float] | None:
+    """The |strain| window of the E fit and the sign of the test's strain (−1 in compression)."""
     for d in datas:
-        fit = d["measured"].get("E_fit")
-        if fit:
+        window = d["measured"].get("window") or (d["measured"].get("E_fit") or {}).get("window")
+        if window and None not in window and d["measured"].get("E") is not None:
             sign = -1.0 if d["curve"]["strain"] and d["curve"]["strain"][-1] < 0 else 1.0
-            return fit["window"][0], fit["window"][1], sign
+            return window[0], window[1], sign
     return None
 
 
@@ -140,14 +141,14 @@ def _inset(ax, datas, true, xs, sign):
         if inside.any():
             y_hi = max(y_hi, float(np.max(np.abs(y[inside]))))
         fit = d["measured"].get("E_fit")
-        if fit:
+        if fit and not true and "strain_y" not in d["curve"]:  # the fit is s against ε (uniaxial)
             line = np.linspace(x_lo, x_hi, 2)
             inset.plot(line, fit["intercept"] + fit["slope"] * line, ":", lw=0.8, color=colour(d["input"]["model"]))
     inset.axvspan(*xs, color="gold", alpha=0.35, lw=0)
     inset.set_xlim(min(x_lo, x_hi), max(x_lo, x_hi))
     if y_hi > 0:
         inset.set_ylim(*(sorted((0.0, sign * 1.1 * y_hi))))
-    inset.set_title("fit window (dotted: fitted lines)", fontsize=7)
+    inset.set_title("fit window" + ("" if true else " (dotted: fitted lines, uniaxial)"), fontsize=7)
     inset.tick_params(labelsize=6)
     inset.xaxis.set_major_locator(matplotlib.ticker.MaxNLocator(4))
     inset.grid(alpha=0.3)

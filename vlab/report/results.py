@@ -51,6 +51,7 @@ def result_to_dict(result: RunResult) -> dict:
         "measured": {
             "E": const.E, "nu": const.nu, "E_fit": const.E_fit, "nu_fit": const.nu_fit,
             "axes": const.per_axis, "note": const.note,
+            "window": list(scene.measure.modulus_window),  # |extensometer strain| of the E, nu fits
             "units": {"E": "MPa", "nu": "1"},
         },
         "input": {"model": scene.material.model, **scene.material.moduli.as_dict()},
