@@ -18,12 +18,14 @@ from vlab.post.fields import FIELDS, cell_fields
 
 @dataclass(frozen=True)
 class Snapshot:
-    """model: name; t: (n_frames,) load levels, frame 0 unloaded; displacement: (n_frames, n_vertices, 3)
-    mm; fields: name -> (n_frames, n_cells); marks: name -> (reference (2, 3), current (n_frames, 2, 3)) mm."""
+    """model: name; t: (n_frames,) load levels, frame 0 unloaded (t = 1 is the target); stretch:
+    (n_frames,) grip stretch along x; displacement: (n_frames, n_vertices, 3) mm; fields: name ->
+    (n_frames, n_cells); marks: name -> (reference (2, 3), current (n_frames, 2, 3)) mm."""
 
     model: str
     mesh: skfem.Mesh
     t: np.ndarray
+    stretch: np.ndarray
     displacement: np.ndarray
     fields: dict[str, np.ndarray]
     marks: dict[str, tuple[np.ndarray, np.ndarray]]
@@ -58,4 +60,5 @@ def take_snapshot(result) -> Snapshot:
         probe = space.probe_matrix(X.T)
         marks[name] = (X, np.stack([X + probe @ ev.u.reshape(-1, 3) for ev in states]))
     t = np.array([0.0] + [lv.t for lv in result.history.levels])
-    return Snapshot(result.scene.material.model, mesh, t, u, fields, marks)
+    stretch = 1.0 + t * (result.scene.test.stretch[0] - 1.0)
+    return Snapshot(result.scene.material.model, mesh, t, stretch, u, fields, marks)

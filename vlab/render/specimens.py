@@ -65,9 +65,9 @@ def _camera(points: np.ndarray) -> dict:
     centre, radius = (lo + hi) / 2, 0.5 * float(np.linalg.norm(hi - lo))
     direction = VIEW_DIRECTION / np.linalg.norm(VIEW_DIRECTION)
     up = np.array([0.0, 0.0, 1.0]) - direction[2] * direction  # screen "up" in world coordinates
-    focal = centre + 0.22 * radius * up / np.linalg.norm(up)  # leaves room for the label on top
+    focal = centre + 0.3 * radius * up / np.linalg.norm(up)  # leaves room for the label on top
     return {"position": tuple(focal + 4.0 * radius * direction), "focal_point": tuple(focal),
-            "viewup": (0.0, 0.0, 1.0), "parallel_scale": 1.25 * radius}
+            "viewup": (0.0, 0.0, 1.0), "parallel_scale": 1.3 * radius}
 
 
 def _apply_camera(plotter, camera: dict) -> None:
@@ -125,12 +125,14 @@ def _label(snapshot: Snapshot, field: str, frame: int) -> str:
     unit = FIELDS[field][1]
     unit = "" if unit == "1" else f" {unit}"
     span = f"{lo:.3g}{unit}" if f"{lo:.3g}" == f"{hi:.3g}" else f"{lo:.3g} to {hi:.3g}{unit}"
-    return f"{snapshot.model}\n{FIELDS[field][0]}\n{span}"
+    stopped = snapshot.t[frame] < 1.0 - 1e-12 and frame in (-1, snapshot.n_frames - 1)
+    return (f"{snapshot.model}{' (test stopped)' if stopped else ''}\n"
+            f"grip stretch {snapshot.stretch[frame]:.4g}\n{FIELDS[field][0]}\n{span}")
 
 
 def _add_label(plotter, text: str):
     """Fixed-size text in the panel's top-left corner (viewport coordinates, no auto-scaling)."""
-    return plotter.add_text(text, position=(0.03, 0.82), viewport=True, font_size=11, color="black")
+    return plotter.add_text(text, position=(0.03, 0.78), viewport=True, font_size=11, color="black")
 
 
 def _new_plotter(n_panels: int, panel_size, bar: bool):
@@ -195,7 +197,7 @@ def render_animation(snapshot: Snapshot, path: Path, options: RenderOptions = Re
         for frame in frames:
             plotter.subplot(0, 0)
             scene.show_frame(frame)
-            text.input = f"{snapshot.model}\nload level t = {snapshot.t[frame]:.3f}"
+            text.input = f"{snapshot.model}\ngrip stretch {snapshot.stretch[frame]:.4f}"
             plotter.render()
             images.append(Image.fromarray(plotter.screenshot(return_img=True)))
     finally:
