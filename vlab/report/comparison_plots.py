@@ -102,7 +102,13 @@ def plot_overlay(datas: list[dict], path: Path, true: bool = False,
     kind = "true" if true else "engineering"
     ax.set_xlabel(f"{'true strain ln(1 + ε)' if true else 'extensometer strain ε (engineering)'} [–]")
     ax.set_ylabel(f"{kind} stress [MPa]")
-    ax.set_title(f"{kind.capitalize()} stress–strain, all models", fontsize=11)
+    if len(datas) == 1:
+        m = datas[0]["measured"]
+        fitted = f": E = {m['E']:.4g} MPa, ν = {m['nu']:.4f}" if m.get("E") is not None else ""
+        title = f"{kind.capitalize()} stress–strain, {datas[0]['input']['model']}{fitted}"
+    else:
+        title = f"{kind.capitalize()} stress–strain, {len(datas)} models"
+    ax.set_title(title, fontsize=11)
     ax.axhline(0, color="0.7", lw=0.5)
     ax.axvline(0, color="0.7", lw=0.5)
     ax.grid(alpha=0.3)
