@@ -36,12 +36,18 @@ def _load(scene: Optional[Path]):
 @app.command()
 def run(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (default: built-in block test)."),
         out: Optional[Path] = typer.Option(None, "--out", "-o", help="Output folder (default reports/<scene name>)."),
-        quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress output.")):
-    """Run one test and write results.json, curve.csv, a stress–strain PNG and index.html."""
+        quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress output."),
+        true: bool = typer.Option(False, "--true", help="Plot true instead of engineering stress and strain."),
+        field: str = typer.Option("von-mises", "--field", help="Render colouring: von-mises, max-stretch or J."),
+        single_file: bool = typer.Option(False, "--single-file", help="Inline the images in index.html."),
+        gif: bool = typer.Option(False, "--gif", help="Also write an animated GIF of the test."),
+        render: bool = typer.Option(True, "--render/--no-render", help="3D renders of the deformed specimen.")):
+    """Run one test and write its report: results.json, curve.csv, PNGs, renders, VTU/PVD, index.html."""
     from vlab.report.writer import write_run
     from vlab.run import run_scene
 
     parsed, text = _load(scene)
+    options = _report_options(true, field, single_file, parsed.material.model if gif else None, render)
     out = out or Path("reports") / parsed.name
     n_levels = [0]
 
@@ -59,9 +65,9 @@ def run(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (defa
     except SceneError as exc:  # e.g. a mesh below mesh.min_quality: nothing is written
         console.print(f"[red]invalid scene[/red] {exc}", highlight=False)
         raise typer.Exit(EXIT_INVALID)
-    data = write_run(result, out, text)
+    data = write_run(result, out, text, options)
     _print_summary(data)
-    console.print(f"report: {out / 'index.html'}", highlight=False)
+    console.print(f"report: {out / 'index.html'}", highlight=False, soft_wrap=True)
     raise typer.Exit(EXIT_OK if data["converged"] else EXIT_FAILED)
 
 
@@ -114,3 +120,74 @@ def info():
 
     Console().print(f"vlab {__version__}; numpy {numpy.__version__}, scipy {scipy.__version__}, "
                     f"scikit-fem {skfem.__version__}; linear solver: SuperLU (scipy, symmetric mode)")
+
+
+def _report_options(true: bool, field: str, single_file: bool, gif_model, render: bool):
+    from vlab.post.fields import FIELDS
+    from vlab.report.writer import ReportOptions
+
+    if field not in FIELDS:
+        console.print(f"[red]invalid option[/red] --field {field!r}; allowed: {', '.join(FIELDS)}", highlight=False)
+        raise typer.Exit(EXIT_INVALID)
+    return ReportOptions(true_measures=true, field=field, single_file=single_file, gif_model=gif_model,
+                         render=render)
+
+
+def _parse_models(text: str) -> tuple[str, ...]:
+    from vlab.scene import MODELS
+
+    models = tuple(dict.fromkeys(m.strip() for m in text.split(",") if m.strip()))
+    bad = [m for m in models if m not in MODELS]
+    if not models or bad:
+        console.print(f"[red]invalid option[/red] --models {text!r}: unknown {', '.join(map(repr, bad)) or 'empty list'}; "
+                      f"allowed: {', '.join(MODELS)} (comma-separated)", highlight=False)
+        raise typer.Exit(EXIT_INVALID)
+    return models
+
+
+@app.command()
+def compare(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (default: built-in block test)."),
+            models: str = typer.Option("linear,stvk,neo-hookean", "--models", "-m",
+                                       help="Comma-separated models (linear, stvk, stvk-volumetric, "
+                                            "neo-hookean, spring-network)."),
+            out: Optional[Path] = typer.Option(None, "--out", "-o", help="Output folder (default reports/<scene name>)."),
+            workers: Optional[int] = typer.Option(None, "--workers", "-j", min=1,
+                                                  help="Parallel processes (default: one per core)."),
+            quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress output."),
+            true: bool = typer.Option(False, "--true", help="Plot true instead of engineering stress and strain."),
+            field: str = typer.Option("von-mises", "--field", help="Render colouring: von-mises, max-stretch or J."),
+            single_file: bool = typer.Option(False, "--single-file", help="Inline the images in index.html."),
+            gif: Optional[str] = typer.Option(None, "--gif", help="Animate this model's test as a GIF."),
+            render: bool = typer.Option(True, "--render/--no-render", help="3D renders of the deformed specimens.")):
+    """Run one scene with several material models side by side and write a comparison report."""
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+    from vlab.compare import compare_models, scene_for_model
+    from vlab.report.writer import write_report
+
+    parsed, text = _load(scene)
+    chosen = _parse_models(models)
+    if gif is not None and gif not in chosen:
+        console.print(f"[red]invalid option[/red] --gif {gif!r} is not among --models {', '.join(chosen)}",
+                      highlight=False)
+        raise typer.Exit(EXIT_INVALID)
+    try:
+        for model in chosen:
+            scene_for_model(parsed, model)
+    except SceneError as exc:
+        console.print(f"[red]invalid scene[/red] {exc}", highlight=False)
+        raise typer.Exit(EXIT_INVALID)
+    options = _report_options(true, field, single_file, gif, render)
+    out = out or Path("reports") / parsed.name
+    with Progress(TextColumn("{task.description:>16}"), BarColumn(), MofNCompleteColumn(),
+                  TextColumn("load levels"), TimeElapsedColumn(), console=console, disable=quiet) as bar:
+        tasks = {m: bar.add_task(m, total=None) for m in chosen}
+        outcomes = compare_models(parsed, chosen, workers,
+                                  lambda m, done, total: bar.update(tasks[m], completed=done, total=total))
+    write_report(outcomes, out, parsed, text, options)
+    for outcome in outcomes:
+        if not quiet:
+            console.print(f"[bold]{outcome.model}[/bold]", highlight=False)
+            _print_summary(outcome.data)
+    console.print(f"report: {out / 'index.html'}", highlight=False, soft_wrap=True)
+    raise typer.Exit(EXIT_OK if all(o.data["converged"] for o in outcomes) else EXIT_FAILED)

@@ -16,6 +16,7 @@ from vlab.fe.assembly import Partition
 from vlab.fe.newton import NewtonOptions
 from vlab.fe.problem import HyperelasticBody
 from vlab.fe.space import DisplacementSpace
+from vlab.fe.spring_network import SpringNetwork
 from vlab.fe.stepping import Failure, SolveHistory, Stepping, run_schedule
 from vlab.geometry.block import block_specimen
 from vlab.geometry.dogbone import dogbone_specimen
@@ -28,7 +29,7 @@ from vlab.measure.elastic_constants import ElasticConstants, crosshead_modulus, 
 from vlab.measure.homogeneity import HomogeneityProbe
 from vlab.measure.recorder import Curve, Recorder
 from vlab.measure.reference import homogeneous_curve, relative_error
-from vlab.scene import Scene, SceneError
+from vlab.scene import SPRING_NETWORK, Scene, SceneError
 
 
 class MeshQualityError(SceneError):
@@ -78,6 +79,14 @@ def checked_quality(scene: Scene, specimen: Specimen) -> MeshQuality:
     return quality
 
 
+def make_body(scene: Scene, space: DisplacementSpace):
+    """The body a scene's material.model asks for: a continuum material or the spring network."""
+    moduli = scene.material.moduli
+    if scene.material.model == SPRING_NETWORK:
+        return SpringNetwork(space, moduli.E)
+    return HyperelasticBody(space, make_material(scene.material.model, moduli.lmbda, moduli.mu))
+
+
 def run_scene(scene: Scene, on_level=None) -> RunResult:
     """Run the test a scene describes; never raises for solver trouble (see history.failure).
     Raises MeshQualityError (a SceneError) before solving if the mesh is below mesh.min_quality."""
@@ -87,14 +96,14 @@ def run_scene(scene: Scene, on_level=None) -> RunResult:
     specimen = build_specimen(scene)
     quality = checked_quality(scene, specimen)
     space = DisplacementSpace.build(specimen.mesh, scene.mesh.order)
-    material = make_material(scene.material.model, scene.material.moduli.lmbda, scene.material.moduli.mu)
-    body = HyperelasticBody(space, material)
+    body = make_body(scene, space)
+    material = getattr(body, "material", None)  # None for the spring network: no analytic oracle
     loading = grip_loading(specimen, space.node_coordinates, scene.test.stretch, scene.test.grips)
     partition = Partition.build(body.pattern, loading.prescribed)
     timing["mesh_s"] = clock() - t0
 
     recorder = Recorder(space, specimen, scene.test.stretch, loading.moving_dofs)
-    probe = HomogeneityProbe.build(space, specimen, material)
+    probe = HomogeneityProbe.build(space, specimen, material) if material is not None else None
     homogeneity: list[dict] = []
     measure_time = [0.0]
 
@@ -112,7 +121,7 @@ def run_scene(scene: Scene, on_level=None) -> RunResult:
         max_cutbacks=scene.solver.max_cutbacks,
         newton=NewtonOptions(rtol=scene.solver.rtol, max_iterations=scene.solver.max_iterations),
     )
-    force_floor = 1e-12 * material.mu * specimen.length_scale**2
+    force_floor = 1e-12 * scene.material.moduli.mu * specimen.length_scale**2
     t1 = clock()
     history = run_schedule(body, partition, loading.u_hat, stepping,
                            (force_floor, specimen.length_scale), observe)
@@ -123,7 +132,7 @@ def run_scene(scene: Scene, on_level=None) -> RunResult:
     curve = recorder.curve
     constants = elastic_constants(curve, scene.measure.modulus_window, scene.measure.fit)
     reference = None
-    if specimen.shape == "block" and scene.test.grips == "roller":
+    if material is not None and specimen.shape == "block" and scene.test.grips == "roller":
         reference = homogeneous_curve(material, curve.stretch)
         for axis in curve.axes:
             key = f"stress_{'xy'[axis]}"
@@ -135,6 +144,7 @@ def run_scene(scene: Scene, on_level=None) -> RunResult:
         extra["homogeneity"] = _homogeneity_report(curve, homogeneity, scene.measure.modulus_window)
     timing["measure_s"] += clock() - t2
     timing["total_s"] = clock() - t0
+    extra["body"] = body
     return RunResult(scene, specimen, space, curve, constants, history, timing, reference, extra)
 
 

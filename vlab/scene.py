@@ -39,7 +39,8 @@ __all__ = ["SceneError", "Scene", "BlockSpecimen", "DogboneSpecimen", "MeshSpec"
            "MeasureSpec", "SolverSpec", "load_scene", "parse_scene", "apply_overrides",
            "SPECIMEN_SHAPES", "MODELS"]
 
-MODELS = ("linear", "stvk", "stvk-volumetric", "neo-hookean")
+SPRING_NETWORK = "spring-network"  # not a material law: mesh edges as springs (vlab.fe.spring_network)
+MODELS = ("linear", "stvk", "stvk-volumetric", "neo-hookean", SPRING_NETWORK)
 SECTIONS = ("specimen", "mesh", "material", "test", "measure", "solver")
 TOP_KEYS = ("name", "description") + SECTIONS
 _MODULI_NAMES = MODULI_KEYS + tuple(ALIASES)  # E, nu, lambda, mu, K, M, G, lmbda
@@ -383,9 +384,12 @@ def _parse(data: Mapping[str, Any]) -> Scene:
     if not isinstance(description, str):
         raise SceneError(f"description must be a string, got {_show(description)}")
     specimen = _parse_specimen(data["specimen"])
+    mesh, material = _parse_mesh(data["mesh"], specimen), _parse_material(data["material"])
+    if material.model == SPRING_NETWORK and mesh.order != 1:
+        raise SceneError(f"material.model {SPRING_NETWORK!r} joins mesh vertices by springs and needs "
+                         f"mesh.order = 1, got {mesh.order}")
     return Scene(name=name, description=description, specimen=specimen,
-                 mesh=_parse_mesh(data["mesh"], specimen),
-                 material=_parse_material(data["material"]),
+                 mesh=mesh, material=material,
                  test=_parse_test(data["test"], specimen.shape),
                  measure=_parse_measure(data.get("measure", {}), specimen),
                  solver=_parse_solver(data.get("solver", {})),

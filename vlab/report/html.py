@@ -54,3 +54,146 @@ table{{border-collapse:collapse}}th,td{{border:1px solid #ccc;padding:.3rem .6re
 <p><small>vlab {html.escape(data['vlab_version'])} · {html.escape(data['date'])} · scene hash {html.escape(data['scene']['hash'][:12])}</small></p>
 </body></html>"""
     Path(path).write_text(page)
+
+
+# --- the comparison report (one or more models of one scene) ---------------------------------
+
+import base64  # noqa: E402
+import mimetypes  # noqa: E402
+from dataclasses import dataclass, field  # noqa: E402
+
+_STYLE = """body{font-family:sans-serif;max-width:78rem;margin:2rem auto;padding:0 1rem;color:#222}
+table{border-collapse:collapse;margin:1rem 0}th,td{border:1px solid #ccc;padding:.3rem .6rem;text-align:left}
+td.num{text-align:right;font-variant-numeric:tabular-nums}.ok{color:#060}.fail{color:#a00}
+figure{margin:1.5rem 0}img{max-width:100%;border:1px solid #eee}figcaption{font-size:.9rem;color:#444}
+pre{background:#f6f6f6;padding:.8rem;overflow-x:auto}small{color:#666}"""
+
+
+@dataclass(frozen=True)
+class Figure:
+    file: str  # relative to the report folder
+    caption: str
+
+
+@dataclass(frozen=True)
+class ReportPage:
+    """Everything the comparison page shows; numbers come from the models' results dicts."""
+
+    title: str
+    models: list[dict]
+    checks: dict[str, dict]
+    departures: dict[str, dict]
+    figures: list[Figure]
+    links: dict[str, list[str]]
+    provenance: dict
+    notes: list[str] = field(default_factory=list)
+
+
+def _model_status(data: dict) -> str:
+    if data["converged"]:
+        return "<span class=ok>completed</span>"
+    f = data["failure"]
+    return (f"<span class=fail>stopped at step {f['step']}, stretch {_fmt(f['stretch'])}: "
+            f"{html.escape(f['reason'])}</span>")
+
+
+def comparison_rows(page: ReportPage) -> list[tuple[str, list[str]]]:
+    """(quantity, value per model) rows of the models table, every value as measured."""
+    def per(fn):
+        return [fn(d) for d in page.models]
+
+    def force(d):
+        forces = d["curve"]["force"]
+        return f"{_fmt(forces[-1])} at grip stretch {_fmt(d['curve']['stretch'][-1], 4)}" if forces else "—"
+
+    def error(d):
+        ref = d.get("reference") or {}
+        return _fmt(ref.get("max_relative_error_x"), 3) if ref.get("max_relative_error_x") is not None else "—"
+
+    def departure(key):
+        return lambda d: _fmt((page.departures.get(d["input"]["model"]) or {}).get(key), 4)
+
+    rows = [
+        ("status", per(_model_status)),
+        ("E measured [MPa]", per(lambda d: _fmt(d["measured"]["E"]))),
+        ("E input [MPa]", per(lambda d: _fmt(d["input"]["E"]))),
+        ("ν measured", per(lambda d: _fmt(d["measured"]["nu"]))),
+        ("ν input", per(lambda d: _fmt(d["input"]["nu"]))),
+        ("E fit R²", per(lambda d: _fmt((d["measured"].get("E_fit") or {}).get("r2"), 8))),
+        ("force at max stretch [N]", per(force)),
+        ("strain where |s − s_NH|/s_NH ≥ 5 %", per(departure("5%"))),
+        ("strain where |s − s_NH|/s_NH ≥ 10 %", per(departure("10%"))),
+        ("stress vs analytic, max rel. error", per(error)),
+        ("Newton iterations (total)", per(lambda d: _fmt(sum(d["solver"]["newton_iterations"])))),
+        ("cutbacks", per(lambda d: _fmt(sum(d["solver"]["cutbacks"])))),
+        ("wall time [s]", per(lambda d: _fmt(d["timing"]["total_s"], 3))),
+        ("DOFs", per(lambda d: _fmt(d["mesh"]["dofs"]))),
+        ("mesh", per(lambda d: f"{d['mesh']['elements']} {d['mesh']['cell']} (order {d['mesh']['order']})")),
+        ("mesh quality", per(lambda d: _quality(d["mesh"].get("quality")))),
+    ]
+    taylor = [page.checks.get(d["input"]["model"], {}).get("taylor") for d in page.models]
+    if any(taylor):
+        rows.append(("Taylor test order: energy / force (2 = consistent)",
+                     [f"{t['energy_order']:.3f} / {t['force_order']:.3f}" if t else "—" for t in taylor]))
+    return rows
+
+
+def _quality(quality) -> str:
+    if not quality:
+        return "—"
+    if isinstance(quality, dict):
+        return ", ".join(f"{html.escape(str(k))} {_fmt(v, 3)}" for k, v in quality.items())
+    return _fmt(quality)
+
+
+def _image_source(folder: Path, name: str, inline: bool) -> str:
+    if not inline:
+        return html.escape(name)
+    mime = mimetypes.guess_type(name)[0] or "application/octet-stream"
+    return f"data:{mime};base64," + base64.b64encode((folder / name).read_bytes()).decode("ascii")
+
+
+def _spring_note(page: ReportPage) -> str:
+    for d in page.models:
+        if d["input"]["model"] == "spring-network" and d["measured"]["nu"] is not None:
+            check = page.checks.get("spring-network", {})
+            return (f"<h2>Spring network: what its tessellation allows</h2><p>Measured ν = "
+                    f"{_fmt(d['measured']['nu'], 4)} against the input ν = {_fmt(d['input']['nu'], 4)}; "
+                    f"measured E = {_fmt(d['measured']['E'], 4)} MPa against the input "
+                    f"{_fmt(d['input']['E'], 4)} MPa. The {_fmt(check.get('springs'))} springs have "
+                    f"k̃ = {_fmt(check.get('stiffness_factor'))} E v<sub>s</sub>/L (v<sub>s</sub> the "
+                    "spring's share of its elements' volume), the choice that gives E for a network whose "
+                    "springs point in all directions equally, with ν = 1/4 whatever the input: central-force "
+                    "networks obey Cauchy's relation λ = μ. On a real mesh both constants follow from the "
+                    "tessellation, which the numbers above show.</p>")
+    return ""
+
+
+def write_comparison(page: ReportPage, folder: Path, inline_images: bool = False) -> Path:
+    """index.html in ``folder`` (which already holds the figures); inlined images when asked."""
+    folder = Path(folder)
+    heads = "".join(f"<th>{html.escape(d['input']['model'])}</th>" for d in page.models)
+    rows = "".join(f"<tr><th>{html.escape(name)}</th>" + "".join(f"<td class=num>{v}</td>" for v in values)
+                   + "</tr>" for name, values in comparison_rows(page))
+    figures = "".join(
+        f'<figure><img src="{_image_source(folder, f.file, inline_images)}" alt="{html.escape(f.file)}">'
+        f"<figcaption>{f.caption}</figcaption></figure>" for f in page.figures)
+    links = "".join(f"<li>{html.escape(model)}: " + ", ".join(f'<a href="{html.escape(x)}">{html.escape(x)}</a>'
+                                                            for x in files) + "</li>"
+                    for model, files in page.links.items())
+    notes = "".join(f"<p>{n}</p>" for n in page.notes)
+    prov = page.provenance
+    out = folder / "index.html"
+    out.write_text(f"""<!doctype html><html><head><meta charset="utf-8">
+<title>vlab — {html.escape(page.title)}</title><style>{_STYLE}</style></head><body>
+<h1>vlab report: {html.escape(page.title)}</h1>
+<p>{html.escape(prov.get('description') or '')}</p>
+<table><tr><th></th>{heads}</tr>{rows}</table>{notes}
+{figures}{_spring_note(page)}
+<h2>Files</h2><ul>{links}</ul>
+<h2>Provenance</h2>
+<p>vlab {html.escape(prov['vlab_version'])} · {html.escape(prov['date'])} · scene content hash
+<code>{html.escape(prov['scene_hash'])}</code>{html.escape(prov.get('override_note', ''))}</p>
+<pre>{html.escape(prov['scene_text'])}</pre>
+</body></html>""", encoding="utf-8")
+    return out

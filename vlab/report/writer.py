@@ -1,17 +1,33 @@
-"""Writes a run's output folder atomically: everything goes to a temporary sibling folder that
-replaces the target only when complete, so a crash or bad input never leaves half a report."""
+"""Writes a report folder atomically: everything goes to a temporary sibling folder that replaces
+the target only when complete, so a crash or bad input never leaves half a report.
+
+Layout of ``reports/<scene>/`` (one model: the model's files sit in the folder itself):
+    index.html                 the page (images inlined with ``single_file``)
+    stress_strain.png          all models' curves, analytic dashed, fit window, departures
+    lateral_strain.png         lateral vs axial strain and the apparent Poisson's ratio
+    render_<field>.png         deformed specimens side by side (when rendering is possible)
+    animation_<model>.gif      optional
+    comparison.json            departures from Neo-Hookean, render ranges, file list
+    scene.toml                 the scene file as run
+    <model>/results.json, <model>/curve.csv, <model>/<model>.pvd + <model>/vtu/*.vtu
+"""
 
 from __future__ import annotations
 
 import csv
+import datetime as _dt
 import json
+import logging
 import shutil
 import tempfile
 from contextlib import contextmanager
+from dataclasses import dataclass
 from pathlib import Path
 
-from vlab.report.results import curve_columns, result_to_dict
+from vlab.report.results import curve_columns
 from vlab.run import RunResult
+
+log = logging.getLogger(__name__)
 
 
 @contextmanager
@@ -29,25 +45,133 @@ def atomic_folder(target: Path):
     tmp.rename(target)
 
 
-def write_curve_csv(result: RunResult, path: Path) -> None:
-    cols = curve_columns(result)
+def write_columns_csv(columns: dict[str, list], path: Path) -> None:
+    """One column per curve quantity, one row per recorded level ('units' entries are skipped)."""
+    cols = {k: v for k, v in columns.items() if k != "units"}
     with open(path, "w", newline="") as fh:
         writer = csv.writer(fh)
         writer.writerow(cols)
         writer.writerows(zip(*cols.values()))
 
 
-def write_run(result: RunResult, out: Path, scene_text: str | None = None) -> dict:
-    """results.json, curve.csv, stress_strain.png and index.html in ``out``; returns the dict."""
-    from vlab.report.html import write_index
-    from vlab.report.plots import plot_stress_strain
+def write_curve_csv(result: RunResult, path: Path) -> None:
+    write_columns_csv(curve_columns(result), path)
 
-    data = result_to_dict(result)
+
+@dataclass(frozen=True)
+class ReportOptions:
+    true_measures: bool = False  # stress–strain in true instead of engineering measures
+    field: str = "von-mises"  # render colouring: von-mises | max-stretch | J
+    single_file: bool = False  # images inlined in index.html as base64
+    gif_model: str | None = None  # animate this model's test
+    render: bool = True  # 3D renders (skipped with a note where the machine cannot render)
+    vtu: bool = True  # VTU + PVD time series per model
+
+
+def write_run(result: RunResult, out: Path, scene_text: str | None = None,
+              options: ReportOptions = ReportOptions()) -> dict:
+    """The report of a single run; returns its results dict."""
+    from vlab.compare import outcome_of
+
+    outcome = outcome_of(result)
+    write_report([outcome], out, result.scene, scene_text, options)
+    return outcome.data
+
+
+def write_report(outcomes: list, out: Path, scene, scene_text: str | None,
+                 options: ReportOptions = ReportOptions()) -> dict:
+    """Write the report of one scene run with one or more models; returns comparison.json's dict."""
+    from vlab.compare import REFERENCE_MODEL, departure_strains
+    from vlab.report.comparison_plots import plot_lateral, plot_overlay
+    from vlab.report.html import Figure, ReportPage, write_comparison
+
+    single = len(outcomes) == 1
+    if options.gif_model is not None and options.gif_model not in [o.model for o in outcomes]:
+        raise ValueError(f"gif model {options.gif_model!r} is not among the models run: "
+                         f"{', '.join(o.model for o in outcomes)}")
+    datas = [o.data for o in outcomes]
+    by_model = {o.model: o for o in outcomes}
+    departures = {}
+    if REFERENCE_MODEL in by_model and not single:
+        ref = by_model[REFERENCE_MODEL].data
+        departures = {o.model: departure_strains(ref, o.data) for o in outcomes if o.model != REFERENCE_MODEL}
+    kind = "true" if options.true_measures else "engineering"
     with atomic_folder(out) as tmp:
-        (tmp / "results.json").write_text(json.dumps(data, indent=2))
-        write_curve_csv(result, tmp / "curve.csv")
-        plot_stress_strain(data, tmp / "stress_strain.png")
+        links = {o.model: _write_model_files(o, tmp, "." if single else o.model, options) for o in outcomes}
+        plot_overlay(datas, tmp / "stress_strain.png", options.true_measures, departures)
+        plot_lateral(datas, tmp / "lateral_strain.png")
+        figures = [
+            Figure("stress_strain.png", f"{kind.capitalize()} stress against extensometer strain for every "
+                   "model; dashed: the analytic homogeneous solution where the specimen has one; shaded: "
+                   "the E fit window (inset: zoom on it); ○/✕: where a model's stress first differs from "
+                   "Neo-Hookean's by 5 %/10 %."),
+            Figure("lateral_strain.png", "Lateral against axial strain and the apparent Poisson's ratio "
+                   "−ε_lat/ε_axial as the strain grows."),
+        ]
+        renders, notes = _renders(outcomes, tmp, options, figures)
         if scene_text is not None:
-            (tmp / "scene.toml").write_text(scene_text)
-        write_index(data, tmp / "index.html", images=["stress_strain.png"])
-    return data
+            (tmp / "scene.toml").write_text(scene_text, encoding="utf-8")
+        summary = {"models": [o.model for o in outcomes], "departures_from_neo_hookean": departures,
+                   "renders": renders, "files": links, "measures": kind}
+        (tmp / "comparison.json").write_text(json.dumps(summary, indent=2))
+        page = ReportPage(title=scene.name, models=datas, checks={o.model: o.checks for o in outcomes},
+                          departures=departures, figures=figures, links=links,
+                          provenance=_provenance(scene, scene_text, outcomes), notes=notes)
+        write_comparison(page, tmp, inline_images=options.single_file)
+    return summary
+
+
+def _write_model_files(outcome, root: Path, sub: str, options: ReportOptions) -> list[str]:
+    from vlab.post.vtu import write_time_series
+
+    folder = root / sub
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / "results.json").write_text(json.dumps(outcome.data, indent=2))
+    write_columns_csv(outcome.data["curve"], folder / "curve.csv")
+    files = ["results.json", "curve.csv"]
+    if options.vtu:
+        pvd = write_time_series(outcome.snapshot, folder, outcome.model)
+        files.append(pvd.name)
+    return [str(Path(sub) / f) if sub != "." else f for f in files]
+
+
+def _renders(outcomes, tmp: Path, options: ReportOptions, figures: list) -> tuple[dict, list[str]]:
+    """Side-by-side render and optional GIF; a machine that cannot render gets a note instead."""
+    from vlab.report.html import Figure
+
+    if not options.render:
+        return {}, []
+    from vlab.render.offscreen import RenderUnavailable
+    from vlab.render.specimens import RenderOptions, field_title, render_animation, render_side_by_side
+
+    ropts = RenderOptions(field=options.field)
+    try:
+        meta = render_side_by_side([o.snapshot for o in outcomes], tmp / f"render_{options.field}.png", ropts)
+        lo, hi = meta["clim"]
+        figures.append(Figure(meta["file"], f"Deformed specimens at the last recorded level, same camera and "
+                              f"colour scale ({field_title(options.field)}: {lo:.4g} to {hi:.4g}); grey: "
+                              "undeformed outline; points: extensometer (red, magenta), transverse (orange) "
+                              "and thickness (blue) gauge marks."))
+        renders = {"side_by_side": meta}
+        if options.gif_model:
+            snap = {o.model: o.snapshot for o in outcomes}[options.gif_model]
+            gif = render_animation(snap, tmp / f"animation_{options.gif_model}.gif", ropts)
+            figures.append(Figure(gif["file"], f"The {options.gif_model} test from unloaded to the last level."))
+            renders["animation"] = gif
+        return renders, []
+    except RenderUnavailable as exc:
+        log.warning("3D renders skipped: %s", exc)
+        return {"skipped": str(exc)}, [f"3D renders skipped: {exc}"]
+
+
+def _provenance(scene, scene_text: str | None, outcomes) -> dict:
+    from vlab.run import vlab_version
+
+    models = [o.model for o in outcomes]
+    override = ("" if models == [scene.material.model] else
+                f" · material.model set to each of {', '.join(models)} (scene file says "
+                f"{scene.material.model!r})")
+    text = scene_text if scene_text is not None else json.dumps(scene.source, indent=2)
+    return {"vlab_version": vlab_version(), "scene_hash": scene.content_hash(), "scene_text": text,
+            "date": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
+            "description": scene.description, "override_note": override}

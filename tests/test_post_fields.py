@@ -1,0 +1,44 @@
+import numpy as np
+import pytest
+
+from vlab.materials import make_material
+from vlab.materials.homogeneous import uniaxial
+from vlab.post.fields import cauchy, max_principal_stretch, von_mises
+
+
+def test_cauchy_of_homogeneous_uniaxial_state_is_uniaxial():
+    mat = make_material("neo-hookean", 5.769230769, 3.846153846)
+    state = uniaxial(mat, 1.4)
+    F = np.diag([1.4, state.lateral_stretch, state.lateral_stretch])
+    sigma = cauchy(mat.stress(F), F)
+    J = np.linalg.det(F)
+    assert sigma[0, 0] == pytest.approx(state.P[0, 0] * 1.4 / J)
+    assert abs(sigma[1, 1]) < 1e-9 and abs(sigma[2, 2]) < 1e-9
+    assert von_mises(sigma) == pytest.approx(abs(sigma[0, 0]))
+    assert max_principal_stretch(F) == pytest.approx(1.4)
+
+
+def test_von_mises_ignores_pressure_and_counts_shear():
+    assert von_mises(-3.0 * np.eye(3)) == pytest.approx(0.0, abs=1e-12)
+    shear = np.zeros((3, 3))
+    shear[0, 1] = shear[1, 0] = 2.0
+    assert von_mises(shear) == pytest.approx(np.sqrt(3) * 2.0)
+
+
+def test_max_principal_stretch_is_rotation_invariant():
+    c, s = np.cos(0.3), np.sin(0.3)
+    R = np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])
+    F = R @ np.diag([1.2, 0.9, 1.7])
+    assert max_principal_stretch(F) == pytest.approx(1.7)
+
+
+def test_snapshot_fields_match_the_homogeneous_block(comparison):
+    """Roller-gripped block: every cell carries the analytic Cauchy stress and volume ratio."""
+    out = comparison.by_model["neo-hookean"]
+    ref = out.data["reference"]
+    lam, t = out.data["curve"]["stretch"][-1], ref["lateral_stretch"][-1]
+    J = lam * t * t
+    assert np.allclose(out.snapshot.fields["J"][-1], J, rtol=1e-6)
+    assert np.allclose(out.snapshot.fields["von-mises"][-1], ref["stress_x"][-1] * lam / J, rtol=1e-6)
+    assert np.allclose(out.snapshot.fields["max-stretch"][-1], lam, rtol=1e-6)
+    assert np.allclose(out.snapshot.fields["von-mises"][0], 0.0, atol=1e-12)  # frame 0: unloaded

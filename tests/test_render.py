@@ -1,0 +1,94 @@
+import os
+import subprocess
+import sys
+import textwrap
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from vlab.render import offscreen
+from vlab.render.specimens import RenderOptions, common_range, render_side_by_side
+
+PIXEL_STD_FLOOR = 20.0  # a blank (uniform) picture has 0; the renders here have ~60-80
+
+
+def _panels(path, n_models, bar_weight=0.4):
+    """Split a side-by-side render into its model panels (the scalar bar column dropped)."""
+    image = np.asarray(Image.open(path).convert("RGB"), dtype=float)
+    width = image.shape[1] / (n_models + bar_weight)
+    return [image[:, int(i * width):int(i * width) + int(width)] for i in range(n_models)]
+
+
+def test_side_by_side_render_is_not_blank_and_shares_one_colour_range(comparison):
+    meta = comparison.summary["renders"]["side_by_side"]
+    models = meta["models"]
+    snapshots = [comparison.by_model[m].snapshot for m in models]
+    assert meta["clim"] == pytest.approx(list(common_range(snapshots, "von-mises")))
+    lo, hi = meta["clim"]
+    for snap in snapshots:  # every panel's values lie inside the one shared range
+        assert lo <= snap.fields["von-mises"][-1].min() and snap.fields["von-mises"][-1].max() <= hi
+    panels = _panels(comparison.folder / meta["file"], len(models))
+    for model, panel in zip(models, panels):
+        assert panel.std() > PIXEL_STD_FLOOR, f"{model} panel is blank"
+
+
+def test_panels_differ_where_the_physics_differs(comparison):
+    meta = comparison.summary["renders"]["side_by_side"]
+    panels = dict(zip(meta["models"], _panels(comparison.folder / meta["file"], len(meta["models"]))))
+    # linear and Neo-Hookean have different stress (colour) and lateral contraction (shape)
+    difference = np.abs(panels["linear"] - panels["neo-hookean"]).mean()
+    assert difference > 5.0
+
+
+def test_same_model_renders_identically(tmp_path, comparison):
+    """The comparison above means something: two renders of the same state agree pixel for pixel."""
+    snap = comparison.by_model["stvk"].snapshot
+    render_side_by_side([snap, snap], tmp_path / "twice.png", RenderOptions(field="J"))
+    a, b = _panels(tmp_path / "twice.png", 2)
+    assert np.abs(a - b).mean() < 1.0
+    assert a.std() > PIXEL_STD_FLOOR
+
+
+def test_gif_has_a_frame_per_level(comparison):
+    anim = comparison.summary["renders"]["animation"]
+    with Image.open(comparison.folder / anim["file"]) as gif:
+        assert gif.n_frames == comparison.by_model["neo-hookean"].snapshot.n_frames
+        gif.seek(gif.n_frames - 1)
+        last = np.asarray(gif.convert("RGB"), dtype=float)
+    assert last.std() > PIXEL_STD_FLOOR
+
+
+def test_unknown_field_is_rejected():
+    with pytest.raises(ValueError, match="render field 'stress'.*von-mises"):
+        RenderOptions(field="stress")
+
+
+def test_no_display_and_no_gl_library_gives_a_clear_reason(monkeypatch):
+    monkeypatch.delenv("DISPLAY", raising=False)
+    monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
+    monkeypatch.setattr(offscreen.ctypes.util, "find_library", lambda name: None)
+    with pytest.raises(offscreen.RenderUnavailable, match="libEGL.*libOSMesa"):
+        offscreen._choose_window()
+
+
+def test_renders_off_screen_without_display_and_without_console_noise(tmp_path):
+    """A fresh process with no DISPLAY renders a picture and prints nothing to stdout or stderr."""
+    script = textwrap.dedent(f"""
+        import numpy as np
+        from vlab.cli import default_scene_path
+        from vlab.compare import run_model
+        from vlab.render.specimens import render_side_by_side
+        from vlab.scene import load_scene, parse_scene, apply_overrides
+        scene = load_scene(default_scene_path())
+        scene = parse_scene(apply_overrides(scene.source, {{"test.steps": 2, "mesh.size": 5.0}}))
+        snap = run_model(scene, "linear").snapshot
+        render_side_by_side([snap], {str(tmp_path / "quiet.png")!r})
+    """)
+    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY", "VTK_DEFAULT_OPENGL_WINDOW")}
+    proc = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, env=env,
+                          cwd=os.path.dirname(os.path.dirname(__file__)), timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout == "" and proc.stderr == "", (proc.stdout, proc.stderr)
+    image = np.asarray(Image.open(tmp_path / "quiet.png").convert("RGB"), dtype=float)
+    assert image.std() > PIXEL_STD_FLOOR

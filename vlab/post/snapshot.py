@@ -1,0 +1,64 @@
+"""What renders and VTU files need from a run, as plain arrays that cross process boundaries.
+
+A Snapshot holds the reference mesh, the displacement of its vertices and the per-cell fields at
+the unloaded state and at every recorded level, and the current positions of the gauge marks.
+For order-2 spaces only the vertex values are kept (vertices are the first scalar DOFs), so the
+pictures show the straight-sided cells of the mesh.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import skfem
+
+from vlab.post.fields import FIELDS, cell_fields
+
+
+@dataclass(frozen=True)
+class Snapshot:
+    """model: name; t: (n_frames,) load levels, frame 0 unloaded (t = 1 is the target); stretch:
+    (n_frames,) grip stretch along x; displacement: (n_frames, n_vertices, 3) mm; fields: name ->
+    (n_frames, n_cells); marks: name -> (reference (2, 3), current (n_frames, 2, 3)) mm."""
+
+    model: str
+    mesh: skfem.Mesh
+    t: np.ndarray
+    stretch: np.ndarray
+    displacement: np.ndarray
+    fields: dict[str, np.ndarray]
+    marks: dict[str, tuple[np.ndarray, np.ndarray]]
+
+    @property
+    def n_frames(self) -> int:
+        return len(self.t)
+
+    def field_range(self, name: str, frame: int = -1) -> tuple[float, float]:
+        values = self.fields[name][frame]
+        return float(values.min()), float(values.max())
+
+
+def _gauge_marks(specimen) -> dict:
+    marks = {f"extensometer {'xy'[axis]}": m for axis, m in specimen.extensometers.items()}
+    marks["transverse"] = specimen.transverse[0]
+    marks["thickness"] = specimen.thickness
+    return marks
+
+
+def take_snapshot(result) -> Snapshot:
+    """Snapshot of a RunResult (its body is ``result.extra['body']``)."""
+    body, space, mesh = result.extra["body"], result.space, result.specimen.mesh
+    states = [body.evaluate(np.zeros(space.n_dofs))] + [lv.evaluation for lv in result.history.levels]
+    n_vertices = mesh.nvertices
+    u = np.stack([ev.u.reshape(-1, 3)[:n_vertices] for ev in states])
+    per_state = [cell_fields(body, ev) for ev in states]
+    fields = {name: np.stack([cf.get(name) for cf in per_state]) for name in FIELDS}
+    marks = {}
+    for name, gauge in _gauge_marks(result.specimen).items():
+        X = np.array([gauge.a, gauge.b], dtype=float)
+        probe = space.probe_matrix(X.T)
+        marks[name] = (X, np.stack([X + probe @ ev.u.reshape(-1, 3) for ev in states]))
+    t = np.array([0.0] + [lv.t for lv in result.history.levels])
+    stretch = 1.0 + t * (result.scene.test.stretch[0] - 1.0)
+    return Snapshot(result.scene.material.model, mesh, t, stretch, u, fields, marks)
