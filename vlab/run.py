@@ -26,6 +26,9 @@ from vlab.measure.elastic_constants import ElasticConstants, elastic_constants
 from vlab.measure.recorder import Curve, Recorder
 from vlab.measure.reference import homogeneous_curve, relative_error
 from vlab.scene import Scene
+from vlab.stability.admissibility import inadmissible_request
+from vlab.stability.constraints import under_constrained_message, unrestrained_modes
+from vlab.stability.monitor import StabilityMonitor
 
 
 @dataclass
@@ -73,7 +76,11 @@ def run_scene(scene: Scene, on_level=None) -> RunResult:
     recorder = Recorder(space, specimen, scene.test.stretch, loading.moving_dofs)
     measure_time = [0.0]
 
+    monitor = StabilityMonitor(body, partition, loading.moving_dofs, scene.test.stretch,
+                               scene.material.model)
+
     def observe(level):
+        monitor(level)  # raises LevelRejected for an unstable level: it is never recorded
         t = clock()
         recorder(level)
         measure_time[0] += clock() - t
@@ -87,8 +94,12 @@ def run_scene(scene: Scene, on_level=None) -> RunResult:
     )
     force_floor = 1e-12 * material.mu * specimen.length_scale**2
     t1 = clock()
-    history = run_schedule(body, partition, loading.u_hat, stepping,
-                           (force_floor, specimen.length_scale), observe)
+    refusal = _refusal(material, scene, space, loading.prescribed)
+    if refusal is not None:
+        history = SolveHistory(failure=Failure(0, 1.0, 1.0, 0.0, refusal, []))
+    else:
+        history = run_schedule(body, partition, loading.u_hat, stepping,
+                               (force_floor, specimen.length_scale), observe)
     timing["measure_s"] = measure_time[0]
     timing["solve_s"] = clock() - t1 - measure_time[0]
 
@@ -104,7 +115,16 @@ def run_scene(scene: Scene, on_level=None) -> RunResult:
                 curve.column("stress", axis), reference[key])
     timing["measure_s"] += clock() - t2
     timing["total_s"] = clock() - t0
-    return RunResult(scene, specimen, space, curve, constants, history, timing, reference)
+    extra = {"stability": [r.as_dict() for r in monitor.records]}
+    return RunResult(scene, specimen, space, curve, constants, history, timing, reference, extra)
+
+
+def _refusal(material, scene: Scene, space: DisplacementSpace, prescribed) -> str | None:
+    """Why the request cannot be solved at all (no admissible state, rigid-body modes), or None."""
+    modes = unrestrained_modes(space.node_coordinates, prescribed)
+    if modes:
+        return under_constrained_message(modes)
+    return inadmissible_request(material, scene.test.stretch)
 
 
 def stretch_at(scene: Scene, t: float) -> list[float]:

@@ -27,6 +27,11 @@ from vlab.fe.problem import Evaluation, HyperelasticBody
 EASY_ITERATIONS = 4
 
 
+class LevelRejected(RuntimeError):
+    """Raised by an ``on_level`` observer to stop the test at a converged but unacceptable level
+    (e.g. an unstable state); the level is dropped and the message becomes the failure reason."""
+
+
 @dataclass(frozen=True)
 class Level:
     """A converged state at a scheduled load level t."""
@@ -107,7 +112,14 @@ def run_schedule(body: HyperelasticBody, partition: Partition, u_hat: np.ndarray
         level = Level(float(t), current, records, cutbacks)
         history.levels.append(level)
         if on_level is not None:
-            on_level(level)
+            try:
+                on_level(level)
+            except LevelRejected as stop:
+                history.levels.pop()
+                last = history.levels[-1].t if history.levels else 0.0
+                history.failure = Failure(index, float(target), float(t), float(last), str(stop),
+                                          [x for rec in records for x in rec.residuals])
+                break
     history.seconds = time.perf_counter() - start
     return history
 

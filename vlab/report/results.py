@@ -73,5 +73,6 @@ def result_to_dict(result: RunResult) -> dict:
             "cell": scene.mesh.cell, "order": scene.mesh.order, "size": scene.mesh.size,
             "elements": int(space.basis.nelems), "nodes": int(space.n_nodes), "dofs": int(space.n_dofs),
         },
+        "stability": result.extra.get("stability", []),
         "failure": None if history.failure is None else failure_dict(scene, history.failure),
     })
