@@ -80,7 +80,7 @@ def run_scene(scene: Scene, on_level=None) -> RunResult:
                                scene.material.model)
 
     def observe(level):
-        monitor(level)  # raises LevelRejected for an unstable level: it is never recorded
+        monitor(level)
         t = clock()
         recorder(level)
         measure_time[0] += clock() - t
@@ -91,6 +91,7 @@ def run_scene(scene: Scene, on_level=None) -> RunResult:
         schedule=monotonic_schedule(scene.test.stretch, scene.test.steps, scene.measure.modulus_window),
         max_cutbacks=scene.solver.max_cutbacks,
         newton=NewtonOptions(rtol=scene.solver.rtol, max_iterations=scene.solver.max_iterations),
+        accept=monitor.accept,
     )
     force_floor = 1e-12 * material.mu * specimen.length_scale**2
     t1 = clock()

@@ -8,7 +8,10 @@ which for the linear model is already the exact solution (so it runs no Newton i
 reuses one factorization for the whole test). A substep that fails (no convergence, inverted
 element, singular tangent) is retried from the last converged state with half the increment; easy
 substeps let the increment grow back. After ``max_cutbacks`` consecutive halvings the test stops
-with a diagnosis.
+with a diagnosis. An optional acceptance check (``Stepping.accept``, e.g. the stability monitor)
+may reject a converged substep; that too cuts back, and since the increment may not shrink below
+the level's first increment / 2^max_cutbacks, a critical load level is bracketed to within that
+increment instead of being approached forever.
 """
 
 from __future__ import annotations
@@ -25,11 +28,6 @@ from vlab.fe.newton import (NewtonFailure, NewtonOptions, NewtonRecord, Tangent,
 from vlab.fe.problem import Evaluation, HyperelasticBody
 
 EASY_ITERATIONS = 4
-
-
-class LevelRejected(RuntimeError):
-    """Raised by an ``on_level`` observer to stop the test at a converged but unacceptable level
-    (e.g. an unstable state); the level is dropped and the message becomes the failure reason."""
 
 
 @dataclass(frozen=True)
@@ -69,11 +67,18 @@ class SolveHistory:
     seconds: float = 0.0
 
 
+# accept(evaluation, t) -> None, or the reason why a converged substep is rejected (e.g. unstable)
+Acceptance = Callable[[Evaluation, float], "str | None"]
+
+
 @dataclass(frozen=True)
 class Stepping:
+    """``accept`` vets every converged substep; a rejection is handled like a failed substep."""
+
     schedule: np.ndarray
     max_cutbacks: int = 8
     newton: NewtonOptions = NewtonOptions()
+    accept: Acceptance | None = None
 
 
 def run_schedule(body: HyperelasticBody, partition: Partition, u_hat: np.ndarray,
@@ -89,15 +94,20 @@ def run_schedule(body: HyperelasticBody, partition: Partition, u_hat: np.ndarray
     t = 0.0
     for index, target in enumerate(stepping.schedule, start=1):
         dt, cutbacks, consecutive, records = target - t, 0, 0, []
+        smallest = abs(dt) / 2.0**stepping.max_cutbacks
         while t != target:
             t_try = target if abs(target - t) <= abs(dt) * (1 + 1e-12) else t + dt
             try:
-                current, record, new_tangent = _substep(body, partition, current, tangent,
-                                                        u_hat, t, t_try, stepping, scales)
+                candidate, record, new_tangent = _substep(body, partition, current, tangent,
+                                                          u_hat, t, t_try, stepping, scales)
+                objection = stepping.accept and stepping.accept(candidate, float(t_try))
+                if objection:
+                    raise NewtonFailure(objection, record, None)
+                current = candidate
             except NewtonFailure as failure:
                 records.append(failure.record)
                 cutbacks, consecutive, dt = cutbacks + 1, consecutive + 1, dt / 2
-                if consecutive > stepping.max_cutbacks:
+                if consecutive > stepping.max_cutbacks or abs(dt) < smallest * (1 - 1e-12):
                     history.failure = _diagnose(index, target, t_try, t, failure)
                     history.seconds = time.perf_counter() - start
                     return history
@@ -112,14 +122,7 @@ def run_schedule(body: HyperelasticBody, partition: Partition, u_hat: np.ndarray
         level = Level(float(t), current, records, cutbacks)
         history.levels.append(level)
         if on_level is not None:
-            try:
-                on_level(level)
-            except LevelRejected as stop:
-                history.levels.pop()
-                last = history.levels[-1].t if history.levels else 0.0
-                history.failure = Failure(index, float(target), float(t), float(last), str(stop),
-                                          [x for rec in records for x in rec.residuals])
-                break
+            on_level(level)
     history.seconds = time.perf_counter() - start
     return history
 

@@ -1,16 +1,21 @@
-"""After every converged load level: is the state stable, and has the load passed a limit point?
+"""Is every converged state stable, and has the load passed a limit point?
 
 Newton converging only means the state is stationary. It is a stable equilibrium (a local minimum
 of the total energy W) iff the tangent on the free DOFs K_ff is positive definite, so the monitor
 counts the negative (and zero) eigenvalues of K_ff by its inertia (:mod:`vlab.fe.inertia`).
 
 Under displacement control a softening material (St. Venant–Kirchhoff in compression: the nominal
-stress of a free block, μλ(λ²−1)-like, peaks at stretch 1/√3) can still give a positive definite
-K_ff past its load maximum, so the monitor also watches the load cells: a load limit point is
-passed when |force| on a loaded axis falls while its grip keeps moving away from 1,
-    s_a (f_a(t_k) − f_a(t_{k−1})) < −tol · |f_a(t_{k−1})|,   s_a = sign(λ_a − 1).
-Either event rejects the level (:class:`LevelRejected`): it is recorded with its inertia, but its
-numbers never enter the curve, and the test stops with "no admissible state beyond stretch …".
+stress of a free block peaks at stretch 1/√3) can keep K_ff positive definite past its load
+maximum, so the monitor also watches the load cells: a load limit point is passed when |force|
+on a loaded axis falls while its grip keeps moving away from 1,
+    s_a (f_a(t) − f_a(t_prev)) < −tol · |f_a(t_prev)|,   s_a = sign(λ_a − 1),
+t_prev being the last accepted state.
+
+The monitor vets every converged substep (``Stepping.accept``). A rejected substep makes the
+stepper cut back from the last accepted state, which both avoids false alarms (a large step can
+land Newton on an unstable branch that a finer path never visits) and brackets the critical
+stretch to within the final increment; if the instability persists the test stops with
+"no admissible state beyond stretch …" and the unstable state never enters the curve.
 """
 
 from __future__ import annotations
@@ -21,15 +26,15 @@ import numpy as np
 
 from vlab.fe.assembly import Partition
 from vlab.fe.inertia import inertia
-from vlab.fe.problem import HyperelasticBody
-from vlab.fe.stepping import Level, LevelRejected
+from vlab.fe.problem import Evaluation, HyperelasticBody
+from vlab.fe.stepping import Level
 
 LIMIT_TOL = 1e-9
 
 
 @dataclass(frozen=True)
 class LevelStability:
-    """Stability record of one converged level (``accepted`` False if it stopped the test)."""
+    """Stability of one converged state (``accepted`` False for a rejected trial)."""
 
     t: float
     stretch: list[float]
@@ -45,7 +50,10 @@ class LevelStability:
 
 
 class StabilityMonitor:
-    """Callable observer: ``monitor(level)`` records a LevelStability or raises LevelRejected."""
+    """``accept(evaluation, t)`` vets a substep; ``monitor(level)`` records a scheduled level.
+
+    ``records`` lists the accepted scheduled levels and every rejected trial, in order.
+    """
 
     def __init__(self, body: HyperelasticBody, partition: Partition, moving_dofs: dict[int, np.ndarray],
                  target_stretch: tuple[float, ...], model: str):
@@ -54,31 +62,35 @@ class StabilityMonitor:
         self.target = target_stretch
         self.model = model
         self.records: list[LevelStability] = []
+        self._accepted: LevelStability | None = None
 
     def stretch_at(self, t: float) -> list[float]:
         return [1.0 + t * (s - 1.0) for s in self.target]
 
-    def __call__(self, level: Level) -> None:
-        ev = level.evaluation
+    def accept(self, ev: Evaluation, t: float) -> str | None:
         Kff, _ = self.partition.blocks(self.body.stiffness(ev))
         found = inertia(Kff)
         forces = [float(ev.f_int[self.moving[a]].sum()) for a in range(len(self.target))]
         limit_axis = self._limit_axis(forces)
         unstable = bool(found.negative) or bool(found.zero)
-        record = LevelStability(float(level.t), self.stretch_at(level.t), found.negative, found.zero,
+        record = LevelStability(float(t), self.stretch_at(t), found.negative, found.zero,
                                 found.method, forces, limit_axis is not None,
                                 accepted=not unstable and limit_axis is None)
+        if record.accepted:
+            self._accepted = record
+            return None
         self.records.append(record)
         if unstable:
-            raise LevelRejected(self._instability_message(record))
-        if limit_axis is not None:
-            raise LevelRejected(self._limit_message(record, limit_axis))
+            return self._instability_message(record)
+        return self._limit_message(record, limit_axis)
 
-    def _last_accepted(self) -> LevelStability | None:
-        return next((r for r in reversed(self.records) if r.accepted), None)
+    def __call__(self, level: Level) -> None:
+        """Record the (already vetted) state of a scheduled level."""
+        if self._accepted is not None and self._accepted.t == level.t:
+            self.records.append(self._accepted)
 
     def _limit_axis(self, forces: list[float]) -> int | None:
-        last = self._last_accepted()
+        last = self._accepted
         if last is None:
             return None
         for a, (f_new, f_old) in enumerate(zip(forces, last.forces)):
@@ -88,8 +100,7 @@ class StabilityMonitor:
         return None
 
     def _previous_stretch(self) -> str:
-        last = self._last_accepted()
-        return _fmt(last.stretch if last else self.stretch_at(0.0))
+        return _fmt(self._accepted.stretch if self._accepted else self.stretch_at(0.0))
 
     def _instability_message(self, r: LevelStability) -> str:
         what = (f"{r.negative_eigenvalues} negative eigenvalue(s)" if r.negative_eigenvalues
