@@ -18,6 +18,7 @@ from vlab.fe.problem import HyperelasticBody
 from vlab.fe.space import DisplacementSpace
 from vlab.fe.stepping import Failure, SolveHistory, Stepping, run_schedule
 from vlab.geometry.block import block_specimen
+from vlab.geometry.mesh_check import MeshError, check_mesh
 from vlab.geometry.specimen import Specimen
 from vlab.loading.grips import grip_loading
 from vlab.loading.schedule import monotonic_schedule
@@ -60,12 +61,14 @@ def build_specimen(scene: Scene) -> Specimen:
     raise ValueError(f"specimen.shape {spec.shape!r} is not supported by this build")
 
 
-def run_scene(scene: Scene, on_level=None) -> RunResult:
-    """Run the test a scene describes; never raises for solver trouble (see history.failure)."""
+def run_scene(scene: Scene, on_level=None, specimen: Specimen | None = None) -> RunResult:
+    """Run the test a scene describes; never raises for solver trouble (see history.failure).
+
+    ``specimen`` replaces the one the scene would build (same shape; e.g. a perturbed mesh)."""
     clock = time.perf_counter
     timing: dict[str, float] = {}
     t0 = clock()
-    specimen = build_specimen(scene)
+    specimen = specimen or build_specimen(scene)
     space = DisplacementSpace.build(specimen.mesh, scene.mesh.order)
     material = make_material(scene.material.model, scene.material.moduli.lmbda, scene.material.moduli.mu)
     body = HyperelasticBody(space, material)
@@ -121,7 +124,12 @@ def run_scene(scene: Scene, on_level=None) -> RunResult:
 
 
 def _refusal(material, scene: Scene, space: DisplacementSpace, prescribed) -> str | None:
-    """Why the request cannot be solved at all (no admissible state, rigid-body modes), or None."""
+    """Why the request cannot be solved at all (bad mesh, rigid-body modes, no admissible
+    state), or None."""
+    try:
+        check_mesh(space.basis.mesh)
+    except MeshError as exc:
+        return f"invalid mesh: {exc}"
     modes = unrestrained_modes(space.node_coordinates, prescribed)
     if modes:
         return under_constrained_message(modes)
