@@ -87,10 +87,12 @@ def test_randomly_perturbed_mesh_passes_the_patch_test(cell):
     check_mesh(spec.mesh)  # valid, but no longer a regular grid
     assert element_quality(spec.mesh).min() < 0.9  # it really is distorted
     data = result_to_dict(run_scene(scene, specimen=spec))
+    regular = result_to_dict(run_scene(scene))
     assert data["converged"]
-    assert data["reference"]["max_relative_error_x"] < 1e-6
-    assert data["measured"]["E"] == pytest.approx(10.0, rel=2e-3)
-    assert data["measured"]["nu"] == pytest.approx(0.3, rel=2e-3)
+    assert data["reference"]["max_relative_error_x"] < 1e-6  # measured: 4e-15
+    # the fitted E and nu are those of the regular mesh (the fit's own bias is mesh-independent)
+    assert data["measured"]["E"] == pytest.approx(regular["measured"]["E"], rel=1e-8)
+    assert data["measured"]["nu"] == pytest.approx(regular["measured"]["nu"], rel=1e-8)
 
 
 @pytest.mark.parametrize("cell", ["hex", "tet"])
