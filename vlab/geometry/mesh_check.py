@@ -4,11 +4,13 @@
   |det J| ≈ 0 for tetrahedra (affine maps, which scikit-fem accepts in either orientation);
 - duplicate nodes (two vertices closer than ``1e-9`` × the mesh extent: a crack in disguise) and
   unused nodes (vertices no element refers to: DOFs without stiffness);
-- slivers: the scaled Jacobian
-      q = min over corners c of  det[e₁ e₂ e₃] / (|e₁| |e₂| |e₃|),
-  e_i the element edges leaving corner c (1 for a right-angled corner, scaled so that a regular
-  tetrahedron has q = 1), below ``MIN_QUALITY``. q measures shape, not size or aspect: a
-  10:1 brick has q = 1, so valid high-aspect-ratio meshes pass, flattened elements do not.
+- slivers: a flatness measure q below ``MIN_QUALITY``. Hexahedra: the scaled Jacobian
+      q = min over corners c of  det[e₁ e₂ e₃] / (|e₁| |e₂| |e₃|)
+  (e_i the edges leaving corner c; 1 for right-angled corners). Tetrahedra: the smallest height
+  over the shortest edge, q = (h_min / l_min) / √(2/3) (1 for a regular tetrahedron). Both
+  measure flatness, not size or aspect: a 10:1 brick, or the needle tetrahedra it splits into,
+  stay well above the threshold, so valid high-aspect-ratio meshes pass; flattened elements whose
+  corners are nearly coplanar do not.
 """
 
 from __future__ import annotations
@@ -31,15 +33,23 @@ def element_quality(mesh: skfem.Mesh) -> np.ndarray:
     """Scaled Jacobian q per element (≤ 0: inverted or degenerate; 1: ideal corners)."""
     p, t = mesh.p, mesh.t
     if isinstance(mesh, skfem.MeshTet):
-        # scikit-fem orders tetrahedra of either orientation (it integrates with |det J|), so for
-        # an affine tetrahedron only |det J| ≈ 0 (a flat element) is an error
-        corners = [(0, 1, 2, 3), (1, 0, 2, 3), (2, 0, 1, 3), (3, 0, 1, 2)]
-        q = [np.abs(_scaled_det(p[:, t[b]] - p[:, t[a]], p[:, t[c]] - p[:, t[a]], p[:, t[d]] - p[:, t[a]]))
-             for a, b, c, d in corners]
-        return np.sqrt(2.0) * np.min(q, axis=0)
+        return _tet_flatness(p[:, t])
     if isinstance(mesh, skfem.MeshHex):
         return np.min([_scaled_det(*e) for e in _hex_corner_edges(mesh)], axis=0)
     raise MeshError(f"mesh type {type(mesh).__name__} is not supported (tetrahedra or hexahedra)")
+
+
+def _tet_flatness(X: np.ndarray) -> np.ndarray:
+    """q = (smallest height / shortest edge) / √(2/3) for tetrahedra X (3, 4, e): 1 for a regular
+    tetrahedron, → 0 when the four corners become coplanar, but not small for a long needle."""
+    a, b, c, d = (X[:, k] for k in range(4))
+    volume6 = np.abs(np.einsum("ie,ie->e", b - a, np.cross(c - a, d - a, axis=0)))
+    faces = ((b, c, d), (a, c, d), (a, b, d), (a, b, c))
+    area2 = np.max([np.linalg.norm(np.cross(v - u, w - u, axis=0), axis=0) for u, v, w in faces], axis=0)
+    edges = [np.linalg.norm(X[:, i] - X[:, j], axis=0) for i in range(4) for j in range(i + 1, 4)]
+    shortest = np.min(edges, axis=0)
+    height = volume6 / np.where(area2 > 0, area2, 1.0)  # 3V / A = 6V / (2A), largest face
+    return np.where(shortest > 0, height / np.where(shortest > 0, shortest, 1.0), 0.0) / np.sqrt(2.0 / 3.0)
 
 
 def _scaled_det(e1: np.ndarray, e2: np.ndarray, e3: np.ndarray) -> np.ndarray:
