@@ -78,7 +78,7 @@ def test_stvk_compression_stops_at_its_limit_point_while_nh_and_stvk_volumetric_
     assert reason.startswith("no admissible state beyond stretch") and "load limit point" in reason
     # cutbacks bracket the load maximum: last accepted state and first rejected one
     last_ok, rejected = stvk["failure"]["last_converged_stretch"][0], stvk["failure"]["stretch"][0]
-    assert rejected < last_ok and abs(last_ok - 1 / math.sqrt(3)) < 0.005
+    assert rejected <= 1 / math.sqrt(3) <= last_ok and last_ok - rejected < 0.005
     assert min(stvk["curve"]["stretch"]) >= last_ok  # states past the limit are never returned
     assert stvk["stability"][-1]["limit_point"] and not stvk["stability"][-1]["accepted"]
     for model in ("stvk-volumetric", "neo-hookean"):
@@ -97,3 +97,10 @@ def test_loss_of_positive_definiteness_stops_stvk_before_its_limit_point_on_a_fi
     for model in ("stvk-volumetric", "neo-hookean"):
         assert runs[model]["converged"]
         assert all(s["negative_eigenvalues"] == 0 for s in runs[model]["stability"])
+
+
+def test_near_incompressible_displacement_only_run_warns_about_locking(caplog):
+    data = result_to_dict(run_scene(block_scene("neo-hookean", 1.1, nu=0.49, size=10.0, steps=2)))
+    assert any("volumetric locking" in w for w in data["warnings"])
+    assert any("volumetric locking" in r.getMessage() for r in caplog.records)
+    assert result_to_dict(run_scene(block_scene("neo-hookean", 1.1, nu=0.3, size=10.0, steps=2)))["warnings"] == []

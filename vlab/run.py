@@ -6,6 +6,7 @@ they produced into a RunResult that the writers and reports consume.
 
 from __future__ import annotations
 
+import logging
 import time
 from dataclasses import dataclass, field
 
@@ -27,6 +28,9 @@ from vlab.measure.elastic_constants import ElasticConstants, elastic_constants
 from vlab.measure.recorder import Curve, Recorder
 from vlab.measure.reference import homogeneous_curve, relative_error
 from vlab.scene import Scene
+
+log = logging.getLogger(__name__)
+LOCKING_NU = 0.45  # above this, displacement-only elements lock on non-uniform fields
 from vlab.stability.admissibility import inadmissible_request
 from vlab.stability.constraints import under_constrained_message, unrestrained_modes
 from vlab.stability.monitor import StabilityMonitor
@@ -80,7 +84,7 @@ def run_scene(scene: Scene, on_level=None, specimen: Specimen | None = None) -> 
     measure_time = [0.0]
 
     monitor = StabilityMonitor(body, partition, loading.moving_dofs, scene.test.stretch,
-                               scene.material.model)
+                               scene.material.model, loading.u_hat)
 
     def observe(level):
         monitor(level)
@@ -119,8 +123,21 @@ def run_scene(scene: Scene, on_level=None, specimen: Specimen | None = None) -> 
                 curve.column("stress", axis), reference[key])
     timing["measure_s"] += clock() - t2
     timing["total_s"] = clock() - t0
-    extra = {"stability": [r.as_dict() for r in monitor.records]}
+    extra = {"stability": [r.as_dict() for r in monitor.records], "warnings": _warnings(scene)}
     return RunResult(scene, specimen, space, curve, constants, history, timing, reference, extra)
+
+
+def _warnings(scene: Scene) -> list[str]:
+    """Caveats about the set-up (also logged)."""
+    found = []
+    nu = scene.material.moduli.nu
+    if nu > LOCKING_NU:
+        found.append(f"material.nu = {nu:g} > {LOCKING_NU:g} with the displacement-only formulation: "
+                     "expect volumetric locking (too stiff) wherever the field is not uniform, e.g. "
+                     "with clamped grips; homogeneous roller tests are unaffected")
+    for text in found:
+        log.warning(text)
+    return found
 
 
 def _refusal(material, scene: Scene, space: DisplacementSpace, prescribed) -> str | None:

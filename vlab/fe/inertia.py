@@ -19,6 +19,7 @@ zero: a (nearly) singular tangent, e.g. an unrestrained rigid-body mode.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Callable
 
 import numpy as np
 import scipy.sparse as sp
@@ -39,6 +40,7 @@ class Inertia:
     zero: int | None
     positive: int | None
     method: str
+    solve: Callable[[np.ndarray], np.ndarray] | None = None  # K⁻¹ from the same factorization
 
     @property
     def positive_definite(self) -> bool | None:
@@ -60,16 +62,16 @@ def inertia(K: sp.spmatrix, zero_tol: float = ZERO_TOL) -> Inertia:
     if lu is not None and np.array_equal(lu.perm_r, lu.perm_c):
         d = lu.U.diagonal()
         if np.all(np.isfinite(d)):
-            return _count(d, zero_tol * scale, "LDLt (SuperLU symmetric mode)")
+            return _count(d, zero_tol * scale, "LDLt (SuperLU symmetric mode)", lu.solve)
     if n <= DENSE_LIMIT:
         return _count(np.linalg.eigvalsh(K.toarray()), zero_tol * scale, "dense eigenvalues")
     return Inertia(None, None, None, "unknown (SuperLU pivoted, system too large for dense)")
 
 
-def _count(values: np.ndarray, tol: float, method: str) -> Inertia:
+def _count(values: np.ndarray, tol: float, method: str, solve=None) -> Inertia:
     zero = int(np.sum(np.abs(values) <= tol))
     negative = int(np.sum(values < -tol))
-    return Inertia(negative, zero, len(values) - negative - zero, method)
+    return Inertia(negative, zero, len(values) - negative - zero, method, solve)
 
 
 def lowest_eigenpair(K: sp.spmatrix) -> tuple[float, np.ndarray]:

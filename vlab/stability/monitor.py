@@ -6,10 +6,13 @@ counts the negative (and zero) eigenvalues of K_ff by its inertia (:mod:`vlab.fe
 
 Under displacement control a softening material (St. Venant–Kirchhoff in compression: the nominal
 stress of a free block peaks at stretch 1/√3) can keep K_ff positive definite past its load
-maximum, so the monitor also watches the load cells: a load limit point is passed when |force|
-on a loaded axis falls while its grip keeps moving away from 1,
-    s_a (f_a(t) − f_a(t_prev)) < −tol · |f_a(t_prev)|,   s_a = sign(λ_a − 1),
-t_prev being the last accepted state.
+maximum, so the monitor also watches the load path. With u_p = t û_p, the free DOFs follow
+du_f/dt = −K_ff⁻¹ K_fp û_p, and the grip force of axis a changes at the rate
+    k_a = df_a/dt = Σ_{moving DOFs of a} (K v)_i,   v = (du_f/dt, û_p)      (N per unit t),
+the slope of the load–displacement curve at the state itself. A load limit point is passed when
+    s_a k_a < 0   or   s_a (f_a(t) − f_a(t_prev)) < −tol · |f_a(t_prev)|,   s_a = sign(λ_a − 1),
+i.e. the force magnitude decreases although the grip keeps moving away from 1 (t_prev: the last
+accepted state).
 
 The monitor vets every converged substep (``Stepping.accept``). A rejected substep makes the
 stepper cut back from the last accepted state, which both avoids false alarms (a large step can
@@ -56,8 +59,8 @@ class StabilityMonitor:
     """
 
     def __init__(self, body: HyperelasticBody, partition: Partition, moving_dofs: dict[int, np.ndarray],
-                 target_stretch: tuple[float, ...], model: str):
-        self.body, self.partition = body, partition
+                 target_stretch: tuple[float, ...], model: str, u_hat: np.ndarray):
+        self.body, self.partition, self.u_hat = body, partition, u_hat
         self.moving = {a: np.asarray(d) for a, d in moving_dofs.items()}
         self.target = target_stretch
         self.model = model
@@ -68,10 +71,11 @@ class StabilityMonitor:
         return [1.0 + t * (s - 1.0) for s in self.target]
 
     def accept(self, ev: Evaluation, t: float) -> str | None:
-        Kff, _ = self.partition.blocks(self.body.stiffness(ev))
+        K = self.body.stiffness(ev)
+        Kff, Kfp = self.partition.blocks(K)
         found = inertia(Kff)
         forces = [float(ev.f_int[self.moving[a]].sum()) for a in range(len(self.target))]
-        limit_axis = self._limit_axis(forces)
+        limit_axis = self._limit_axis(forces, self._path_stiffness(K, Kfp, found))
         unstable = bool(found.negative) or bool(found.zero)
         record = LevelStability(float(t), self.stretch_at(t), found.negative, found.zero,
                                 found.method, forces, limit_axis is not None,
@@ -89,13 +93,26 @@ class StabilityMonitor:
         if self._accepted is not None and self._accepted.t == level.t:
             self.records.append(self._accepted)
 
-    def _limit_axis(self, forces: list[float]) -> int | None:
-        last = self._accepted
-        if last is None:
+    def _path_stiffness(self, K, Kfp, found) -> list[float] | None:
+        """df_a/dt along the displacement-controlled path (None if K_ff could not be solved)."""
+        if found.solve is None or found.negative or found.zero:
             return None
-        for a, (f_new, f_old) in enumerate(zip(forces, last.forces)):
+        up = self.u_hat[self.partition.prescribed]
+        v = self.u_hat.copy()
+        v[self.partition.free] = -found.solve(Kfp @ up)
+        Kv = K @ v
+        return [float(Kv[self.moving[a]].sum()) for a in range(len(self.target))]
+
+    def _limit_axis(self, forces: list[float], slopes: list[float] | None) -> int | None:
+        last = self._accepted
+        for a, f_new in enumerate(forces):
             sign = np.sign(self.target[a] - 1.0)
-            if sign != 0 and sign * (f_new - f_old) < -LIMIT_TOL * abs(f_old):
+            if sign == 0:
+                continue
+            if slopes is not None and sign * slopes[a] < 0.0:
+                return a
+            f_old = last.forces[a] if last is not None else None
+            if f_old is not None and sign * (f_new - f_old) < -LIMIT_TOL * abs(f_old):
                 return a
         return None
 
