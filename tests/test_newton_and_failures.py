@@ -33,18 +33,28 @@ def test_observed_order_reads_the_residual_history():
     assert observed_order([1e-2, 1e-3]) is None
 
 
-def test_a_failed_test_reports_step_stretch_reason_and_history_without_nan():
+def test_a_request_with_no_admissible_state_is_refused_before_solving():
     # StVK in uniaxial tension has no equilibrium with free lateral faces beyond sqrt(1 + 1/nu).
+    data = result_to_dict(run_scene(parse_scene(scene_dict(
+        material={"model": "stvk", "E": 10, "nu": 0.45}, test={"stretch": 2.2, "steps": 4}))))
+    assert data["converged"] is False
+    assert "no admissible state beyond stretch 1.795" in data["failure"]["reason"]
+    assert data["curve"]["stress"] == []
+
+
+def test_a_failed_test_reports_step_stretch_reason_and_history_without_nan():
+    # StVK in compression passes its limit point at stretch 1/sqrt(3): the test must stop there.
     result = run_scene(parse_scene(scene_dict(
-        material={"model": "stvk", "E": 10, "nu": 0.45}, test={"stretch": 2.2, "steps": 4},
-        solver={"max_cutbacks": 3, "max_iterations": 15})))
+        material={"model": "stvk", "E": 10, "nu": 0.3}, test={"stretch": 0.4, "steps": 4},
+        mesh={"size": 10.0})))
     data = result_to_dict(result)
     assert data["converged"] is False
     failure = data["failure"]
-    assert failure["step"] >= 1 and failure["reason"]
-    assert failure["last_converged_stretch"][0] < np.sqrt(1 + 1 / 0.45) + 1e-9
+    assert failure["step"] >= 1 and "no admissible state beyond stretch" in failure["reason"]
+    assert 1 / np.sqrt(3) - 0.01 < failure["last_converged_stretch"][0] < 0.75
     assert failure["residual_history"]
     text = json.dumps(data)
     assert "NaN" not in text and "Infinity" not in text
     # The recorded curve stops at the last converged level and holds only finite numbers.
     assert np.all(np.isfinite(data["curve"]["stress"]))
+    assert min(data["curve"]["stretch"]) >= failure["last_converged_stretch"][0] - 1e-12

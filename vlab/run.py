@@ -6,6 +6,7 @@ they produced into a RunResult that the writers and reports consume.
 
 from __future__ import annotations
 
+import logging
 import time
 from dataclasses import dataclass, field
 
@@ -21,6 +22,7 @@ from vlab.fe.stepping import Failure, SolveHistory, Stepping, run_schedule
 from vlab.geometry.block import block_specimen
 from vlab.geometry.dogbone import dogbone_specimen
 from vlab.geometry.quality import MeshQuality, mesh_quality
+from vlab.geometry.mesh_check import MeshError, check_mesh
 from vlab.geometry.specimen import Specimen
 from vlab.loading.grips import grip_loading
 from vlab.loading.schedule import monotonic_schedule
@@ -34,6 +36,12 @@ from vlab.scene import SPRING_NETWORK, Scene, SceneError
 
 class MeshQualityError(SceneError):
     """The mesh's worst element is below the scene's ``mesh.min_quality``."""
+
+log = logging.getLogger(__name__)
+LOCKING_NU = 0.45  # above this, displacement-only elements lock on non-uniform fields
+from vlab.stability.admissibility import inadmissible_request
+from vlab.stability.constraints import under_constrained_message, unrestrained_modes
+from vlab.stability.monitor import StabilityMonitor
 
 
 @dataclass
@@ -68,7 +76,12 @@ def build_specimen(scene: Scene) -> Specimen:
 
 
 def checked_quality(scene: Scene, specimen: Specimen) -> MeshQuality:
-    """The mesh's quality; MeshQualityError if its worst element is below mesh.min_quality."""
+    """The mesh's quality; MeshQualityError if the mesh is invalid (inverted or flat elements,
+    duplicate or unused nodes) or its worst element is below mesh.min_quality."""
+    try:
+        check_mesh(specimen.mesh)
+    except MeshError as exc:
+        raise MeshQualityError(f"invalid mesh: {exc}") from None
     quality = mesh_quality(specimen.mesh)
     if quality.min_quality < scene.mesh.min_quality:
         raise MeshQualityError(
@@ -87,13 +100,15 @@ def make_body(scene: Scene, space: DisplacementSpace):
     return HyperelasticBody(space, make_material(scene.material.model, moduli.lmbda, moduli.mu))
 
 
-def run_scene(scene: Scene, on_level=None) -> RunResult:
+def run_scene(scene: Scene, on_level=None, specimen: Specimen | None = None) -> RunResult:
     """Run the test a scene describes; never raises for solver trouble (see history.failure).
+
+    ``specimen`` replaces the one the scene would build (same shape; e.g. a perturbed mesh).
     Raises MeshQualityError (a SceneError) before solving if the mesh is below mesh.min_quality."""
     clock = time.perf_counter
     timing: dict[str, float] = {}
     t0 = clock()
-    specimen = build_specimen(scene)
+    specimen = specimen or build_specimen(scene)
     quality = checked_quality(scene, specimen)
     space = DisplacementSpace.build(specimen.mesh, scene.mesh.order)
     body = make_body(scene, space)
@@ -107,7 +122,11 @@ def run_scene(scene: Scene, on_level=None) -> RunResult:
     homogeneity: list[dict] = []
     measure_time = [0.0]
 
+    monitor = StabilityMonitor(body, partition, loading.moving_dofs, scene.test.stretch,
+                               scene.material.model, loading.u_hat)
+
     def observe(level):
+        monitor(level)
         t = clock()
         recorder(level)
         if probe is not None:
@@ -120,11 +139,16 @@ def run_scene(scene: Scene, on_level=None) -> RunResult:
         schedule=monotonic_schedule(scene.test.stretch, scene.test.steps, scene.measure.modulus_window),
         max_cutbacks=scene.solver.max_cutbacks,
         newton=NewtonOptions(rtol=scene.solver.rtol, max_iterations=scene.solver.max_iterations),
+        accept=monitor.accept,
     )
     force_floor = 1e-12 * scene.material.moduli.mu * specimen.length_scale**2
     t1 = clock()
-    history = run_schedule(body, partition, loading.u_hat, stepping,
-                           (force_floor, specimen.length_scale), observe)
+    refusal = _refusal(material, scene, space, loading.prescribed)
+    if refusal is not None:
+        history = SolveHistory(failure=Failure(0, 1.0, 1.0, 0.0, refusal, []))
+    else:
+        history = run_schedule(body, partition, loading.u_hat, stepping,
+                               (force_floor, specimen.length_scale), observe)
     timing["measure_s"] = measure_time[0]
     timing["solve_s"] = clock() - t1 - measure_time[0]
 
@@ -144,7 +168,7 @@ def run_scene(scene: Scene, on_level=None) -> RunResult:
         extra["homogeneity"] = _homogeneity_report(curve, homogeneity, scene.measure.modulus_window)
     timing["measure_s"] += clock() - t2
     timing["total_s"] = clock() - t0
-    extra["body"] = body
+    extra |= {"body": body, "stability": [r.as_dict() for r in monitor.records], "warnings": _warnings(scene)}
     return RunResult(scene, specimen, space, curve, constants, history, timing, reference, extra)
 
 
@@ -158,6 +182,27 @@ def _homogeneity_report(curve: Curve, rows: list[dict], window: tuple[float, flo
         i = int(small[-1])
         out["small_strain"] = rows[i] | {"extensometer_strain": curve.strain[0][i]}
     return out
+
+
+def _warnings(scene: Scene) -> list[str]:
+    """Caveats about the set-up (also logged)."""
+    found = []
+    nu = scene.material.moduli.nu
+    if nu > LOCKING_NU:
+        found.append(f"material.nu = {nu:g} > {LOCKING_NU:g} with the displacement-only formulation: "
+                     "expect volumetric locking (too stiff) wherever the field is not uniform, e.g. "
+                     "with clamped grips; homogeneous roller tests are unaffected")
+    for text in found:
+        log.warning(text)
+    return found
+
+
+def _refusal(material, scene: Scene, space: DisplacementSpace, prescribed) -> str | None:
+    """Why the request cannot be solved at all (rigid-body modes, no admissible state), or None."""
+    modes = unrestrained_modes(space.node_coordinates, prescribed)
+    if modes:
+        return under_constrained_message(modes)
+    return inadmissible_request(material, scene.test.stretch)
 
 
 def stretch_at(scene: Scene, t: float) -> list[float]:

@@ -88,7 +88,7 @@ def solve_equilibrium(body: HyperelasticBody, partition: Partition, u0: np.ndarr
     free = partition.free
     ev = body.evaluate(u0)
     if not ev.admissible:
-        record.reason = (f"moving the grips alone collapses or inverts an element "
+        record.reason = (f"moving the grips alone leaves an element inverted or collapsed "
                          f"(min J = {ev.min_J:.3g} at element {ev.worst[0]})")
         raise NewtonFailure(record.reason, record, ev)
     tangent = None

@@ -9,7 +9,10 @@ reuses one factorization for the whole test). A substep that fails (no convergen
 element, singular tangent) is retried from the last converged state with half the increment; easy
 substeps let the increment grow back. A level may be cut back at most ``max_cutbacks`` times in
 all (not only in a row: near a limit point halving and regrowing would otherwise creep towards
-the limit forever); then the test stops with a diagnosis.
+the limit forever); then the test stops with a diagnosis. An optional acceptance check
+(``Stepping.accept``, e.g. the stability monitor) may reject a converged substep; that too cuts
+back, and since the increment may not shrink below the level's first increment / 2^max_cutbacks,
+a critical load level is bracketed to within that increment instead of being approached forever.
 """
 
 from __future__ import annotations
@@ -65,11 +68,18 @@ class SolveHistory:
     seconds: float = 0.0
 
 
+# accept(evaluation, t) -> None, or the reason why a converged substep is rejected (e.g. unstable)
+Acceptance = Callable[[Evaluation, float], "str | None"]
+
+
 @dataclass(frozen=True)
 class Stepping:
+    """``accept`` vets every converged substep; a rejection is handled like a failed substep."""
+
     schedule: np.ndarray
     max_cutbacks: int = 8
     newton: NewtonOptions = NewtonOptions()
+    accept: Acceptance | None = None
 
 
 def run_schedule(body: HyperelasticBody, partition: Partition, u_hat: np.ndarray,
@@ -85,15 +95,20 @@ def run_schedule(body: HyperelasticBody, partition: Partition, u_hat: np.ndarray
     t = 0.0
     for index, target in enumerate(stepping.schedule, start=1):
         dt, cutbacks, records = target - t, 0, []
+        smallest = abs(dt) / 2.0**stepping.max_cutbacks
         while t != target:
             t_try = target if abs(target - t) <= abs(dt) * (1 + 1e-12) else t + dt
             try:
-                current, record, new_tangent = _substep(body, partition, current, tangent,
-                                                        u_hat, t, t_try, stepping, scales)
+                candidate, record, new_tangent = _substep(body, partition, current, tangent,
+                                                          u_hat, t, t_try, stepping, scales)
+                objection = stepping.accept and stepping.accept(candidate, float(t_try))
+                if objection:
+                    raise NewtonFailure(objection, record, None)
+                current = candidate
             except NewtonFailure as failure:
                 records.append(failure.record)
                 cutbacks, dt = cutbacks + 1, dt / 2
-                if cutbacks > stepping.max_cutbacks:
+                if cutbacks > stepping.max_cutbacks or abs(dt) < smallest * (1 - 1e-12):
                     history.failure = _diagnose(index, target, t_try, t, failure)
                     history.seconds = time.perf_counter() - start
                     return history

@@ -30,6 +30,8 @@ class ElasticConstants:
 
 
 def elastic_constants(curve: Curve, window: tuple[float, float], method: str) -> ElasticConstants:
+    if not curve.t:
+        return ElasticConstants(None, None, None, None, [], "not measured: no level was recorded")
     try:
         if len(curve.axes) == 1:
             return _uniaxial(curve, window, method)

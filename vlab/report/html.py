@@ -32,6 +32,14 @@ def summary_rows(data: dict) -> list[tuple[str, str]]:
     if m.get("E_fit"):
         rows.append(("E fit", f"{m['E_fit']['method']} over |strain| {m['E_fit']['window']}, "
                               f"{m['E_fit']['n_points']} points, R² = {m['E_fit']['r2']:.6f}"))
+    stab = data.get("stability") or []
+    if stab:
+        unstable = [r for r in stab if not r["accepted"]]
+        rows.append(("stability (inertia of K_ff)",
+                     f"{len(stab) - len(unstable)} of {len(stab)} levels stable (no negative eigenvalue)"
+                     + (f"; stopped at stretch {unstable[0]['stretch']}: "
+                        f"{unstable[0]['negative_eigenvalues']} negative eigenvalue(s), "
+                        f"limit point {unstable[0]['limit_point']}" if unstable else "")))
     ref = data.get("reference") or {}
     for k, v in ref.items():
         if k.startswith("max_relative_error"):

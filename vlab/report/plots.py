@@ -39,6 +39,10 @@ def plot_stress_strain(data: dict, path: Path) -> None:
     if measured.get("E") is not None:
         title += f"  —  E = {measured['E']:.4g} MPa, ν = {measured['nu']:.4f}"
     ax.set_title(title, fontsize=10)
+    if data.get("failure"):  # a stopped or refused test says why, on the figure too
+        import textwrap
+        ax.text(0.02, 0.97, textwrap.fill("stopped: " + data["failure"]["reason"], 90), fontsize=7,
+                color="tab:red", transform=ax.transAxes, va="top")
     ax.set_xlabel("engineering strain [–] (extensometer, unless labelled crosshead)")
     ax.set_ylabel("engineering stress [MPa]")
     ax.axhline(0, color="0.7", lw=0.5)

@@ -81,5 +81,7 @@ def result_to_dict(result: RunResult) -> dict:
             "elements": int(space.basis.nelems), "nodes": int(space.n_nodes), "dofs": int(space.n_dofs),
             "quality": result.extra.get("mesh_quality"),
         },
+        "stability": result.extra.get("stability", []),
+        "warnings": result.extra.get("warnings", []),
         "failure": None if history.failure is None else failure_dict(scene, history.failure),
     })

@@ -1,0 +1,91 @@
+"""Inertia and lowest eigenpair of a symmetric tangent K_ff: is a converged state stable?
+
+A converged equilibrium is stable (a strict local minimum of the total energy W on the free DOFs)
+iff K_ff = ∂²W/∂u_f² is positive definite. By Sylvester's law of inertia, a symmetric
+factorization P K Pᵀ = L D Lᵀ (L unit lower triangular, D diagonal) has as many negative entries
+in D as K has negative eigenvalues. SuperLU in symmetric mode with diagonal pivoting disabled and
+the same permutation on rows and columns computes exactly that (its U equals D Lᵀ), so
+inertia(K) = signs of diag(U). If SuperLU had to pivot off the diagonal (perm_r ≠ perm_c) the
+signs no longer mean anything and the count falls back to a dense symmetric eigensolver (small
+systems) or is reported as unknown (None).
+
+(The PyPI package ``qdldl`` exposes the same D through ``Solver(K).factors()``; SuperLU already
+ships with scipy, so no extra dependency is needed.)
+
+A pivot whose magnitude is below ``zero_tol`` times the largest diagonal entry of K counts as
+zero: a (nearly) singular tangent, e.g. an unrestrained rigid-body mode.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+DENSE_LIMIT = 3000  # largest system whose inertia is counted densely when SuperLU pivoted
+ZERO_TOL = 1e-10
+
+
+@dataclass(frozen=True)
+class Inertia:
+    """Counts of negative, (numerically) zero and positive eigenvalues of K; ``method`` says how.
+
+    ``negative`` and ``zero`` are None when the inertia could not be determined.
+    """
+
+    negative: int | None
+    zero: int | None
+    positive: int | None
+    method: str
+    solve: Callable[[np.ndarray], np.ndarray] | None = None  # K⁻¹ from the same factorization
+
+    @property
+    def positive_definite(self) -> bool | None:
+        if self.negative is None:
+            return None
+        return self.negative == 0 and self.zero == 0
+
+
+def inertia(K: sp.spmatrix, zero_tol: float = ZERO_TOL) -> Inertia:
+    """Number of negative / zero / positive eigenvalues of the symmetric matrix K."""
+    K = sp.csc_matrix(K)
+    n = K.shape[0]
+    scale = float(np.max(np.abs(K.diagonal()), initial=0.0)) or 1.0
+    try:
+        lu = spla.splu(K, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                       options={"SymmetricMode": True})
+    except RuntimeError:  # exactly zero pivot: singular
+        lu = None
+    if lu is not None and np.array_equal(lu.perm_r, lu.perm_c):
+        d = lu.U.diagonal()
+        if np.all(np.isfinite(d)):
+            return _count(d, zero_tol * scale, "LDLt (SuperLU symmetric mode)", lu.solve)
+    if n <= DENSE_LIMIT:
+        return _count(np.linalg.eigvalsh(K.toarray()), zero_tol * scale, "dense eigenvalues")
+    return Inertia(None, None, None, "unknown (SuperLU pivoted, system too large for dense)")
+
+
+def _count(values: np.ndarray, tol: float, method: str, solve=None) -> Inertia:
+    zero = int(np.sum(np.abs(values) <= tol))
+    negative = int(np.sum(values < -tol))
+    return Inertia(negative, zero, len(values) - negative - zero, method, solve)
+
+
+def lowest_eigenpair(K: sp.spmatrix) -> tuple[float, np.ndarray]:
+    """The algebraically smallest eigenvalue of K (N/mm) and its unit eigenvector.
+
+    Shift-invert Lanczos about σ = -|K|_diag,max (below the whole spectrum of a tangent whose
+    negative eigenvalues are small compared with its stiffest mode), so the eigenvalue nearest σ
+    is the lowest one. Small systems use a dense solve.
+    """
+    K = sp.csc_matrix(K)
+    n = K.shape[0]
+    if n <= 400:
+        w, v = np.linalg.eigh(K.toarray())
+        return float(w[0]), v[:, 0]
+    sigma = -float(np.max(np.abs(K.diagonal()), initial=1.0))
+    w, v = spla.eigsh(K, k=1, sigma=sigma, which="LM")
+    return float(w[0]), v[:, 0]

@@ -1,0 +1,139 @@
+"""Is every converged state stable, and has the load passed a limit point?
+
+Newton converging only means the state is stationary. It is a stable equilibrium (a local minimum
+of the total energy W) iff the tangent on the free DOFs K_ff is positive definite, so the monitor
+counts the negative (and zero) eigenvalues of K_ff by its inertia (:mod:`vlab.fe.inertia`).
+
+Under displacement control a softening material (St. Venant–Kirchhoff in compression: the nominal
+stress of a free block peaks at stretch 1/√3) can keep K_ff positive definite past its load
+maximum, so the monitor also watches the load path. With u_p = t û_p, the free DOFs follow
+du_f/dt = −K_ff⁻¹ K_fp û_p, and the grip force of axis a changes at the rate
+    k_a = df_a/dt = Σ_{moving DOFs of a} (K v)_i,   v = (du_f/dt, û_p)      (N per unit t),
+the slope of the load–displacement curve at the state itself. A load limit point is passed when
+    s_a k_a < 0   or   s_a (f_a(t) − f_a(t_prev)) < −tol · |f_a(t_prev)|,   s_a = sign(λ_a − 1),
+i.e. the force magnitude decreases although the grip keeps moving away from 1 (t_prev: the last
+accepted state).
+
+The monitor vets every converged substep (``Stepping.accept``). A rejected substep makes the
+stepper cut back from the last accepted state, which both avoids false alarms (a large step can
+land Newton on an unstable branch that a finer path never visits) and brackets the critical
+stretch to within the final increment; if the instability persists the test stops with
+"no admissible state beyond stretch …" and the unstable state never enters the curve.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+from vlab.fe.assembly import Partition
+from vlab.fe.inertia import inertia
+from vlab.fe.problem import Evaluation, HyperelasticBody
+from vlab.fe.stepping import Level
+
+LIMIT_TOL = 1e-9
+
+
+@dataclass(frozen=True)
+class LevelStability:
+    """Stability of one converged state (``accepted`` False for a rejected trial)."""
+
+    t: float
+    stretch: list[float]
+    negative_eigenvalues: int | None
+    zero_eigenvalues: int | None
+    inertia_method: str
+    forces: list[float]
+    limit_point: bool
+    accepted: bool
+
+    def as_dict(self) -> dict:
+        return asdict(self)
+
+
+class StabilityMonitor:
+    """``accept(evaluation, t)`` vets a substep; ``monitor(level)`` records a scheduled level.
+
+    ``records`` lists the accepted scheduled levels and every rejected trial, in order.
+    """
+
+    def __init__(self, body: HyperelasticBody, partition: Partition, moving_dofs: dict[int, np.ndarray],
+                 target_stretch: tuple[float, ...], model: str, u_hat: np.ndarray):
+        self.body, self.partition, self.u_hat = body, partition, u_hat
+        self.moving = {a: np.asarray(d) for a, d in moving_dofs.items()}
+        self.target = target_stretch
+        self.model = model
+        self.records: list[LevelStability] = []
+        self._accepted: LevelStability | None = None
+
+    def stretch_at(self, t: float) -> list[float]:
+        return [1.0 + t * (s - 1.0) for s in self.target]
+
+    def accept(self, ev: Evaluation, t: float) -> str | None:
+        K = self.body.stiffness(ev)
+        Kff, Kfp = self.partition.blocks(K)
+        found = inertia(Kff)
+        forces = [float(ev.f_int[self.moving[a]].sum()) for a in range(len(self.target))]
+        limit_axis = self._limit_axis(forces, self._path_stiffness(K, Kfp, found))
+        unstable = bool(found.negative) or bool(found.zero)
+        record = LevelStability(float(t), self.stretch_at(t), found.negative, found.zero,
+                                found.method, forces, limit_axis is not None,
+                                accepted=not unstable and limit_axis is None)
+        if record.accepted:
+            self._accepted = record
+            return None
+        self.records.append(record)
+        if unstable:
+            return self._instability_message(record)
+        return self._limit_message(record, limit_axis)
+
+    def __call__(self, level: Level) -> None:
+        """Record the (already vetted) state of a scheduled level."""
+        if self._accepted is not None and self._accepted.t == level.t:
+            self.records.append(self._accepted)
+
+    def _path_stiffness(self, K, Kfp, found) -> list[float] | None:
+        """df_a/dt along the displacement-controlled path (None if K_ff could not be solved)."""
+        if found.solve is None or found.negative or found.zero:
+            return None
+        up = self.u_hat[self.partition.prescribed]
+        v = self.u_hat.copy()
+        v[self.partition.free] = -found.solve(Kfp @ up)
+        Kv = K @ v
+        return [float(Kv[self.moving[a]].sum()) for a in range(len(self.target))]
+
+    def _limit_axis(self, forces: list[float], slopes: list[float] | None) -> int | None:
+        last = self._accepted
+        for a, f_new in enumerate(forces):
+            sign = np.sign(self.target[a] - 1.0)
+            if sign == 0:
+                continue
+            if slopes is not None and sign * slopes[a] < 0.0:
+                return a
+            f_old = last.forces[a] if last is not None else None
+            if f_old is not None and sign * (f_new - f_old) < -LIMIT_TOL * abs(f_old):
+                return a
+        return None
+
+    def _previous_stretch(self) -> str:
+        return _fmt(self._accepted.stretch if self._accepted else self.stretch_at(0.0))
+
+    def _instability_message(self, r: LevelStability) -> str:
+        what = (f"{r.negative_eigenvalues} negative eigenvalue(s)" if r.negative_eigenvalues
+                else f"{r.zero_eigenvalues} zero eigenvalue(s)")
+        return (f"no admissible state beyond stretch {self._previous_stretch()}: loss of stability "
+                f"at stretch {_fmt(r.stretch)} — the tangent on the free DOFs has {what}, so the "
+                f"converged state is not an energy minimum ({self.model}; a bifurcation such as "
+                f"buckling or loss of ellipticity)")
+
+    def _limit_message(self, r: LevelStability, axis: int) -> str:
+        advice = (" (St. Venant–Kirchhoff softens in compression, limit point at stretch 1/√3 "
+                  "≈ 0.577 for a free block; stvk-volumetric and neo-hookean carry on)"
+                  if self.model == "stvk" else "")
+        return (f"no admissible state beyond stretch {self._previous_stretch()}: load limit point — "
+                f"|force| along {'xy'[axis]} peaked and fell at stretch {_fmt(r.stretch)}{advice}")
+
+
+def _fmt(stretch: list[float]) -> str:
+    return ", ".join(f"{s:.4g}" for s in stretch) if len(stretch) > 1 else f"{stretch[0]:.4g}"
