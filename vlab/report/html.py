@@ -149,6 +149,10 @@ def comparison_rows(page: ReportPage) -> list[tuple[str, list[str]]]:
 def _quality(quality) -> str:
     if not quality:
         return "—"
+    if isinstance(quality, dict) and "min_quality" in quality:
+        return (f"min {_fmt(quality['min_quality'], 3)}, mean {_fmt(quality.get('mean_quality'), 3)} "
+                f"({html.escape(str(quality.get('measure', '')))}); "
+                f"max aspect ratio {_fmt(quality.get('max_aspect_ratio'), 3)}")
     if isinstance(quality, dict):
         return ", ".join(f"{html.escape(str(k))} {_fmt(v, 3)}" for k, v in quality.items())
     return _fmt(quality)
