@@ -252,7 +252,9 @@ def test_modulus_points_reach_the_schedule():
     from vlab.loading.schedule import monotonic_schedule
     from vlab.scene import load_scene
 
-    scene = load_scene("benchmarks/block16.toml")
+    from pathlib import Path
+
+    scene = load_scene(Path(__file__).resolve().parents[1] / "benchmarks" / "block16.toml")
     assert scene.measure.modulus_points == 0
     levels = monotonic_schedule(scene.test.stretch, scene.test.steps, scene.measure.modulus_window,
                                 scene.measure.modulus_points)

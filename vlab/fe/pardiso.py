@@ -63,6 +63,9 @@ def library():
 
 
 def _load():
+    # MKL's OpenMP threads otherwise spin for 200 ms after each call, stealing the cores from
+    # the numpy work (assembly) that follows every factorization; read when the runtime starts.
+    os.environ.setdefault("KMP_BLOCKTIME", "0")
     candidates = [os.environ.get("PYPARDISO_MKL_RT"), ctypes.util.find_library("mkl_rt")]
     for prefix in dict.fromkeys((sys.prefix, site.getuserbase())):
         candidates += sorted(glob.glob(os.path.join(prefix, "lib", "libmkl_rt.so*")), key=len)
