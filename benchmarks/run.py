@@ -281,7 +281,8 @@ def main() -> None:
         args.out.write_text(
             "# vlab benchmark: vlab vs its cost floor vs FElupe\n\n"
             f"Command: `{command}`\n\nMachine: {machine}\n\n"
-            f"Times in seconds, best of {args.repeat} runs, each in its own process; {__doc__.split(chr(10) + chr(10), 2)[2]}\n"
+            f"Times in seconds, best of {args.repeat} runs, each in its own process.\n\n"
+            + __doc__.split("\n\n", 3)[3] + "\n"
             + table + "\n")
 
 
