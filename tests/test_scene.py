@@ -154,6 +154,8 @@ def _parse_error(overrides=None, drop=None):
     ({"measure.gauge_length": 20}, ["measure.gauge_length must be > 0 and < 20 (the specimen length)"]),
     ({"measure.gauge_length": 0}, ["measure.gauge_length must be > 0"]),
     ({"measure.fit": "spline"}, ["measure.fit must be one of regression, chord; got 'spline'"]),
+    ({"measure.modulus_points": -1}, ["measure.modulus_points must be an integer 0..100, got -1"]),
+    ({"measure.modulus_points": 1.5}, ["measure.modulus_points must be an integer 0..100"]),
     ({"solver.rtol": 0.1}, ["solver.rtol must be >= 1e-14 and <= 0.01, got 0.1"]),
     ({"solver.max_iterations": 0}, ["solver.max_iterations must be an integer 1..200, got 0"]),
     ({"solver.max_cutbacks": 31}, ["solver.max_cutbacks must be an integer 0..30, got 31"]),
@@ -244,3 +246,16 @@ def test_apply_overrides():
         apply_overrides(MINIMAL, {"a.b.c": 1})
     with pytest.raises(SceneError, match=r"unknown key 'nuu' in \[material\]"):
         parse_scene(apply_overrides(MINIMAL, {"material.nuu": 0.4}))
+
+
+def test_modulus_points_reach_the_schedule():
+    from vlab.loading.schedule import monotonic_schedule
+    from vlab.scene import load_scene
+
+    from pathlib import Path
+
+    scene = load_scene(Path(__file__).resolve().parents[1] / "benchmarks" / "block16.toml")
+    assert scene.measure.modulus_points == 0
+    levels = monotonic_schedule(scene.test.stretch, scene.test.steps, scene.measure.modulus_window,
+                                scene.measure.modulus_points)
+    assert len(levels) == scene.test.steps

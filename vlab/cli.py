@@ -117,9 +117,14 @@ def info():
     import skfem
 
     from vlab import __version__
+    from vlab.fe.linsolve import available_solvers, solver_in_use
 
     Console().print(f"vlab {__version__}; numpy {numpy.__version__}, scipy {scipy.__version__}, "
-                    f"scikit-fem {skfem.__version__}; linear solver: SuperLU (scipy, symmetric mode)")
+                    f"scikit-fem {skfem.__version__}")
+    found = available_solvers()
+    for name, version in found.items():
+        Console().print(f"  linear solver {name:8s} {version or 'not installed'}", highlight=False)
+    Console().print(f"linear solver in use: {solver_in_use()}", highlight=False)
 
 
 def _report_options(true: bool, field: str, single_file: bool, gif_model, render: bool):

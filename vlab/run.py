@@ -136,7 +136,8 @@ def run_scene(scene: Scene, on_level=None, specimen: Specimen | None = None) -> 
             on_level(level)
 
     stepping = Stepping(
-        schedule=monotonic_schedule(scene.test.stretch, scene.test.steps, scene.measure.modulus_window),
+        schedule=monotonic_schedule(scene.test.stretch, scene.test.steps, scene.measure.modulus_window,
+                                    scene.measure.modulus_points),
         max_cutbacks=scene.solver.max_cutbacks,
         newton=NewtonOptions(rtol=scene.solver.rtol, max_iterations=scene.solver.max_iterations),
         accept=monitor.accept,

@@ -4,7 +4,7 @@ A scene describes one virtual test: specimen, mesh, material, loading, measureme
 Required: ``name``, [specimen] shape+size, [mesh] size, [material] model + exactly two elastic
 constants, [test] kind+stretch. Defaults: mesh.order = 1, mesh.cell = "tet", material.root =
 "plus", test.grips = "roller", test.steps = 10, [measure] modulus_window = [0.0005, 0.0025],
-gauge_length = None, fit = "regression"; [solver] rtol = 1e-8, max_iterations = 25,
+gauge_length = None, fit = "regression", modulus_points = 9; [solver] rtol = 1e-8, max_iterations = 25,
 max_cutbacks = 8. Unknown sections and keys are errors. Every :class:`SceneError` names the
 dotted field, the allowed values and what was got.
 
@@ -113,6 +113,7 @@ class MeasureSpec:
     modulus_window: tuple[float, float]  # |strain| window for the E and nu fits
     gauge_length: float | None  # mm; None = decided by the extensometer (half the length)
     fit: str  # "regression" | "chord"
+    modulus_points: int = 9  # extra readings inserted in the modulus window (0 = none)
 
 
 @dataclass(frozen=True)
@@ -343,7 +344,7 @@ def _parse_test(raw: Any, shape: str = "block") -> TestSpec:
 
 
 def _parse_measure(raw: Any, specimen: Specimen) -> MeasureSpec:
-    t = _Table("measure", raw, ("modulus_window", "gauge_length", "fit"))
+    t = _Table("measure", raw, ("modulus_window", "gauge_length", "fit", "modulus_points"))
     field = t.field("modulus_window")
     window = (0.0005, 0.0025)
     if "modulus_window" in t.raw:
@@ -353,7 +354,8 @@ def _parse_measure(raw: Any, specimen: Specimen) -> MeasureSpec:
     gauge = t.number("gauge_length", default=None, gt=0, lt=specimen.length,
                      note=" (the specimen length)")
     return MeasureSpec(modulus_window=window, gauge_length=gauge,  # type: ignore[arg-type]
-                       fit=t.choice("fit", ("regression", "chord"), default="regression"))
+                       fit=t.choice("fit", ("regression", "chord"), default="regression"),
+                       modulus_points=t.integer("modulus_points", 0, 100, default=9))
 
 
 def _parse_solver(raw: Any) -> SolverSpec:

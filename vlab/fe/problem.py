@@ -47,7 +47,7 @@ class HyperelasticBody:
     def __init__(self, space: DisplacementSpace, material):
         self.space = space
         self.material = material
-        self.pattern = SparsityPattern.build(space.element_dofs)
+        self.pattern = SparsityPattern.build(space.element_nodes)
 
     def evaluate(self, u: np.ndarray) -> Evaluation:
         F = self.space.deformation_gradient(u)

@@ -45,7 +45,7 @@ class SpringNetwork:
         if not E > 0:
             raise ValueError(f"spring-network: E must be > 0 MPa, got {E}")
         self.space = space
-        self.pattern = SparsityPattern.build(space.element_dofs)
+        self.pattern = SparsityPattern.build(space.element_nodes)
         self.E = float(E)
         la, lb = np.triu_indices(n_local, k=1)  # every local vertex pair of an element
         nodes = space.element_nodes
@@ -69,15 +69,19 @@ class SpringNetwork:
         return len(self.L)
 
     def _stiffness_slots(self, first, la, lb, a_flat, b_flat) -> np.ndarray:
-        """CSR data slots of every spring's four 3×3 blocks, located in the element owning it."""
-        n_pairs, n_loc3 = len(la), 3 * self.space.element_nodes.shape[1]
+        """CSR data slots of every spring's four 3×3 blocks, located in the element owning it.
+
+        Element entries use the pattern's block layout (i, k, e, a, b)."""
+        n_pairs = len(la)
+        n_el, n_loc = self.space.element_nodes.shape
         element, pair = first // n_pairs, first % n_pairs
         local = np.stack([la[pair], lb[pair]], axis=1)  # (s, 2) local node of end a, end b
         c = np.arange(3)
-        # (s, end_row, end_col, i, k) -> element entry (3 local_row + i, 3 local_col + k)
-        row = 3 * local[:, :, None, None, None] + c[None, None, None, :, None]
-        col = 3 * local[:, None, :, None, None] + c[None, None, None, None, :]
-        flat = element[:, None, None, None, None] * n_loc3**2 + row * n_loc3 + col
+        # (s, end_row, end_col, i, k) -> flat index of entry (i, k, element, node_row, node_col)
+        a_node = local[:, :, None, None, None]
+        b_node = local[:, None, :, None, None]
+        i, k = c[None, None, None, :, None], c[None, None, None, None, :]
+        flat = ((i * 3 + k) * n_el + element[:, None, None, None, None]) * n_loc**2 + a_node * n_loc + b_node
         return self.pattern.slot[flat]
 
     def _geometry(self, u: np.ndarray):

@@ -24,6 +24,7 @@ from typing import Callable
 import numpy as np
 
 from vlab.fe.assembly import Partition
+from vlab.fe.linsolve import SingularSystem
 from vlab.fe.newton import (NewtonFailure, NewtonOptions, NewtonRecord, Tangent,
                             solve_equilibrium, tangent_at)
 from vlab.fe.problem import Evaluation, HyperelasticBody
@@ -90,7 +91,14 @@ def run_schedule(body: HyperelasticBody, partition: Partition, u_hat: np.ndarray
     history = SolveHistory()
     u = np.zeros(body.space.n_dofs)
     current = body.evaluate(u)
-    tangent = tangent_at(body, partition, current)
+    try:
+        tangent = tangent_at(body, partition, current)
+    except SingularSystem as exc:
+        history.failure = Failure(0, float(stepping.schedule[0]), 0.0, 0.0,
+                                  f"the unloaded tangent is singular: the grips leave the specimen "
+                                  f"free to move ({exc})", [])
+        history.seconds = time.perf_counter() - start
+        return history
     history.factorizations += 1
     t = 0.0
     for index, target in enumerate(stepping.schedule, start=1):

@@ -1,0 +1,210 @@
+"""Intel MKL PARDISO through ctypes: sparse Cholesky (LLᵀ) and Bunch–Kaufman LDLᵀ with the
+symbolic analysis reused across factorizations of one sparsity pattern.
+
+PARDISO is an optional extra (``pip install vlab[fast]`` pulls ``pypardiso`` and the ``mkl``
+wheel that ships ``mkl_rt``); vlab loads that library and calls ``pardiso`` itself so it can
+separate the phases:
+
+- phase 11 (reordering with METIS nested dissection + symbolic factorization) once per pattern,
+- phase 22 (numerical factorization) once per tangent, into one of ``SLOTS`` factor slots that
+  share the analysis (PARDISO's ``maxfct``/``mnum``), so the predictor's tangent survives the
+  next Newton iterations,
+- phase 33 (forward/backward substitution) per right-hand side.
+
+Only the upper triangle of the symmetric matrix is passed (CSR, 1-based indices). ``mtype = 2``
+(real SPD, Cholesky) is tried first; if PARDISO meets a non-positive pivot (error -4) the pattern
+switches to ``mtype = -2`` (real symmetric indefinite, Bunch–Kaufman pivoting with pivot
+perturbation), whose inertia (iparm 22/23: positive/negative eigenvalue counts by Sylvester's law)
+is reported as ``negative_pivots``.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import ctypes.util
+import glob
+import logging
+import os
+import site
+import sys
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+
+log = logging.getLogger(__name__)
+
+SLOTS = 2
+SPD, INDEFINITE = 2, -2
+_ERRORS = {-1: "input inconsistent", -2: "not enough memory", -3: "reordering problem",
+           -4: "zero pivot (numerical factorization)", -5: "unclassified internal error",
+           -6: "reordering failed", -7: "diagonal matrix is singular", -8: "32-bit integer overflow",
+           -9: "not enough memory for out-of-core", -10: "problems opening OOC files",
+           -11: "read/write problem with OOC data file", -12: "pardiso_64 called from 32-bit library"}
+
+
+class PardisoError(RuntimeError):
+    def __init__(self, code: int, phase: int):
+        super().__init__(f"PARDISO phase {phase} error {code}: {_ERRORS.get(code, 'unknown')}")
+        self.code = code
+
+
+_LIB: list = []  # [ctypes function] once loaded, [None] if unavailable
+
+
+def library():
+    """The ``pardiso`` entry point of MKL's runtime, or None if the mkl wheel is not installed.
+
+    ``mkl_rt`` is looked up where the mkl wheel puts it (``<prefix>/lib``) before falling back to
+    pypardiso's own (slow, recursive) search."""
+    if not _LIB:
+        _LIB.append(_load())
+    return _LIB[0]
+
+
+def _load():
+    # MKL's OpenMP threads otherwise spin for 200 ms after each call, stealing the cores from
+    # the numpy work (assembly) that follows every factorization; read when the runtime starts.
+    os.environ.setdefault("KMP_BLOCKTIME", "0")
+    candidates = [os.environ.get("PYPARDISO_MKL_RT"), ctypes.util.find_library("mkl_rt")]
+    for prefix in dict.fromkeys((sys.prefix, site.getuserbase())):
+        candidates += sorted(glob.glob(os.path.join(prefix, "lib", "libmkl_rt.so*")), key=len)
+        candidates += sorted(glob.glob(os.path.join(prefix, "Library", "bin", "mkl_rt*.dll")), key=len)
+    for path in filter(None, candidates):
+        try:
+            fn = ctypes.CDLL(path).pardiso
+        except (OSError, AttributeError):
+            continue
+        fn.restype = None
+        return fn
+    try:
+        from pypardiso.pardiso_wrapper import PyPardisoSolver
+
+        fn = PyPardisoSolver().libmkl.pardiso
+        fn.restype = None
+        return fn
+    except Exception as exc:  # ImportError, OSError: missing wheel or library
+        log.debug("PARDISO unavailable: %s", exc)
+        return None
+
+
+def version() -> str | None:
+    try:
+        from importlib.metadata import version as dist_version
+        return f"MKL PARDISO (mkl {dist_version('mkl')})"
+    except Exception:
+        return None
+
+
+@dataclass
+class _Handle:
+    """One PARDISO internal data structure (``pt``) with its analysis for one matrix type."""
+
+    mtype: int
+    n: int
+    pt: np.ndarray = field(default_factory=lambda: np.zeros(64, dtype=np.int64))
+    iparm: np.ndarray = field(default_factory=lambda: np.zeros(64, dtype=np.int32))
+    analysed: bool = False
+
+    def __post_init__(self):
+        ip = self.iparm
+        ip[0] = 1     # iparm(1): use the values below, not the defaults
+        ip[1] = 2     # iparm(2): METIS nested-dissection ordering
+        ip[7] = 2     # iparm(8): at most two steps of iterative refinement
+        ip[9] = 8     # iparm(10): pivot perturbation 1e-8 (symmetric matrices)
+        ip[10] = 0    # iparm(11): no scaling (symmetric)
+        ip[12] = 0    # iparm(13): no weighted matching (symmetric)
+        ip[20] = 1    # iparm(21): Bunch–Kaufman 1x1 and 2x2 pivots (indefinite)
+        ip[34] = 0    # iparm(35): 1-based indexing
+
+    def call(self, phase: int, slot: int, matrix, rhs: np.ndarray | None = None) -> np.ndarray | None:
+        data, ia, ja = matrix
+        b = np.zeros(1) if rhs is None else np.asfortranarray(rhs, dtype=float)
+        x = np.zeros_like(b)
+        err = ctypes.c_int32(0)
+        i32 = ctypes.POINTER(ctypes.c_int32)
+        f64 = ctypes.POINTER(ctypes.c_double)
+        nrhs = 1 if b.ndim == 1 else b.shape[1]
+        library()(self.pt.ctypes.data_as(ctypes.POINTER(ctypes.c_int64)),
+                  ctypes.byref(ctypes.c_int32(SLOTS)), ctypes.byref(ctypes.c_int32(slot + 1)),
+                  ctypes.byref(ctypes.c_int32(self.mtype)), ctypes.byref(ctypes.c_int32(phase)),
+                  ctypes.byref(ctypes.c_int32(self.n)), data.ctypes.data_as(f64),
+                  ia.ctypes.data_as(i32), ja.ctypes.data_as(i32), None,
+                  ctypes.byref(ctypes.c_int32(nrhs)), self.iparm.ctypes.data_as(i32),
+                  ctypes.byref(ctypes.c_int32(0)), b.ctypes.data_as(f64), x.ctypes.data_as(f64),
+                  ctypes.byref(err))
+        if err.value != 0:
+            raise PardisoError(err.value, phase)
+        return x if rhs is not None else None
+
+    def release(self, matrix) -> None:
+        if self.analysed and library() is not None:
+            try:
+                self.call(-1, 0, matrix)
+            except PardisoError:  # pragma: no cover - freeing never fails in practice
+                pass
+            self.analysed = False
+
+
+class PardisoPattern:
+    """Everything PARDISO keeps for one symmetric sparsity pattern: the upper-triangle gather,
+    the analysis (per matrix type), and ``SLOTS`` numerical factors used least-recently first."""
+
+    def __init__(self, K: sp.csr_matrix):
+        n = K.shape[0]
+        row = np.repeat(np.arange(n), np.diff(K.indptr))
+        self.upper = np.flatnonzero(K.indices >= row)
+        counts = np.bincount(row[self.upper], minlength=n)
+        self.ia = np.r_[0, np.cumsum(counts)].astype(np.int32) + 1
+        self.ja = K.indices[self.upper].astype(np.int32) + 1
+        if np.any(counts == 0) or np.any(self.ja[self.ia[:-1] - 1] - 1 != np.arange(n)):
+            raise ValueError("PARDISO needs every diagonal entry stored (sorted symmetric pattern)")
+        self.n = n
+        self.handle = _Handle(SPD, n)
+        self.owner: list[object | None] = [None] * SLOTS  # which factorization holds each slot
+        self.clock = [0] * SLOTS
+        self.tick = 0
+
+    def upper_values(self, K: sp.csr_matrix) -> np.ndarray:
+        return np.ascontiguousarray(K.data[self.upper], dtype=float)
+
+    def factor_into_slot(self, owner: object, values: np.ndarray) -> int:
+        """Numerically factorize ``values`` (upper triangle) into the least recently used slot."""
+        slot = int(np.argmin(self.clock))
+        matrix = (values, self.ia, self.ja)
+        try:
+            self._factor(slot, matrix)
+        except PardisoError as exc:
+            if exc.code != -4 or self.handle.mtype != SPD:
+                raise
+            log.debug("tangent not positive definite: switching to Bunch–Kaufman LDLᵀ")
+            self.handle.release(matrix)
+            self.handle = _Handle(INDEFINITE, self.n)
+            self.owner = [None] * SLOTS
+            self._factor(slot, matrix)
+        self.owner[slot] = owner
+        self.tick += 1
+        self.clock[slot] = self.tick
+        return slot
+
+    def _factor(self, slot: int, matrix) -> None:
+        if not self.handle.analysed:
+            self.handle.call(11, 0, matrix)
+            self.handle.analysed = True
+        self.handle.call(22, slot, matrix)
+
+    def solve(self, slot: int, values: np.ndarray, b: np.ndarray) -> np.ndarray:
+        self.tick += 1
+        self.clock[slot] = self.tick
+        return self.handle.call(33, slot, (values, self.ia, self.ja), b)
+
+    @property
+    def negative_pivots(self) -> int:
+        """Negative eigenvalues of the last factorized matrix (0 for a successful Cholesky)."""
+        return 0 if self.handle.mtype == SPD else int(self.handle.iparm[22])
+
+    def __del__(self):
+        try:
+            self.handle.release((np.zeros(1), self.ia, self.ja))
+        except Exception:  # pragma: no cover - interpreter shutdown
+            pass
