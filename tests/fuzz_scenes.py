@@ -63,7 +63,11 @@ def run_and_check(raw: dict) -> str:
     except SceneError as exc:
         assert str(exc)
         return "invalid scene"
-    result = run_scene(scene)
+    try:
+        result = run_scene(scene)
+    except SceneError as exc:  # e.g. a mesh below mesh.min_quality, refused before solving
+        assert "mesh." in str(exc), str(exc)
+        return "refused: mesh below quality threshold"
     data = result_to_dict(result)  # JSON-safe: NaN would have become None
     for name, column in data["curve"].items():
         if name != "units":

@@ -15,7 +15,9 @@ OUTCOMES: collections.Counter = collections.Counter()
 @settings(max_examples=100, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
 @given(scenes())
 def test_random_scenes_converge_sanely_or_fail_cleanly(raw):
-    event(run_and_check(raw))
+    outcome = run_and_check(raw)  # asserts the invariants of the outcome it reports
+    assert outcome != "stopped: other", "a stop whose cause is none of the diagnosed kinds"
+    event(outcome)
 
 
 @pytest.mark.slow
@@ -23,6 +25,7 @@ def test_random_scenes_converge_sanely_or_fail_cleanly(raw):
 @given(scenes())
 def test_a_thousand_random_scenes(raw):
     outcome = run_and_check(raw)
+    assert outcome != "stopped: other", "a stop whose cause is none of the diagnosed kinds"
     OUTCOMES[outcome] += 1
     event(outcome)
     path = os.environ.get("VLAB_FUZZ_OUTCOMES")
