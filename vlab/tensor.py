@@ -77,6 +77,15 @@ def ddot(A: np.ndarray, B: np.ndarray) -> np.ndarray:
     return np.einsum("ij...,ij...->...", A, B)
 
 
+def green_strain(F: np.ndarray) -> np.ndarray:
+    """Green–Lagrange strain E = ½(FᵀF − I), shape (3,3,*batch), unitless."""
+    E = dot(transpose(F), F)
+    E *= 0.5
+    for i in range(3):
+        E[i, i] -= 0.5
+    return E
+
+
 def cofactor(F: np.ndarray) -> np.ndarray:
     """Cofactor cof F = ∂(det F)/∂F = det(F) F^{-T} (closed form, no division), (3,3,*batch)."""
     c = np.empty(F.shape, dtype=float)

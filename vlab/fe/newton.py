@@ -74,10 +74,10 @@ def tangent_at(body: HyperelasticBody, partition: Partition, evaluation: Evaluat
     return Tangent(factorize(Kff), Kfp)
 
 
-def solve_equilibrium(body: HyperelasticBody, partition: Partition, u0: np.ndarray,
+def solve_equilibrium(body: HyperelasticBody, partition: Partition, start: Evaluation,
                       scales: tuple[float, float], options: NewtonOptions,
                       ) -> tuple[Evaluation, NewtonRecord, Tangent | None]:
-    """Newton iterations from u0 (prescribed DOFs already at their targets).
+    """Newton iterations from the evaluated state ``start`` (prescribed DOFs at their targets).
 
     ``scales`` = (force scale floor in N, length scale in mm). Returns the converged evaluation,
     its record and the last tangent factorized (None if no iteration was needed). Raises
@@ -86,7 +86,7 @@ def solve_equilibrium(body: HyperelasticBody, partition: Partition, u0: np.ndarr
     record = NewtonRecord()
     force_floor, length = scales
     free = partition.free
-    ev = body.evaluate(u0)
+    ev = start
     if not ev.admissible:
         record.reason = (f"moving the grips alone leaves an element inverted or collapsed "
                          f"(min J = {ev.min_J:.3g} at element {ev.worst[0]})")

@@ -149,9 +149,10 @@ def _substep(body, partition, current: Evaluation, tangent: Tangent, u_hat, t0, 
         u = current.u.copy()
         u[prescribed] += du_p
         u[free] += scale * predicted
-        if body.evaluate(u).admissible:
+        start = body.evaluate(u)
+        if start.admissible:
             break
-    return solve_equilibrium(body, partition, u, scales, stepping.newton)
+    return solve_equilibrium(body, partition, start, scales, stepping.newton)
 
 
 def _diagnose(index: int, target: float, attempted: float, converged: float,

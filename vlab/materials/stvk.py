@@ -8,7 +8,7 @@ from typing import ClassVar
 import numpy as np
 
 from vlab.materials.base import Material
-from vlab.tensor import as_tensor_field, dot, dyad, dyad_il, trace, transpose
+from vlab.tensor import as_tensor_field, dot, dyad, dyad_il, green_strain, trace, transpose
 
 __all__ = ["StVenantKirchhoff"]
 
@@ -32,14 +32,6 @@ class StVenantKirchhoff(Material):
     name: ClassVar[str] = "stvk"
     is_linear: ClassVar[bool] = False
 
-    @staticmethod
-    def _green(F: np.ndarray) -> np.ndarray:
-        E = dot(transpose(F), F)
-        E *= 0.5
-        for i in range(3):
-            E[i, i] -= 0.5
-        return E
-
     def _pk2(self, E: np.ndarray) -> np.ndarray:
         ltr = self.lmbda * trace(E)
         S = 2.0 * self.mu * E
@@ -49,19 +41,19 @@ class StVenantKirchhoff(Material):
 
     def energy(self, F) -> np.ndarray:
         """ψ = ½λ(tr E)² + μ E:E, shape (*batch), MPa."""
-        E = self._green(as_tensor_field(F))
+        E = green_strain(as_tensor_field(F))
         tr = trace(E)
         return 0.5 * self.lmbda * tr * tr + self.mu * np.einsum("ij...,ij...->...", E, E)
 
     def stress(self, F) -> np.ndarray:
         """P = F S, S = λ tr(E) I + 2μE, shape (3,3,*batch), MPa."""
         F = as_tensor_field(F)
-        return dot(F, self._pk2(self._green(F)))
+        return dot(F, self._pk2(green_strain(F)))
 
     def tangent(self, F) -> np.ndarray:
         """A_iJkL = δ_ik S_JL + λ F_iJ F_kL + μ b_ik δ_JL + μ F_iL F_kJ (b = FFᵀ), MPa."""
         F = as_tensor_field(F)
-        S = self._pk2(self._green(F))
+        S = self._pk2(green_strain(F))
         b = dot(F, transpose(F))
         b *= self.mu
         A = dyad(self.lmbda * F, F)                       # λ F_iJ F_kL

@@ -8,7 +8,7 @@ from typing import ClassVar
 import numpy as np
 
 from vlab.materials.base import Material
-from vlab.tensor import as_tensor_field, cofactor, det, dot, dyad, dyad_il, transpose
+from vlab.tensor import as_tensor_field, cofactor, det, dot, dyad, dyad_il, green_strain, transpose
 
 __all__ = ["StVKVolumetric"]
 
@@ -47,18 +47,10 @@ class StVKVolumetric(Material):
         """Volume-penalty coefficient η = λ/2, MPa."""
         return 0.5 * self.lmbda
 
-    @staticmethod
-    def _green(F: np.ndarray) -> np.ndarray:
-        E = dot(transpose(F), F)
-        E *= 0.5
-        for i in range(3):
-            E[i, i] -= 0.5
-        return E
-
     def energy(self, F) -> np.ndarray:
         """ψ = η(J − 1)² + μ E:E, shape (*batch), MPa."""
         F = as_tensor_field(F)
-        E = self._green(F)
+        E = green_strain(F)
         Jm1 = det(F) - 1.0
         return self.eta * Jm1 * Jm1 + self.mu * np.einsum("ij...,ij...->...", E, E)
 
@@ -67,7 +59,7 @@ class StVKVolumetric(Material):
         F = as_tensor_field(F)
         cof = cofactor(F)
         J = det(F, cof)
-        P = dot(F, self._green(F))
+        P = dot(F, green_strain(F))
         P *= 2.0 * self.mu
         P += (2.0 * self.eta) * (J - 1.0) * cof
         return P
@@ -86,7 +78,7 @@ class StVKVolumetric(Material):
             else:
                 A[i, J_, k, L] -= cF[m, N]
         dyad_il(self.mu * F, transpose(F), out=A)         # μ F_iL F_kJ
-        twomuE = self._green(F)
+        twomuE = green_strain(F)
         twomuE *= 2.0 * self.mu
         b = dot(F, transpose(F))
         b *= self.mu
