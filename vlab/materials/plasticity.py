@@ -53,7 +53,7 @@ from vlab.materials.hencky import Hencky, admissible_part
 from vlab.materials.history import HistoryMaterial, Response, State
 from vlab.materials.principal import PrincipalFrame, principal_frame, principal_stress, principal_tangent
 from vlab.params import ParamTable
-from vlab.tensor import as_tensor_field, identity_like
+from vlab.tensor import as_tensor_field
 
 __all__ = ["J2Plasticity", "parse_params", "PARAM_KEYS"]
 
