@@ -2,7 +2,7 @@
 
 Three-field Hu–Washizu functional with a split law ψ = ψ_iso(F) + U(v(F)) (vlab/materials/split.py):
 
-    Π(u, θ, p) = Σ_e ∫_e [ψ_iso(F) + U(θ) + p (v(F) − θ)] dV,
+    Π(u, θ, p) = Σ_e ∫_e [ψ_iso(F) + U(θ) + p (v(F) − θ)] dV,      (θ, v: volume changes J − 1)
 
 with θ (the volume ratio) and p (the pressure) discontinuous between elements, each a polynomial
 of degree k on an element. Stationarity in p makes θ the element L2 projection of v(F),
@@ -115,17 +115,18 @@ class MixedHyperelasticBody:
         law, dx = self.material, self.space.dx
         F = self.space.deformation_gradient(u)
         J = np.linalg.det(np.moveaxis(F, (0, 1), (-2, -1)))
-        theta = self.projection(law.volume(F))
+        x = self.projection(law.volume(F))                        # θ − 1, the projected volume change
+        theta = 1.0 + x
         ratio = np.minimum(J, theta) if np.isfinite(law.theta_min) else J
         worst = np.unravel_index(int(np.argmin(ratio)), ratio.shape)
         worst = (int(worst[0]), int(worst[1]))
         min_J = float(ratio[worst])
         if not min_J > J_COLLAPSE:
             return MixedEvaluation(u, F, np.inf, None, min_J, worst, theta)
-        W = float(np.sum((law.isochoric_energy(F) + law.U(theta)) * dx))
+        W = float(np.sum((law.isochoric_energy(F) + law.U(x)) * dx))
         if not np.isfinite(W):
             return MixedEvaluation(u, F, np.inf, None, min_J, worst, theta)
-        pressure = self.projection(law.dU(theta))
+        pressure = self.projection(law.dU(x))
         P = law.isochoric_stress(F) + pressure * law.volume_gradient(F)
         f_int = scatter_vector(self.space, element_forces(self.space, P))
         return MixedEvaluation(u, F, W, f_int, min_J, worst, theta, pressure)
@@ -139,7 +140,7 @@ class MixedHyperelasticBody:
         if hessian is not None:
             A += p * hessian
         Ke = element_stiffness(space, A)                          # (i, k, e, a, b)
-        Ke += self._volumetric_block(law.volume_gradient(F), law.d2U(theta))
+        Ke += self._volumetric_block(law.volume_gradient(F), law.d2U(theta - 1.0))
         return self.pattern.matrix(Ke)
 
     def _volumetric_block(self, V: np.ndarray, d2U: np.ndarray) -> np.ndarray:

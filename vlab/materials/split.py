@@ -5,7 +5,9 @@ A split law writes the strain energy as an isochoric part plus a function of one
 
     ψ(F) = ψ_iso(F) + U(v(F))
 
-where ψ_iso does not change under a pure dilatation. The mixed body (vlab/fe/mixed.py) replaces
+where ψ_iso does not change under a pure dilatation. v is the volume *change* (J − 1, or tr ε),
+computed without forming 1 + small − 1: near ν = ½ the volumetric energy is κ times the square
+of a tiny number, and the energy line search needs it to full relative precision. The mixed body (vlab/fe/mixed.py) replaces
 v by θ, its L2 projection on a discontinuous element space, so the volumetric constraint is
 imposed once per element (or per linear mode of an element) instead of at every quadrature
 point — that is what removes volumetric locking.
@@ -52,7 +54,9 @@ class SplitNeoHookean(Material):
 
     - ψ_iso = ½μ (J^(−2/3) I₁ − 3)
     - U(θ)  = ¼κ (θ² − 1 − 2 ln θ),  U' = ½κ (θ − 1/θ),  U'' = ½κ (1 + 1/θ²) > 0 (convex),
-      U → +∞ as θ → 0⁺; volume measure v(F) = J.
+      U → +∞ as θ → 0⁺; written in the volume change x = θ − 1 (methods take x):
+      U = ¼κ (2x + x² − 2 log1p x), U' = ½κ x(2 + x)/(1 + x), U'' = ½κ (1 + 1/(1 + x)²);
+      volume change v(F) = J − 1 = tr H + ½((tr H)² − H:Hᵀ) + det H with H = F − I.
     - P_iso = μ J^(−2/3) (F − I₁/3 G)
     - A_iso = μ J^(−2/3) [δ_ik δ_JL − ⅔(F⊗G + G⊗F) + (2/9) I₁ G⊗G + (I₁/3) G_iL G_kJ]
     - ∂J/∂F = J G,  ∂²J/∂F∂F = J (G⊗G − G_iL G_kJ)
@@ -63,7 +67,7 @@ class SplitNeoHookean(Material):
 
     name: ClassVar[str] = "neo-hookean-split"
     is_linear: ClassVar[bool] = False
-    theta_min: ClassVar[float] = 0.0  # U(θ) = +inf for θ <= 0
+    theta_min: ClassVar[float] = 0.0  # U(θ) = +inf for θ <= 0 (x <= −1)
 
     @property
     def kappa(self) -> float:
@@ -71,8 +75,12 @@ class SplitNeoHookean(Material):
 
     # --- the split pieces ------------------------------------------------------------------
     def volume(self, F: np.ndarray) -> np.ndarray:
-        """v(F) = J, shape (*batch)."""
-        return det(as_tensor_field(F))
+        """v(F) = J − 1 from the invariants of H = F − I (no cancellation), shape (*batch)."""
+        H = as_tensor_field(F).copy()
+        for i in range(3):
+            H[i, i] -= 1.0
+        tr = H[0, 0] + H[1, 1] + H[2, 2]
+        return tr + 0.5 * (tr * tr - np.einsum("ij...,ji...->...", H, H)) + det(H)
 
     def volume_gradient(self, F: np.ndarray) -> np.ndarray:
         """∂J/∂F = J F⁻ᵀ, shape (3,3,*batch)."""
@@ -88,24 +96,24 @@ class SplitNeoHookean(Material):
             dyad_il(-J * G, transpose(G), out=H)
         return H
 
-    def U(self, theta) -> np.ndarray:
-        """¼κ (θ² − 1 − 2 ln θ), +inf where θ <= 0, MPa."""
-        theta = np.asarray(theta, dtype=float)
-        ok = theta > 0.0
-        t = np.where(ok, theta, 1.0)
-        return np.where(ok, 0.25 * self.kappa * (t * t - 1.0 - 2.0 * np.log(t)), np.inf)
+    def U(self, x) -> np.ndarray:
+        """U = ¼κ (θ² − 1 − 2 ln θ) at θ = 1 + x: ¼κ (2x + x² − 2 log1p x), +inf where θ <= 0, MPa."""
+        x = np.asarray(x, dtype=float)
+        ok = x > -1.0
+        t = np.where(ok, x, 0.0)
+        return np.where(ok, 0.25 * self.kappa * (t * (2.0 + t) - 2.0 * np.log1p(t)), np.inf)
 
-    def dU(self, theta) -> np.ndarray:
-        """U'(θ) = ½κ (θ − 1/θ), MPa (the pressure-like conjugate of θ)."""
-        theta = np.asarray(theta, dtype=float)
+    def dU(self, x) -> np.ndarray:
+        """dU/dθ = ½κ (θ − 1/θ) = ½κ x(2 + x)/(1 + x), MPa (the pressure conjugate to θ)."""
+        x = np.asarray(x, dtype=float)
         with np.errstate(all="ignore"):
-            return 0.5 * self.kappa * (theta - 1.0 / theta)
+            return 0.5 * self.kappa * x * (2.0 + x) / (1.0 + x)
 
-    def d2U(self, theta) -> np.ndarray:
-        """U''(θ) = ½κ (1 + 1/θ²), MPa."""
-        theta = np.asarray(theta, dtype=float)
+    def d2U(self, x) -> np.ndarray:
+        """d²U/dθ² = ½κ (1 + 1/θ²), MPa."""
+        x = np.asarray(x, dtype=float)
         with np.errstate(all="ignore"):
-            return 0.5 * self.kappa * (1.0 + 1.0 / (theta * theta))
+            return 0.5 * self.kappa * (1.0 + 1.0 / ((1.0 + x) * (1.0 + x)))
 
     def isochoric_energy(self, F) -> np.ndarray:
         """ψ_iso = ½μ (J^(−2/3) I₁ − 3), +inf where J <= 0, MPa."""
@@ -143,22 +151,21 @@ class SplitNeoHookean(Material):
     def energy(self, F) -> np.ndarray:
         """ψ = ψ_iso(F) + U(J), +inf where J <= 0, MPa."""
         F = as_tensor_field(F)
-        return self.isochoric_energy(F) + self.U(det(F))
+        return self.isochoric_energy(F) + self.U(self.volume(F))
 
     def stress(self, F) -> np.ndarray:
         """P = P_iso + U'(J) J F⁻ᵀ, MPa."""
         F = as_tensor_field(F)
-        J = det(F)
-        return self.isochoric_stress(F) + self.dU(J) * self.volume_gradient(F)
+        return self.isochoric_stress(F) + self.dU(self.volume(F)) * self.volume_gradient(F)
 
     def tangent(self, F) -> np.ndarray:
         """A = A_iso + U''(J) (∂J/∂F ⊗ ∂J/∂F) + U'(J) ∂²J/∂F∂F, MPa."""
         F = as_tensor_field(F)
-        J = det(F)
+        x = self.volume(F)
         V = self.volume_gradient(F)
         A = self.isochoric_tangent(F)
-        dyad(self.d2U(J) * V, V, out=A)
-        A += self.dU(J) * self.volume_hessian(F)
+        dyad(self.d2U(x) * V, V, out=A)
+        A += self.dU(x) * self.volume_hessian(F)
         return A
 
 
@@ -169,8 +176,8 @@ class SplitLinear(LinearElastic):
     With ε = sym(F − I), e = tr ε, κ = λ + 2μ/3:
     - ψ_iso = μ dev ε : dev ε,   P_iso = 2μ dev ε,
       A_iso = μ(δ_ik δ_JL + δ_iL δ_Jk) − ⅔μ δ_iJ δ_kL
-    - volume measure v(F) = 1 + tr ε = tr F − 2 (1 in the reference state), ∂v/∂F = I, ∂²v = 0
-    - U(θ) = ½κ (θ − 1)²
+    - volume change v(F) = tr ε, ∂v/∂F = I, ∂²v = 0
+    - U(x) = ½κ x² (x = θ − 1, the projected volume change)
     The sum is exactly :class:`LinearElastic` (μ ε:ε + ½λ e²), whose energy/stress/tangent this
     class inherits.
     """
@@ -184,7 +191,7 @@ class SplitLinear(LinearElastic):
 
     def volume(self, F: np.ndarray) -> np.ndarray:
         F = as_tensor_field(F)
-        return F[0, 0] + F[1, 1] + F[2, 2] - 2.0
+        return (F[0, 0] - 1.0) + (F[1, 1] - 1.0) + (F[2, 2] - 1.0)
 
     def volume_gradient(self, F: np.ndarray) -> np.ndarray:
         F = as_tensor_field(F)
@@ -197,15 +204,15 @@ class SplitLinear(LinearElastic):
         """∂²v/∂F∂F = 0 (None: the mixed body skips the term)."""
         return None
 
-    def U(self, theta) -> np.ndarray:
-        d = np.asarray(theta, dtype=float) - 1.0
-        return 0.5 * self.kappa * d * d
+    def U(self, x) -> np.ndarray:
+        x = np.asarray(x, dtype=float)
+        return 0.5 * self.kappa * x * x
 
-    def dU(self, theta) -> np.ndarray:
-        return self.kappa * (np.asarray(theta, dtype=float) - 1.0)
+    def dU(self, x) -> np.ndarray:
+        return self.kappa * np.asarray(x, dtype=float)
 
-    def d2U(self, theta) -> np.ndarray:
-        return np.full(np.shape(theta), self.kappa)
+    def d2U(self, x) -> np.ndarray:
+        return np.full(np.shape(x), self.kappa)
 
     def _deviator(self, F: np.ndarray) -> np.ndarray:
         eps = self._strain(as_tensor_field(F))
