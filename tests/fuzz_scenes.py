@@ -8,6 +8,7 @@ import re
 import numpy as np
 from hypothesis import strategies as st
 
+from vlab.materials.split import SPLIT_LAWS
 from vlab.report.results import result_to_dict
 from vlab.run import run_scene
 from vlab.scene import SceneError, parse_scene
@@ -18,7 +19,8 @@ poisson = st.one_of(st.floats(0.0, 0.4999), st.sampled_from([0.0, 0.45, 0.49, 0.
 
 
 @st.composite
-def scenes(draw) -> dict:
+def scenes(draw, mixed_only: bool = False) -> dict:
+    """Random block scenes; ``mixed_only`` draws only mesh.formulation = "mixed" (split laws, hexes)."""
     extent = [draw(st.floats(2.0, 20.0)) for _ in range(3)]
     divisions = draw(st.integers(1, 2))
     kind = draw(st.sampled_from(["uniaxial", "biaxial"]))
@@ -28,12 +30,17 @@ def scenes(draw) -> dict:
         sx = draw(stretches.filter(lambda s: abs(s - 1.0) > 1e-3))
         ratio = draw(st.floats(-1.0, 1.0))  # biaxial ratio: (sy - 1) = ratio (sx - 1)
         stretch = [sx, float(np.clip(1.0 + ratio * (sx - 1.0), 0.2, 5.0))]
+    cell = "hex" if mixed_only else draw(st.sampled_from(["hex", "tet"]))
+    model = draw(st.sampled_from(tuple(SPLIT_LAWS) if mixed_only else MODELS))
+    # the mixed formulation where the scene allows it: a split law on hexes (order 1 here)
+    mixed_ok = model in SPLIT_LAWS and cell == "hex"
+    formulation = ("mixed" if mixed_only else draw(st.sampled_from(["displacement", "mixed"]))) \
+        if mixed_ok else "displacement"
     return {
         "name": "fuzz",
         "specimen": {"shape": "block", "size": extent},
-        "mesh": {"size": max(extent) / divisions, "cell": draw(st.sampled_from(["hex", "tet"])),
-                 "order": 1},
-        "material": {"model": draw(st.sampled_from(MODELS)), "E": draw(st.floats(0.1, 1000.0)),
+        "mesh": {"size": max(extent) / divisions, "cell": cell, "order": 1, "formulation": formulation},
+        "material": {"model": model, "E": draw(st.floats(0.1, 1000.0)),
                      "nu": draw(poisson)},
         "test": {"kind": kind, "grips": draw(st.sampled_from(["roller", "clamped"])),
                  "stretch": stretch, "steps": draw(st.integers(1, 4))},

@@ -20,6 +20,14 @@ def test_random_scenes_converge_sanely_or_fail_cleanly(raw):
     event(outcome)
 
 
+@settings(max_examples=15, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
+@given(scenes(mixed_only=True))
+def test_random_mixed_formulation_scenes_converge_sanely_or_fail_cleanly(raw):
+    outcome = run_and_check(raw)
+    assert outcome != "stopped: other", "a stop whose cause is none of the diagnosed kinds"
+    event(outcome)
+
+
 @pytest.mark.slow
 @settings(max_examples=1000, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(scenes())

@@ -43,13 +43,16 @@ import math
 from dataclasses import dataclass
 from typing import Mapping
 
-__all__ = ["Moduli", "ModuliError", "from_pair", "KEYS", "ALIASES"]
+__all__ = ["Moduli", "ModuliError", "from_pair", "KEYS", "ALIASES", "MIXED_NU_LIMIT"]
 
 KEYS = ("E", "nu", "lambda", "mu", "K", "M")
 ALIASES = {"G": "mu", "lmbda": "lambda"}
 _PREFIX = "material."
 _NU_RANGE = "-1 < nu < 0.5"
-_INCOMPRESSIBLE = "nu = 0.5 is incompressible: not supported, use up to 0.4999"
+MIXED_NU_LIMIT = 0.4999  # verified limit of mesh.formulation = "mixed" (Cook's membrane study)
+_INCOMPRESSIBLE = ("nu = 0.5 is exact incompressibility, an infinite bulk modulus, which no formulation "
+                   f"here supports; for a nearly incompressible solid use nu <= {MIXED_NU_LIMIT:g} with "
+                   "mesh.formulation = 'mixed', the verified limit of the locking-free formulation")
 
 
 class ModuliError(ValueError):

@@ -15,6 +15,7 @@ import numpy as np
 from vlab import __version__
 from vlab.fe.assembly import Partition
 from vlab.fe.newton import NewtonOptions
+from vlab.fe.mixed import MixedHyperelasticBody
 from vlab.fe.problem import HyperelasticBody
 from vlab.fe.space import DisplacementSpace
 from vlab.fe.spring_network import SpringNetwork
@@ -27,10 +28,12 @@ from vlab.geometry.specimen import Specimen
 from vlab.loading.grips import grip_loading
 from vlab.loading.schedule import monotonic_schedule
 from vlab.materials import make_material
+from vlab.materials.split import SPLIT_LAWS, make_split_law
 from vlab.measure.elastic_constants import ElasticConstants, crosshead_modulus, elastic_constants
 from vlab.measure.homogeneity import HomogeneityProbe
 from vlab.measure.recorder import Curve, Recorder
 from vlab.measure.reference import homogeneous_curve, relative_error
+from vlab.moduli import MIXED_NU_LIMIT
 from vlab.scene import SPRING_NETWORK, Scene, SceneError
 
 
@@ -93,10 +96,13 @@ def checked_quality(scene: Scene, specimen: Specimen) -> MeshQuality:
 
 
 def make_body(scene: Scene, space: DisplacementSpace):
-    """The body a scene's material.model asks for: a continuum material or the spring network."""
+    """The body a scene's material.model and mesh.formulation ask for: a continuum material
+    (displacement-only or mixed θ/p condensed per element) or the spring network."""
     moduli = scene.material.moduli
     if scene.material.model == SPRING_NETWORK:
         return SpringNetwork(space, moduli.E)
+    if scene.mesh.formulation == "mixed":
+        return MixedHyperelasticBody(space, make_split_law(scene.material.model, moduli.lmbda, moduli.mu))
     return HyperelasticBody(space, make_material(scene.material.model, moduli.lmbda, moduli.mu))
 
 
@@ -189,10 +195,14 @@ def _warnings(scene: Scene) -> list[str]:
     """Caveats about the set-up (also logged)."""
     found = []
     nu = scene.material.moduli.nu
-    if nu > LOCKING_NU:
+    if nu > LOCKING_NU and scene.mesh.formulation == "displacement":
+        cure = (f'use mesh.formulation = "mixed" (locking-free up to nu = {MIXED_NU_LIMIT:g})'
+                if scene.material.model in SPLIT_LAWS else
+                f'mesh.formulation = "mixed" would cure it but needs material.model in '
+                f'{", ".join(SPLIT_LAWS)}')
         found.append(f"material.nu = {nu:g} > {LOCKING_NU:g} with the displacement-only formulation: "
                      "expect volumetric locking (too stiff) wherever the field is not uniform, e.g. "
-                     "with clamped grips; homogeneous roller tests are unaffected")
+                     f"with clamped grips; homogeneous roller tests are unaffected; {cure}")
     for text in found:
         log.warning(text)
     return found

@@ -12,6 +12,8 @@ Dogbones: ``[specimen] shape = "dogbone"`` with ``standard = "<name>"`` (dimensi
 vlab/data/standards/) and/or the explicit keys of ``DIMENSION_KEYS`` (explicit keys win); tested
 uniaxially between clamped grips. ``[mesh] gauge_size`` refines a dogbone's parallel section and
 fillets; ``[mesh] min_quality`` (default 0.15) is the worst element quality a run accepts.
+``[mesh] formulation`` = "displacement" (default) or "mixed" (locking-free for ν → ½; needs a
+model with a volumetric–isochoric split, ``SPLIT_LAWS``, and hexes or order-2 tets).
 
 New specimen shapes: write a frozen dataclass with ``length`` and ``max_dimension``
 properties and a parser ``(_Table) -> spec``, and register both in ``SPECIMEN_SHAPES`` (and the
@@ -33,6 +35,7 @@ from typing import Any, Callable, Mapping
 
 from vlab.geometry.dogbone import DIMENSION_KEYS, DogboneDimensions, GeometryError
 from vlab.geometry.standards import standard_dimensions, standard_names
+from vlab.materials.split import SPLIT_LAWS
 from vlab.moduli import ALIASES, KEYS as MODULI_KEYS, Moduli, ModuliError, from_pair
 
 __all__ = ["SceneError", "Scene", "BlockSpecimen", "DogboneSpecimen", "MeshSpec", "MaterialSpec", "TestSpec",
@@ -41,6 +44,7 @@ __all__ = ["SceneError", "Scene", "BlockSpecimen", "DogboneSpecimen", "MeshSpec"
 
 SPRING_NETWORK = "spring-network"  # not a material law: mesh edges as springs (vlab.fe.spring_network)
 MODELS = ("linear", "stvk", "stvk-volumetric", "neo-hookean", SPRING_NETWORK)
+FORMULATIONS = ("displacement", "mixed")  # mesh.formulation
 SECTIONS = ("specimen", "mesh", "material", "test", "measure", "solver")
 TOP_KEYS = ("name", "description") + SECTIONS
 _MODULI_NAMES = MODULI_KEYS + tuple(ALIASES)  # E, nu, lambda, mu, K, M, G, lmbda
@@ -90,6 +94,7 @@ class MeshSpec:
     cell: str  # "tet" or "hex"
     gauge_size: float | None = None  # element edge over a dogbone's parallel section and fillets
     min_quality: float = 0.15  # smallest acceptable element quality (geometry/quality.py)
+    formulation: str = "displacement"  # or "mixed": condensed θ/p per element (vlab/fe/mixed.py)
 
 
 @dataclass(frozen=True)
@@ -280,7 +285,7 @@ def _parse_specimen(raw: Any) -> Specimen:
 
 
 def _parse_mesh(raw: Any, specimen: Specimen) -> MeshSpec:
-    t = _Table("mesh", raw, ("size", "order", "cell", "gauge_size", "min_quality"))
+    t = _Table("mesh", raw, ("size", "order", "cell", "gauge_size", "min_quality", "formulation"))
     size = t.number("size", gt=0, le=specimen.max_dimension, note=" (the largest specimen dimension)")
     gauge_size = t.number("gauge_size", default=None, gt=0, le=size, note=" (mesh.size)")
     if gauge_size is not None and specimen.shape != "dogbone":
@@ -288,7 +293,22 @@ def _parse_mesh(raw: Any, specimen: Specimen) -> MeshSpec:
                          f"not {specimen.shape!r}")
     return MeshSpec(size=size, order=t.integer("order", 1, 2, default=1),
                     cell=t.choice("cell", ("tet", "hex"), default="tet"), gauge_size=gauge_size,
-                    min_quality=t.number("min_quality", default=0.15, gt=0, lt=1))
+                    min_quality=t.number("min_quality", default=0.15, gt=0, lt=1),
+                    formulation=t.choice("formulation", FORMULATIONS, default="displacement"))
+
+
+def _check_formulation(mesh: MeshSpec, model: str) -> None:
+    """The mixed formulation needs a split law and an element pair that does not lock."""
+    if mesh.formulation != "mixed":
+        return
+    if model not in SPLIT_LAWS:
+        raise SceneError(f"mesh.formulation = 'mixed' needs a material with a volumetric–isochoric "
+                         f"split; material.model {model!r} has none (allowed with 'mixed': "
+                         f"{', '.join(SPLIT_LAWS)}; or use mesh.formulation = 'displacement')")
+    if mesh.cell == "tet" and mesh.order == 1:
+        raise SceneError("mesh.formulation = 'mixed' needs mesh.order = 2 with mesh.cell = 'tet' (or "
+                         "mesh.cell = 'hex'): a linear tetrahedron has one constant J, so one pressure "
+                         "per element constrains as much as the displacement model and still locks")
 
 
 def _parse_material(raw: Any) -> MaterialSpec:
@@ -387,6 +407,7 @@ def _parse(data: Mapping[str, Any]) -> Scene:
         raise SceneError(f"description must be a string, got {_show(description)}")
     specimen = _parse_specimen(data["specimen"])
     mesh, material = _parse_mesh(data["mesh"], specimen), _parse_material(data["material"])
+    _check_formulation(mesh, material.model)
     if material.model == SPRING_NETWORK and mesh.order != 1:
         raise SceneError(f"material.model {SPRING_NETWORK!r} joins mesh vertices by springs and needs "
                          f"mesh.order = 1, got {mesh.order}")

@@ -1,0 +1,155 @@
+"""Mixed (three-field, condensed) hyperelastic body: volumetric locking removed element by element.
+
+Three-field Hu–Washizu functional with a split law ψ = ψ_iso(F) + U(v(F)) (vlab/materials/split.py):
+
+    Π(u, θ, p) = Σ_e ∫_e [ψ_iso(F) + U(θ) + p (v(F) − θ)] dV,      (θ, v: volume changes J − 1)
+
+with θ (the volume ratio) and p (the pressure) discontinuous between elements, each a polynomial
+of degree k on an element. Stationarity in p makes θ the element L2 projection of v(F),
+θ = Π_e v, and then the energy of u alone is
+
+    W(u) = Σ_e Σ_q [ψ_iso(F_q) + U(θ_q)] dx_q,        θ_q = Σ_r Π_e(q, r) v(F_r),
+    Π_e(q, r) = φ(q)ᵀ M_e⁻¹ φ(r) dx_r,   M_e = Σ_q φ(q) φ(q)ᵀ dx_q,
+
+a minimisation problem again (so Newton with the energy line search applies unchanged), with
+    f_int:  P_eff = P_iso + p ∂v/∂F,           p = Π_e U'(θ) (the projected pressure, MPa)
+    K:      A_eff = A_iso + p ∂²v/∂F∂F   assembled by the usual kernels, plus the condensed
+            volumetric block per element  K_vol = gᵀ M⁻¹ H M⁻¹ g,
+            g_m,ai = Σ_q φ_m(q) (∂v/∂F)_iJ dN_a,J dx_q,   H = Σ_q U''(θ_q) φ φᵀ dx_q.
+(Π_e is self-adjoint in the dx-weighted product, which is why p appears as a projection.)
+
+Elements (θ space of degree k, stable pairs):
+  hex order 1: Q1 / P0 — the mean-dilatation element (Nagtegaal–Parks–Rice; Simo–Taylor–Pister)
+  hex order 2: Q2 / P1dc — θ linear in (X − X_c) per element (inf-sup stable)
+  tet order 2: P2 / P0
+P1 tets are refused: F and hence J are already constant per element, so a constant θ per
+element is the same constraint count as the displacement model and it would lock just the same.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+import skfem
+
+from vlab.fe.assembly import SparsityPattern, element_forces, element_stiffness, scatter_vector
+from vlab.fe.problem import J_COLLAPSE, Evaluation
+from vlab.fe.space import DisplacementSpace
+
+
+class MixedUnsupported(ValueError):
+    """The mesh/element has no locking-free mixed pair here (P1 tets)."""
+
+
+@dataclass(frozen=True)
+class MixedEvaluation(Evaluation):
+    """An Evaluation with the element volume ratio θ and pressure p at each quadrature point (e, q).
+
+    ``min_J`` is the smaller of min det F and min θ (both volume ratios)."""
+
+    theta: np.ndarray | None = None
+    pressure: np.ndarray | None = None
+
+
+def theta_degree(space: DisplacementSpace) -> int:
+    """Polynomial degree of the discontinuous θ/p space paired with the displacement element."""
+    element = space.basis.elem
+    if isinstance(element, skfem.ElementHex2):
+        return 1
+    if isinstance(element, (skfem.ElementHex1, skfem.ElementTetP2)):
+        return 0
+    raise MixedUnsupported(
+        "mesh.formulation = 'mixed' is not available for order-1 tets: F is constant per P1 "
+        "tetrahedron, so a constant pressure per element constrains exactly as much as the "
+        "displacement model and locks the same; use mesh.order = 2 or mesh.cell = 'hex'")
+
+
+@dataclass(frozen=True)
+class VolumeProjection:
+    """The element L2 projection onto the discontinuous θ space, precomputed per mesh.
+
+    ``phi`` (e, q, m): θ basis at the quadrature points (1, and for k = 1 (X − X_c)/h);
+    ``Minv`` (e, m, m); ``projector`` Π_e (e, q, r), so that θ = Π_e v."""
+
+    phi: np.ndarray
+    Minv: np.ndarray
+    projector: np.ndarray
+
+    @classmethod
+    def build(cls, space: DisplacementSpace, degree: int) -> "VolumeProjection":
+        dx = space.dx                                             # (e, q)
+        ones = np.ones_like(dx)[:, :, None]
+        if degree == 0:
+            phi = ones
+        else:
+            X = np.asarray(space.basis.mapping.F(space.basis.X))  # (3, e, q) mm
+            volume = dx.sum(axis=1)
+            centre = np.einsum("ieq,eq->ie", X, dx) / volume
+            h = np.cbrt(volume)                                   # scaled for conditioning
+            local = (X - centre[:, :, None]) / h[None, :, None]
+            phi = np.concatenate([ones, np.moveaxis(local, 0, -1)], axis=2)
+        M = np.einsum("eqm,eqn,eq->emn", phi, phi, dx)
+        Minv = np.linalg.inv(M)
+        projector = np.einsum("eqm,emn,ern,er->eqr", phi, Minv, phi, dx)
+        return cls(phi, Minv, projector)
+
+    def __call__(self, values: np.ndarray) -> np.ndarray:
+        """Π_e applied to a quadrature field (e, q)."""
+        return np.einsum("eqr,er->eq", self.projector, values)
+
+
+class MixedHyperelasticBody:
+    """Same interface as :class:`vlab.fe.problem.HyperelasticBody` (evaluate, stiffness,
+    space, material, pattern); ``material`` is the split law (also a full one-field Material)."""
+
+    def __init__(self, space: DisplacementSpace, law):
+        self.space = space
+        self.material = law
+        self.degree = theta_degree(space)
+        self.projection = VolumeProjection.build(space, self.degree)
+        self.pattern = SparsityPattern.build(space.element_nodes)
+
+    def evaluate(self, u: np.ndarray) -> MixedEvaluation:
+        law, dx = self.material, self.space.dx
+        F = self.space.deformation_gradient(u)
+        J = np.linalg.det(np.moveaxis(F, (0, 1), (-2, -1)))
+        x = self.projection(law.volume(F))                        # θ − 1, the projected volume change
+        theta = 1.0 + x
+        ratio = np.minimum(J, theta) if np.isfinite(law.theta_min) else J
+        worst = np.unravel_index(int(np.argmin(ratio)), ratio.shape)
+        worst = (int(worst[0]), int(worst[1]))
+        min_J = float(ratio[worst])
+        if not min_J > J_COLLAPSE:
+            return MixedEvaluation(u, F, np.inf, None, min_J, worst, theta)
+        W = float(np.sum((law.isochoric_energy(F) + law.U(x)) * dx))
+        if not np.isfinite(W):
+            return MixedEvaluation(u, F, np.inf, None, min_J, worst, theta)
+        pressure = self.projection(law.dU(x))
+        P = law.isochoric_stress(F) + pressure * law.volume_gradient(F)
+        f_int = scatter_vector(self.space, element_forces(self.space, P))
+        return MixedEvaluation(u, F, W, f_int, min_J, worst, theta, pressure)
+
+    def stiffness(self, evaluation: MixedEvaluation) -> sp.csr_matrix:
+        """Consistent tangent K = ∂f_int/∂u = ∂²W/∂u² at an admissible state, N/mm."""
+        law, space = self.material, self.space
+        F, theta, p = evaluation.F, evaluation.theta, evaluation.pressure
+        A = law.isochoric_tangent(F)
+        hessian = law.volume_hessian(F)
+        if hessian is not None:
+            A += p * hessian
+        Ke = element_stiffness(space, A)                          # (i, k, e, a, b)
+        Ke += self._volumetric_block(law.volume_gradient(F), law.d2U(theta - 1.0))
+        return self.pattern.matrix(Ke)
+
+    def _volumetric_block(self, V: np.ndarray, d2U: np.ndarray) -> np.ndarray:
+        """gᵀ M⁻¹ H M⁻¹ g per element in the (i, k, e, a, b) layout of element_stiffness."""
+        phi, Minv, dx = self.projection.phi, self.projection.Minv, self.space.dx
+        g = np.einsum("eqm,iJeq,eqaJ,eq->emai", phi, V, self.space.dN, dx, optimize=True)
+        H = np.einsum("eq,eqm,eqn,eq->emn", d2U, phi, phi, dx)
+        C = Minv @ H @ Minv                                       # (e, m, n)
+        n_el, m, n_loc, _ = g.shape
+        G = g.reshape(n_el, m, 3 * n_loc)
+        Kv = np.einsum("emx,emn,eny->exy", G, C, G, optimize=True).reshape(n_el, n_loc, 3, n_loc, 3)
+        return Kv.transpose(2, 4, 0, 1, 3)
