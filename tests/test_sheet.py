@@ -171,3 +171,39 @@ def test_missing_thickness_and_3d_cells_are_refused():
         parse_scene(sheet(mesh={"cell": "hex"}))
     with pytest.raises(SceneError, match="needs a continuum model"):
         parse_scene(sheet(material={"model": "spring-network"}))
+
+
+def test_sheet_snapshot_and_vtu_are_flat_3d_with_the_full_volume_ratio(tmp_path):
+    """The VTU of a sheet: 3D points with z = 0, in-plane displacement, J = det F̄ λ₃ per cell."""
+    import pyvista as pv
+
+    from vlab.post.snapshot import take_snapshot
+    from vlab.post.vtu import write_time_series
+
+    result = _run(mesh={"cell": "quad", "order": 2}, test={"kind": "biaxial", "stretch": [1.2, 1.1]})
+    snap = take_snapshot(result)
+    assert snap.displacement.shape[-1] == 3 and np.all(snap.displacement[..., 2] == 0.0)
+    assert "thickness" not in snap.marks
+    pvd = write_time_series(snap, tmp_path, "sheet")
+    grid = pv.read(tmp_path / "vtu" / f"sheet_{snap.n_frames - 1:03d}.vtu")
+    assert np.all(grid.points[:, 2] == 0.0)
+    np.testing.assert_allclose(grid.point_data["displacement"], snap.displacement[-1])
+    exact = biaxial(_material(result), 1.2, 1.1)
+    np.testing.assert_allclose(snap.fields["J"][-1], 1.2 * 1.1 * exact.lateral_stretch, rtol=1e-10)
+    assert pvd.exists()
+
+
+def test_2d_mesh_quality_and_checks():
+    from vlab.geometry.mesh_check import MeshError, check_mesh
+    from vlab.geometry.quality import mesh_quality
+
+    assert mesh_quality(sheet_mesh((4.0, 2.0), 1.0, "quad")).min_quality == pytest.approx(1.0)
+    assert mesh_quality(sheet_mesh((4.0, 2.0), 1.0, "tri")).min_quality == pytest.approx(np.sqrt(3) / 2)
+    folded = sheet_mesh((2.0, 1.0), 1.0, "quad")
+    folded.p[0, 1] = 1.5  # push a corner of the first quad past its neighbours: a bow-tie
+    with pytest.raises(MeshError, match="inverted or degenerate"):
+        check_mesh(folded)
+    flat = sheet_mesh((2.0, 1.0), 1.0, "tri")
+    flat.p[1, flat.p[1] > 0.5] = 1e-14  # squash the sheet to a line
+    with pytest.raises(MeshError):
+        check_mesh(flat)
