@@ -22,12 +22,14 @@ from vlab.fe.spring_network import SpringNetwork
 from vlab.fe.stepping import Failure, SolveHistory, Stepping, run_schedule
 from vlab.geometry.block import block_specimen
 from vlab.geometry.dogbone import dogbone_specimen
+from vlab.geometry.sheet import sheet_specimen
 from vlab.geometry.quality import MeshQuality, mesh_quality
 from vlab.geometry.mesh_check import MeshError, check_mesh
 from vlab.geometry.specimen import Specimen
 from vlab.loading.grips import grip_loading
 from vlab.loading.schedule import monotonic_schedule
 from vlab.materials import make_material
+from vlab.materials.plane import plane_model
 from vlab.materials.split import SPLIT_LAWS, make_split_law
 from vlab.measure.elastic_constants import ElasticConstants, crosshead_modulus, elastic_constants
 from vlab.measure.homogeneity import HomogeneityProbe
@@ -75,6 +77,9 @@ def build_specimen(scene: Scene) -> Specimen:
         return block_specimen(spec.size, scene.mesh.size, scene.mesh.cell, scene.measure.gauge_length)
     if spec.shape == "dogbone":
         return dogbone_specimen(spec.dimensions, scene.mesh.size, scene.mesh.cell, scene.mesh.gauge_size)
+    if spec.shape == "sheet":
+        return sheet_specimen(spec.size, spec.thickness, scene.mesh.size, scene.mesh.cell,
+                              scene.measure.gauge_length)
     raise ValueError(f"specimen.shape {spec.shape!r} is not supported by this build")
 
 
@@ -97,13 +102,17 @@ def checked_quality(scene: Scene, specimen: Specimen) -> MeshQuality:
 
 def make_body(scene: Scene, space: DisplacementSpace):
     """The body a scene's material.model and mesh.formulation ask for: a continuum material
-    (displacement-only or mixed θ/p condensed per element) or the spring network."""
+    (displacement-only or mixed θ/p condensed per element), on a 2D space (a sheet) the
+    material's plane-stress or plane-strain reduction, or the spring network."""
     moduli = scene.material.moduli
     if scene.material.model == SPRING_NETWORK:
         return SpringNetwork(space, moduli.E)
     if scene.mesh.formulation == "mixed":
         return MixedHyperelasticBody(space, make_split_law(scene.material.model, moduli.lmbda, moduli.mu))
-    return HyperelasticBody(space, make_material(scene.material.model, moduli.lmbda, moduli.mu))
+    material = make_material(scene.material.model, moduli.lmbda, moduli.mu)
+    if space.dim == 2:
+        material = plane_model(material, scene.specimen.plane)
+    return HyperelasticBody(space, material)
 
 
 def run_scene(scene: Scene, on_level=None, specimen: Specimen | None = None) -> RunResult:
@@ -116,14 +125,14 @@ def run_scene(scene: Scene, on_level=None, specimen: Specimen | None = None) -> 
     t0 = clock()
     specimen = specimen or build_specimen(scene)
     quality = checked_quality(scene, specimen)
-    space = DisplacementSpace.build(specimen.mesh, scene.mesh.order)
+    space = DisplacementSpace.build(specimen.mesh, scene.mesh.order, specimen.sheet_thickness or 1.0)
     body = make_body(scene, space)
     material = getattr(body, "material", None)  # None for the spring network: no analytic oracle
     loading = grip_loading(specimen, space.node_coordinates, scene.test.stretch, scene.test.grips)
     partition = Partition.build(body.pattern, loading.prescribed)
     timing["mesh_s"] = clock() - t0
 
-    recorder = Recorder(space, specimen, scene.test.stretch, loading.moving_dofs)
+    recorder = Recorder(space, specimen, scene.test.stretch, loading.moving_dofs, material)
     probe = HomogeneityProbe.build(space, specimen, material) if material is not None else None
     homogeneity: list[dict] = []
     measure_time = [0.0]
@@ -163,7 +172,7 @@ def run_scene(scene: Scene, on_level=None, specimen: Specimen | None = None) -> 
     curve = recorder.curve
     constants = elastic_constants(curve, scene.measure.modulus_window, scene.measure.fit)
     reference = None
-    if material is not None and specimen.shape == "block" and scene.test.grips == "roller":
+    if material is not None and specimen.shape in ("block", "sheet") and scene.test.grips == "roller":
         reference = homogeneous_curve(material, curve.stretch)
         for axis in curve.axes:
             key = f"stress_{'xy'[axis]}"

@@ -15,6 +15,9 @@ fillets; ``[mesh] min_quality`` (default 0.15) is the worst element quality a ru
 ``[mesh] formulation`` = "displacement" (default) or "mixed" (locking-free for ν → ½; needs a
 model with a volumetric–isochoric split, ``SPLIT_LAWS``, and hexes or order-2 tets).
 
+Sheets: ``[specimen] shape = "sheet"`` with ``size = [length, width]``, ``thickness`` (mm) and
+``plane = "stress"`` (default) or ``"strain"``; meshed in 2D with ``mesh.cell = "tri" | "quad"``.
+
 New specimen shapes: write a frozen dataclass with ``length`` and ``max_dimension``
 properties and a parser ``(_Table) -> spec``, and register both in ``SPECIMEN_SHAPES`` (and the
 test kinds and grips it allows in ``SPECIMEN_TESTS``).
@@ -38,7 +41,7 @@ from vlab.geometry.standards import standard_dimensions, standard_names
 from vlab.materials.split import SPLIT_LAWS
 from vlab.moduli import ALIASES, KEYS as MODULI_KEYS, Moduli, ModuliError, from_pair
 
-__all__ = ["SceneError", "Scene", "BlockSpecimen", "DogboneSpecimen", "MeshSpec", "MaterialSpec", "TestSpec",
+__all__ = ["SceneError", "Scene", "BlockSpecimen", "DogboneSpecimen", "SheetSpecimen", "MeshSpec", "MaterialSpec", "TestSpec",
            "MeasureSpec", "SolverSpec", "load_scene", "parse_scene", "apply_overrides",
            "SPECIMEN_SHAPES", "MODELS"]
 
@@ -84,14 +87,34 @@ class DogboneSpecimen:
         return self.dimensions.overall_length
 
 
-Specimen = BlockSpecimen | DogboneSpecimen
+@dataclass(frozen=True)
+class SheetSpecimen:
+    """A thin sheet in the x-y plane, meshed in 2D (cells tri | quad) and solved in plane stress
+    (P₃₃ = 0, the thickness follows the material) or plane strain (thickness held)."""
+
+    shape: str
+    size: tuple[float, float]  # mm: length (x, loading axis), width (y)
+    thickness: float  # mm, through z
+    plane: str = "stress"  # "stress" | "strain"
+    cells = ("tri", "quad")  # 2D cells; the first is the default mesh.cell
+
+    @property
+    def length(self) -> float:
+        return self.size[0]
+
+    @property
+    def max_dimension(self) -> float:
+        return max(self.size)
+
+
+Specimen = BlockSpecimen | DogboneSpecimen | SheetSpecimen
 
 
 @dataclass(frozen=True)
 class MeshSpec:
     size: float  # target element edge, mm
     order: int  # 1 or 2
-    cell: str  # "tet" or "hex"
+    cell: str  # "tet" or "hex"; "tri" or "quad" for a sheet
     gauge_size: float | None = None  # element edge over a dogbone's parallel section and fillets
     min_quality: float = 0.15  # smallest acceptable element quality (geometry/quality.py)
     formulation: str = "displacement"  # or "mixed": condensed θ/p per element (vlab/fe/mixed.py)
@@ -262,15 +285,25 @@ def _parse_dogbone(t: _Table) -> DogboneSpecimen:
     return DogboneSpecimen(shape="dogbone", dimensions=dims)
 
 
+def _parse_sheet(t: _Table) -> SheetSpecimen:
+    size = _vector(t.field("size"), t.get("size"), 2, "[length, width] in mm (a sheet is 2D; its "
+                   "thickness is specimen.thickness)", gt=0)
+    thickness = t.number("thickness", gt=0, note=" (mm)")
+    return SheetSpecimen(shape="sheet", size=size, thickness=thickness,  # type: ignore[arg-type]
+                         plane=t.choice("plane", ("stress", "strain"), default="stress"))
+
+
 # shape -> (allowed keys in [specimen], parser)
 SPECIMEN_SHAPES: dict[str, tuple[tuple[str, ...], Callable[[_Table], Specimen]]] = {
     "block": (("shape", "size"), _parse_block),
     "dogbone": (("shape", "standard") + DIMENSION_KEYS, _parse_dogbone),
+    "sheet": (("shape", "size", "thickness", "plane"), _parse_sheet),
 }
 # shape -> (allowed test kinds, allowed grips); the first grip kind is the default
 SPECIMEN_TESTS: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
     "block": (("uniaxial", "biaxial"), ("roller", "clamped")),
     "dogbone": (("uniaxial",), ("clamped",)),
+    "sheet": (("uniaxial", "biaxial"), ("roller", "clamped")),
 }
 
 
@@ -291,8 +324,9 @@ def _parse_mesh(raw: Any, specimen: Specimen) -> MeshSpec:
     if gauge_size is not None and specimen.shape != "dogbone":
         raise SceneError(f"{t.field('gauge_size')} applies to specimen.shape = 'dogbone' only, "
                          f"not {specimen.shape!r}")
+    cells = getattr(specimen, "cells", ("tet", "hex"))  # a specimen's own cells (2D: tri, quad)
     return MeshSpec(size=size, order=t.integer("order", 1, 2, default=1),
-                    cell=t.choice("cell", ("tet", "hex"), default="tet"), gauge_size=gauge_size,
+                    cell=t.choice("cell", cells, default=cells[0]), gauge_size=gauge_size,
                     min_quality=t.number("min_quality", default=0.15, gt=0, lt=1),
                     formulation=t.choice("formulation", FORMULATIONS, default="displacement"))
 
@@ -305,6 +339,10 @@ def _check_formulation(mesh: MeshSpec, model: str) -> None:
         raise SceneError(f"mesh.formulation = 'mixed' needs a material with a volumetric–isochoric "
                          f"split; material.model {model!r} has none (allowed with 'mixed': "
                          f"{', '.join(SPLIT_LAWS)}; or use mesh.formulation = 'displacement')")
+    if mesh.cell in ("tri", "quad"):
+        raise SceneError("mesh.formulation = 'mixed' is for 3D solids (hex, or order-2 tet); a sheet "
+                         "in plane stress has no volumetric locking (the thickness is free), so use "
+                         "mesh.formulation = 'displacement'")
     if mesh.cell == "tet" and mesh.order == 1:
         raise SceneError("mesh.formulation = 'mixed' needs mesh.order = 2 with mesh.cell = 'tet' (or "
                          "mesh.cell = 'hex'): a linear tetrahedron has one constant J, so one pressure "
@@ -411,6 +449,9 @@ def _parse(data: Mapping[str, Any]) -> Scene:
     if material.model == SPRING_NETWORK and mesh.order != 1:
         raise SceneError(f"material.model {SPRING_NETWORK!r} joins mesh vertices by springs and needs "
                          f"mesh.order = 1, got {mesh.order}")
+    if material.model == SPRING_NETWORK and specimen.shape == "sheet":
+        raise SceneError(f"material.model {SPRING_NETWORK!r} is a 3D network of mesh edges; "
+                         f"specimen.shape = 'sheet' needs a continuum model (not {SPRING_NETWORK!r})")
     return Scene(name=name, description=description, specimen=specimen,
                  mesh=mesh, material=material,
                  test=_parse_test(data["test"], specimen.shape),

@@ -25,22 +25,22 @@ class SparsityPattern:
     """CSR pattern of the global stiffness and the map from element entries to CSR slots.
 
     Element matrices come in the block layout (i, k, e, a, b) of ``element_stiffness``: the
-    entry couples global DOF 3·node[e,a] + i to 3·node[e,b] + k. ``slot`` gives the CSR data
+    entry couples global DOF d·node[e,a] + i to d·node[e,b] + k (d = dim, 3 or 2). ``slot`` gives the CSR data
     index of every such entry, so assembly is one weighted ``bincount``.
     """
 
     n: int
     indptr: np.ndarray
     indices: np.ndarray
-    slot: np.ndarray  # (9 · n_elements · n_local²,) CSR data index of every element entry
+    slot: np.ndarray  # (d² · n_elements · n_local²,) CSR data index of every element entry
 
     @classmethod
-    def build(cls, element_nodes: np.ndarray) -> "SparsityPattern":
+    def build(cls, element_nodes: np.ndarray, dim: int = 3) -> "SparsityPattern":
         n_el, n_loc = element_nodes.shape
-        n = 3 * (int(element_nodes.max()) + 1)
-        comp = np.arange(3)
-        rows = 3 * element_nodes[None, None, :, :, None] + comp[:, None, None, None, None]
-        cols = 3 * element_nodes[None, None, :, None, :] + comp[None, :, None, None, None]
+        n = dim * (int(element_nodes.max()) + 1)
+        comp = np.arange(dim)
+        rows = dim * element_nodes[None, None, :, :, None] + comp[:, None, None, None, None]
+        cols = dim * element_nodes[None, None, :, None, :] + comp[None, :, None, None, None]
         rows, cols = np.broadcast_arrays(rows, cols)
         keys, slot = np.unique(rows.astype(np.int64).ravel() * n + cols.ravel(), return_inverse=True)
         indptr = np.zeros(n + 1, dtype=np.int64)
@@ -97,7 +97,7 @@ class Partition:
 
 
 def element_forces(space: DisplacementSpace, P: np.ndarray) -> np.ndarray:
-    """Σ_q P_iJ dN_a,J dx per element, shape (n_elements, n_local, 3), N. P is (3,3,e,q)."""
+    """Σ_q P_iJ dN_a,J dx per element, shape (n_elements, n_local, d), N. P is (d,d,e,q)."""
     return np.einsum("iJeq,eqaJ,eq->eai", P, space.dN, space.dx, optimize=True)
 
 
@@ -156,20 +156,21 @@ def single_threaded_blas():
 
 
 def _element_stiffness_generic(space: DisplacementSpace, A: np.ndarray) -> np.ndarray:
-    """Same result as ``element_stiffness`` from the physical gradients dN (any element).
+    """Same result as ``element_stiffness`` from the physical gradients dN (any element, and
+    any dimension d = 3 or 2 of the tangent A (d,d,d,d,e,q)).
 
     T = A·dN_b over L per quadrature point, then one product over (q, J) per element."""
     dN, dx = space.dN, space.dx
-    n_el, n_qp, n_loc, _ = dN.shape
+    n_el, n_qp, n_loc, d = dN.shape
     Aw = np.moveaxis(A, (4, 5), (0, 1)) * dx[:, :, None, None, None, None]  # (e,q,i,J,k,L)
-    T = Aw.reshape(n_el, n_qp, 27, 3) @ dN.transpose(0, 1, 3, 2)  # (e,q,(i,J,k),b)
-    T = T.reshape(n_el, n_qp, 3, 3, 3 * n_loc).transpose(0, 1, 3, 2, 4)  # (e,q,J,i,(k,b))
-    T = T.reshape(n_el, 3 * n_qp, 9 * n_loc)
-    G = dN.transpose(0, 2, 1, 3).reshape(n_el, n_loc, 3 * n_qp)  # (e,a,(q,J))
-    Ke = (G @ T).reshape(n_el, n_loc, 3, 3, n_loc)  # (e,a,i,k,b)
+    T = Aw.reshape(n_el, n_qp, d**3, d) @ dN.transpose(0, 1, 3, 2)  # (e,q,(i,J,k),b)
+    T = T.reshape(n_el, n_qp, d, d, d * n_loc).transpose(0, 1, 3, 2, 4)  # (e,q,J,i,(k,b))
+    T = T.reshape(n_el, d * n_qp, d * d * n_loc)
+    G = dN.transpose(0, 2, 1, 3).reshape(n_el, n_loc, d * n_qp)  # (e,a,(q,J))
+    Ke = (G @ T).reshape(n_el, n_loc, d, d, n_loc)  # (e,a,i,k,b)
     return np.ascontiguousarray(Ke.transpose(2, 3, 0, 1, 4))
 
 
 def scatter_vector(space: DisplacementSpace, fe: np.ndarray) -> np.ndarray:
-    """Sum element vectors (n_elements, n_local, 3) into a global vector of length n_dofs."""
+    """Sum element vectors (n_elements, n_local, dim) into a global vector of length n_dofs."""
     return np.bincount(space.element_dofs.ravel(), weights=fe.ravel(), minlength=space.n_dofs)

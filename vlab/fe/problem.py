@@ -23,9 +23,10 @@ J_COLLAPSE = 1e-4  # smallest admissible volume ratio det F
 
 @dataclass(frozen=True)
 class Evaluation:
-    """A state u with its deformation gradient (3,3,e,q), energy W (mJ) and force f_int (N).
+    """A state u with its deformation gradient (d,d,e,q), energy W (mJ) and force f_int (N).
 
-    ``min_J`` is the smallest volume ratio over all quadrature points; ``worst`` its
+    ``min_J`` is the smallest volume ratio over all quadrature points (in 2D the in-plane area
+    ratio det F̄; the plane law keeps the thickness stretch λ₃ > 0 itself); ``worst`` its
     (element, quadrature point) index. An inadmissible state has W = +inf and no force.
     """
 
@@ -47,7 +48,7 @@ class HyperelasticBody:
     def __init__(self, space: DisplacementSpace, material):
         self.space = space
         self.material = material
-        self.pattern = SparsityPattern.build(space.element_nodes)
+        self.pattern = SparsityPattern.build(space.element_nodes, space.dim)
 
     def evaluate(self, u: np.ndarray) -> Evaluation:
         F = self.space.deformation_gradient(u)

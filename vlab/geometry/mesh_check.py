@@ -4,6 +4,7 @@
   |det J| ≈ 0 for tetrahedra (affine maps, which scikit-fem accepts in either orientation);
 - duplicate nodes (two vertices closer than ``1e-9`` × the mesh extent: a crack in disguise) and
   unused nodes (vertices no element refers to: DOFs without stiffness);
+- 2D sheets: the same measures in the plane (triangle_flatness, quad_scaled_jacobian);
 - slivers: a flatness measure q below ``MIN_QUALITY``. Hexahedra: the scaled Jacobian
       q = min over corners c of  det[e₁ e₂ e₃] / (|e₁| |e₂| |e₃|)
   (e_i the edges leaving corner c; 1 for right-angled corners). Tetrahedra: the smallest height
@@ -36,7 +37,39 @@ def element_quality(mesh: skfem.Mesh) -> np.ndarray:
         return _tet_flatness(p[:, t])
     if isinstance(mesh, skfem.MeshHex):
         return np.min([_scaled_det(*e) for e in _hex_corner_edges(mesh)], axis=0)
-    raise MeshError(f"mesh type {type(mesh).__name__} is not supported (tetrahedra or hexahedra)")
+    if isinstance(mesh, skfem.MeshTri):
+        return triangle_flatness(p[:, t])
+    if isinstance(mesh, skfem.MeshQuad):
+        return quad_scaled_jacobian(p[:, t])
+    raise MeshError(f"mesh type {type(mesh).__name__} is not supported (tetrahedra, hexahedra, "
+                    f"triangles or quadrilaterals)")
+
+
+def triangle_flatness(X: np.ndarray) -> np.ndarray:
+    """Triangles X (2, 3, e): q = (smallest height / shortest edge) / (√3/2), 1 for an equilateral
+    triangle, → 0 as the corners become collinear (the 2D analogue of the tetrahedra's measure)."""
+    a, b, c = (X[:, k] for k in range(3))
+    area2 = np.abs((b - a)[0] * (c - a)[1] - (b - a)[1] * (c - a)[0])
+    edges = np.stack([np.linalg.norm(b - a, axis=0), np.linalg.norm(c - b, axis=0),
+                      np.linalg.norm(a - c, axis=0)])
+    longest, shortest = edges.max(axis=0), edges.min(axis=0)
+    height = area2 / np.where(longest > 0, longest, 1.0)
+    return np.where(shortest > 0, height / np.where(shortest > 0, shortest, 1.0), 0.0) / (np.sqrt(3) / 2)
+
+
+def quad_scaled_jacobian(X: np.ndarray) -> np.ndarray:
+    """Quadrilaterals X (2, 4, e), corners in cyclic order: q = min over corners of
+    (e₁ × e₂)/(|e₁||e₂|), signed by the element's orientation (its shoelace area), so 1 for a
+    rectangle in either winding and ≤ 0 for a folded (bow-tie) or flat element."""
+    x, y = X[0], X[1]
+    orientation = np.sign(np.sum(x * np.roll(y, -1, axis=0) - np.roll(x, -1, axis=0) * y, axis=0))
+    q = np.full(X.shape[2], np.inf)
+    for k in range(4):
+        e1, e2 = X[:, (k + 1) % 4] - X[:, k], X[:, (k - 1) % 4] - X[:, k]
+        cross = e1[0] * e2[1] - e1[1] * e2[0]
+        norms = np.linalg.norm(e1, axis=0) * np.linalg.norm(e2, axis=0)
+        q = np.minimum(q, np.where(norms > 0, orientation * cross / np.where(norms > 0, norms, 1.0), 0.0))
+    return q
 
 
 def _tet_flatness(X: np.ndarray) -> np.ndarray:

@@ -13,7 +13,7 @@ from typing import Callable
 import numpy as np
 import skfem
 
-Selector = Callable[[np.ndarray], np.ndarray]  # reference coordinates (n, 3) -> bool mask (n,)
+Selector = Callable[[np.ndarray], np.ndarray]  # reference coordinates (n, dim) -> bool mask (n,)
 
 
 @dataclass(frozen=True)
@@ -30,8 +30,8 @@ class Grip:
 class GaugeMarks:
     """Two material points whose distance an extensometer reads (reference positions, mm)."""
 
-    a: tuple[float, float, float]
-    b: tuple[float, float, float]
+    a: tuple[float, ...]  # (x, y, z); (x, y) on a 2D sheet
+    b: tuple[float, ...]
 
     @property
     def length(self) -> float:
@@ -47,7 +47,8 @@ class Specimen:
     width at the gauge centre for a test loaded along ``axis``; ``thickness`` the marks through
     the thickness at the gauge centre; ``area0[axis]`` the gauge-section area normal to the axis;
     ``regions`` named selectors (reference coordinates) such as "gauge" and "fillets" that the
-    homogeneity measurement reads.
+    homogeneity measurement reads; ``sheet_thickness`` the thickness of a 2D (plane) specimen,
+    whose ``thickness`` marks are the two faces (z = 0 and z = t) over an in-plane point.
     """
 
     shape: str
@@ -60,6 +61,7 @@ class Specimen:
     area0: dict[int, float]
     length_scale: float
     regions: dict[str, Selector] = field(default_factory=dict)
+    sheet_thickness: float | None = None  # mm, for a 2D sheet (its mesh is in the x-y plane)
 
     def grips_on(self, axis: int) -> tuple[Grip, Grip]:
         fixed = next(g for g in self.grips if g.axis == axis and g.side < 0)

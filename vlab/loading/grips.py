@@ -2,8 +2,9 @@
 
 - roller (frictionless) grips prescribe only the displacement along the pulling axis, so the
   faces under the grips may slide and contract freely; the remaining rigid-body modes are removed
-  at single nodes (3-2-1 rule) at points the homogeneous solution leaves in place.
-- clamped grips prescribe all three components: the fixed grip holds, the moving grip translates
+  at single nodes (3-2-1 rule; on a 2D sheet one node's y in uniaxial tests) at points the
+  homogeneous solution leaves in place.
+- clamped grips prescribe all components (three, or two on a 2D sheet): the fixed grip holds, the moving grip translates
   along its axis. In a biaxial test a clamp leaves out the nodes it shares with the perpendicular
   clamps, which would otherwise be pulled two ways at once.
 """
@@ -28,7 +29,8 @@ class GripLoading:
 
 def grip_loading(specimen: Specimen, X: np.ndarray, stretch: tuple[float, ...], kind: str) -> GripLoading:
     """Prescribed displacements for grip stretches ``stretch`` on axes 0 (and 1 if biaxial)."""
-    n_dofs = 3 * len(X)
+    dim = X.shape[1]  # 3, or 2 for a sheet; dof = dim * node + component
+    n_dofs = dim * len(X)
     u_hat = np.zeros(n_dofs)
     fixed: set[int] = set()
     moving: dict[int, np.ndarray] = {}
@@ -41,11 +43,11 @@ def grip_loading(specimen: Specimen, X: np.ndarray, stretch: tuple[float, ...], 
             if clamped and len(stretch) > 1:
                 nodes &= ~np.any([m for g, m in zip(specimen.grips, others) if g.axis != axis], axis=0)
             nodes = np.flatnonzero(nodes)
-            comps = (0, 1, 2) if clamped else (axis,)
+            comps = range(dim) if clamped else (axis,)
             for c in comps:
-                fixed.update(3 * nodes + c)
+                fixed.update(dim * nodes + c)
             if grip.side > 0:
-                dofs = 3 * nodes + axis
+                dofs = dim * nodes + axis
                 u_hat[dofs] = (stretch[axis] - 1.0) * specimen.grip_separation[axis]
                 moving[axis] = dofs
     if not clamped:
@@ -58,6 +60,8 @@ def _rigid_body_supports(specimen: Specimen, X: np.ndarray, n_axes: int) -> list
     """DOFs that pin the modes roller grips leave free, at nodes that stay put homogeneously."""
     lo, hi = X.min(axis=0), X.max(axis=0)
     origin = int(np.argmin(np.linalg.norm(X - lo, axis=1)))
+    if X.shape[1] == 2:  # sheet: the x edges hold x and the rotation; one node holds y
+        return [] if n_axes == 2 else [2 * origin + 1]
     if n_axes == 2:
         return [3 * origin + 2]
     side = int(np.argmin(np.linalg.norm(X - np.array([lo[0], hi[1], lo[2]]), axis=1)))

@@ -16,6 +16,10 @@ the root is unique on t > 0 (so it is the branch through t = 1 at λ = 1):
 - stvk-volumetric: 2ηλ(λt² − 1) + μ(t² − 1) = 0, η = λ_L/2      (always solvable)
 - neo-hookean:     μ(t² − 1) + λ_L ln(λt²) = 0                  (always solvable)
 
+Plane strain (a sheet held at constant thickness, F₃₃ = 1): uniaxial F = diag(λ, t, 1) with
+P₂₂ = 0, biaxial F = diag(λx, λy, 1) (nothing to solve). Plane stress needs no oracle of its own:
+its free faces carry no stress, so it is the 3D uniaxial/biaxial state above.
+
 (λ_L is the Lamé constant, λ the stretch.) If no positive root exists, InadmissibleState is
 raised; its message always contains "no admissible state beyond stretch".
 """
@@ -28,7 +32,8 @@ from typing import Callable
 import numpy as np
 from scipy.optimize import brentq
 
-__all__ = ["InadmissibleState", "HomogeneousState", "uniaxial", "biaxial"]
+__all__ = ["InadmissibleState", "HomogeneousState", "uniaxial", "biaxial", "plane_strain_uniaxial",
+           "plane_strain_biaxial", "homogeneous_state"]
 
 _T_MIN = 1e-6      # smallest lateral stretch searched
 _T_MAX = 1e6       # largest lateral stretch searched
@@ -193,3 +198,31 @@ def biaxial(material, stretch_x: float, stretch_y: float) -> HomogeneousState:
             f"(no thickness stretch t > {_T_MIN:g} makes P33 = 0)"
         )
     return _state(material, (lx, ly, t), t)
+
+
+def plane_strain_uniaxial(material, stretch: float) -> HomogeneousState:
+    """Plane-strain uniaxial state F = diag(stretch, t, 1) with P₂₂ = 0, t > 0 (InadmissibleState
+    if none)."""
+    lam = _check_stretch(stretch, "stretch")
+    t = _solve(_free_residual(material, lambda t: (lam, t, 1.0), 1))
+    if t is None:
+        raise InadmissibleState(
+            f"no admissible state beyond stretch {lam:.6g} (or below) for {_describe(material)} in "
+            f"plane strain: no lateral stretch t > {_T_MIN:g} makes P22 = 0")
+    return _state(material, (lam, t, 1.0), t)
+
+
+def plane_strain_biaxial(material, stretch_x: float, stretch_y: float) -> HomogeneousState:
+    """Plane-strain biaxial state F = diag(stretch_x, stretch_y, 1); lateral_stretch is 1."""
+    lx = _check_stretch(stretch_x, "stretch_x")
+    ly = _check_stretch(stretch_y, "stretch_y")
+    return _state(material, (lx, ly, 1.0), 1.0)
+
+
+def homogeneous_state(material, stretch: tuple[float, ...]) -> HomogeneousState:
+    """The homogeneous roller-grip state at grip stretch (s,) or (sx, sy) for a 3D material or a
+    2D reduction of one (vlab.materials.plane: ``base`` and ``plane`` = "stress" | "strain")."""
+    base = getattr(material, "base", material)
+    if getattr(material, "plane", "") == "strain":
+        return plane_strain_uniaxial(base, *stretch) if len(stretch) == 1 else plane_strain_biaxial(base, *stretch)
+    return uniaxial(base, stretch[0]) if len(stretch) == 1 else biaxial(base, *stretch)

@@ -3,6 +3,9 @@
 - LoadCell: the reaction force of a moving grip, Σ f_int over the grip's DOFs along its axis (N).
 - Extensometer: two material points; reads their deformed distance |x_b - x_a| (mm) from the
   finite-element interpolation of u, so the marks follow the material.
+- ThicknessGauge: a micrometer through a 2D sheet at an in-plane point: the current thickness
+  λ₃ t, with λ₃ the out-of-plane stretch of the plane law (vlab.materials.plane) averaged over the
+  quadrature points of the element holding the point (weights dx).
 """
 
 from __future__ import annotations
@@ -30,12 +33,41 @@ class Extensometer:
         self.length0 = marks.length
         self._X = np.array([marks.a, marks.b], dtype=float)
         self._probe = space.probe_matrix(self._X.T)
+        self._dim = space.dim
 
     def length(self, u: np.ndarray) -> float:
         """Current distance between the marks, mm."""
-        x = self._X + self._probe @ u.reshape(-1, 3)
+        x = self._X + self._probe @ u.reshape(-1, self._dim)
         return float(np.linalg.norm(x[1] - x[0]))
 
     def strain(self, u: np.ndarray) -> float:
         """Engineering strain (L - L0)/L0 of the gauge length."""
         return self.length(u) / self.length0 - 1.0
+
+
+class ThicknessGauge:
+    """Reads a sheet's thickness at the in-plane point of ``marks`` (the faces z = 0 and z = t)."""
+
+    def __init__(self, space: DisplacementSpace, material, marks: GaugeMarks):
+        self.marks, self.material = marks, material
+        self.length0 = marks.length  # the reference thickness t, mm
+        point = np.asarray(marks.a[:2], dtype=float)
+        mesh = space.basis.mesh
+        self.element = int(mesh.element_finder()(np.array([point[0]]), np.array([point[1]]))[0])
+        self._nodes = space.element_nodes[self.element]
+        self._dN = space.dN[self.element]  # (q, a, J)
+        self._w = space.dx[self.element] / space.dx[self.element].sum()
+
+    def stretch(self, u: np.ndarray) -> float:
+        """λ₃ at the point: dx-weighted mean over the element's quadrature points."""
+        ue = u.reshape(-1, 2)[self._nodes]  # (a, i)
+        F = np.einsum("ai,qaJ->iJq", ue, self._dN) + np.eye(2)[:, :, None]
+        return float(self._w @ self.material.out_of_plane_stretch(F))
+
+    def length(self, u: np.ndarray) -> float:
+        """Current thickness λ₃ t, mm."""
+        return self.stretch(u) * self.length0
+
+    def strain(self, u: np.ndarray) -> float:
+        """Thickness strain λ₃ − 1."""
+        return self.stretch(u) - 1.0

@@ -2,7 +2,8 @@
 
 Per loaded axis (0 = x, 1 = y) it logs the grip (crosshead) stretch, the load-cell force and the
 extensometer strain; across the gauge centre it logs the transverse (width) strain and the
-thickness strain. Stress measures derive from those readings:
+thickness strain (on a 2D sheet from the plane law's out-of-plane stretch λ₃, which needs the
+``material``). Stress measures derive from those readings:
     engineering stress  s = force / A0                          (MPa)
     true strain         e = ln(1 + extensometer strain)
     true stress         σ = force / A, A = A0 (1 + ε_w)(1 + ε_t) for uniaxial, A0_axis (1 + ε_other)(1 + ε_t) biaxial
@@ -17,7 +18,7 @@ import numpy as np
 from vlab.fe.space import DisplacementSpace
 from vlab.fe.stepping import Level
 from vlab.geometry.specimen import Specimen
-from vlab.measure.instruments import Extensometer, LoadCell
+from vlab.measure.instruments import Extensometer, LoadCell, ThicknessGauge
 
 
 @dataclass
@@ -54,13 +55,14 @@ class Recorder:
     """Observer hooked after every converged level; reads the instruments into a Curve."""
 
     def __init__(self, space: DisplacementSpace, specimen: Specimen, stretch: tuple[float, ...],
-                 moving_dofs: dict[int, np.ndarray]):
+                 moving_dofs: dict[int, np.ndarray], material=None):
         self.axes = list(range(len(stretch)))
         self.target = stretch
         self.load_cells = {a: LoadCell(moving_dofs[a]) for a in self.axes}
         self.extensometers = {a: Extensometer(space, specimen.extensometers[a]) for a in self.axes}
         self.width = Extensometer(space, specimen.transverse[0])
-        self.thickness = Extensometer(space, specimen.thickness)
+        self.thickness = (ThicknessGauge(space, material, specimen.thickness) if space.dim == 2
+                          else Extensometer(space, specimen.thickness))
         self.curve = Curve(area0={a: specimen.area0[a] for a in self.axes})
         for a in self.axes:
             self.curve.stretch[a], self.curve.force[a], self.curve.strain[a] = [], [], []

@@ -2,13 +2,14 @@
 
 With roller grips and free lateral faces a block deforms homogeneously: F = diag(λ, t, t)
 (uniaxial, P22 = 0) or diag(λx, λy, t) (biaxial, P33 = 0); the load-cell stress equals P11.
+A sheet in plane stress has the same states; in plane strain F₃₃ = 1 (materials.homogeneous).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from vlab.materials.homogeneous import InadmissibleState, biaxial, uniaxial
+from vlab.materials.homogeneous import InadmissibleState, homogeneous_state
 
 
 def homogeneous_curve(material, stretches: dict[int, list[float]]) -> dict | None:
@@ -17,7 +18,7 @@ def homogeneous_curve(material, stretches: dict[int, list[float]]) -> dict | Non
     out = {f"stress_{'xy'[a]}": [] for a in axes} | {"lateral_stretch": []}
     try:
         for row in zip(*(stretches[a] for a in axes)):
-            state = uniaxial(material, row[0]) if len(axes) == 1 else biaxial(material, *row)
+            state = homogeneous_state(material, row)
             for a in axes:
                 out[f"stress_{'xy'[a]}"].append(float(state.P[a, a]))
             out["lateral_stretch"].append(float(state.lateral_stretch))

@@ -3,7 +3,8 @@
 A Snapshot holds the reference mesh, the displacement of its vertices and the per-cell fields at
 the unloaded state and at every recorded level, and the current positions of the gauge marks.
 For order-2 spaces only the vertex values are kept (vertices are the first scalar DOFs), so the
-pictures show the straight-sided cells of the mesh.
+pictures show the straight-sided cells of the mesh. A 2D sheet is stored in 3D with z = 0 (its
+displacement has no z component) and without the thickness marks, which sit over the same point.
 """
 
 from __future__ import annotations
@@ -34,6 +35,12 @@ class Snapshot:
     def n_frames(self) -> int:
         return len(self.t)
 
+    @property
+    def points(self) -> np.ndarray:
+        """(n_vertices, 3) reference vertex positions, mm (z = 0 for a sheet)."""
+        p = self.mesh.p.T
+        return np.hstack([p, np.zeros((len(p), 3 - p.shape[1]))])
+
     def field_range(self, name: str, frame: int = -1) -> tuple[float, float]:
         values = self.fields[name][frame]
         return float(values.min()), float(values.max())
@@ -42,8 +49,14 @@ class Snapshot:
 def _gauge_marks(specimen) -> dict:
     marks = {f"extensometer {'xy'[axis]}": m for axis, m in specimen.extensometers.items()}
     marks["transverse"] = specimen.transverse[0]
-    marks["thickness"] = specimen.thickness
+    if specimen.sheet_thickness is None:
+        marks["thickness"] = specimen.thickness
     return marks
+
+
+def _in_3d(x: np.ndarray) -> np.ndarray:
+    """(..., dim) -> (..., 3), padding with zeros."""
+    return np.concatenate([x, np.zeros(x.shape[:-1] + (3 - x.shape[-1],))], axis=-1)
 
 
 def take_snapshot(result) -> Snapshot:
@@ -51,14 +64,15 @@ def take_snapshot(result) -> Snapshot:
     body, space, mesh = result.extra["body"], result.space, result.specimen.mesh
     states = [body.evaluate(np.zeros(space.n_dofs))] + [lv.evaluation for lv in result.history.levels]
     n_vertices = mesh.nvertices
-    u = np.stack([ev.u.reshape(-1, 3)[:n_vertices] for ev in states])
+    d = space.dim
+    u = np.stack([_in_3d(ev.u.reshape(-1, d)[:n_vertices]) for ev in states])
     per_state = [cell_fields(body, ev) for ev in states]
     fields = {name: np.stack([cf.get(name) for cf in per_state]) for name in FIELDS}
     marks = {}
     for name, gauge in _gauge_marks(result.specimen).items():
         X = np.array([gauge.a, gauge.b], dtype=float)
         probe = space.probe_matrix(X.T)
-        marks[name] = (X, np.stack([X + probe @ ev.u.reshape(-1, 3) for ev in states]))
+        marks[name] = (_in_3d(X), np.stack([_in_3d(X + probe @ ev.u.reshape(-1, d)) for ev in states]))
     t = np.array([0.0] + [lv.t for lv in result.history.levels])
     stretch = 1.0 + t * (result.scene.test.stretch[0] - 1.0)
     return Snapshot(result.scene.material.model, mesh, t, stretch, u, fields, marks)

@@ -61,13 +61,19 @@ def common_range(snapshots: list[Snapshot], field: str, frames=None) -> tuple[fl
 
 
 def _camera(points: np.ndarray) -> dict:
+    """Parallel camera framing ``points``: from the front-right above for a solid, straight from
+    above (x to the right, y up) for a flat sheet (all z equal)."""
     lo, hi = points.min(axis=0), points.max(axis=0)
     centre, radius = (lo + hi) / 2, 0.5 * float(np.linalg.norm(hi - lo))
-    direction = VIEW_DIRECTION / np.linalg.norm(VIEW_DIRECTION)
-    up = np.array([0.0, 0.0, 1.0]) - direction[2] * direction  # screen "up" in world coordinates
+    if hi[2] - lo[2] <= 1e-12 * max(radius, 1e-300):
+        direction, up = np.array([0.0, 0.0, 1.0]), np.array([0.0, 1.0, 0.0])
+    else:
+        direction = VIEW_DIRECTION / np.linalg.norm(VIEW_DIRECTION)
+        up = np.array([0.0, 0.0, 1.0]) - direction[2] * direction  # screen "up" in world coordinates
     focal = centre + 0.3 * radius * up / np.linalg.norm(up)  # leaves room for the label on top
+    viewup = (0.0, 1.0, 0.0) if direction[2] == 1.0 else (0.0, 0.0, 1.0)
     return {"position": tuple(focal + 4.0 * radius * direction), "focal_point": tuple(focal),
-            "viewup": (0.0, 0.0, 1.0), "parallel_scale": 1.3 * radius}
+            "viewup": viewup, "parallel_scale": 1.3 * radius}
 
 
 def _apply_camera(plotter, camera: dict) -> None:
@@ -82,6 +88,9 @@ def _outline(grid):
     """Edges where the undeformed surface bends by more than 30°: the specimen's silhouette lines.
     The surface's faces are first oriented consistently, or coplanar faces of opposite winding
     would count as a fold and every surface triangle edge would be drawn."""
+    if np.ptp(grid.points[:, 2]) == 0.0:  # a flat sheet: its boundary is its silhouette
+        return grid.extract_surface(algorithm="dataset_surface").extract_feature_edges(
+            boundary_edges=True, feature_edges=False, non_manifold_edges=False, manifold_edges=False)
     surface = grid.extract_surface(algorithm="dataset_surface").compute_normals(
         cell_normals=True, point_normals=False, consistent_normals=True, auto_orient_normals=True)
     return surface.extract_feature_edges(feature_angle=30, boundary_edges=True,
@@ -99,6 +108,9 @@ class _Scene:
         self.snapshot, self.field = snapshot, field
         self.reference = reference_grid(snapshot.mesh)
         outline = _outline(self.reference)
+        points = self.reference.points
+        if np.ptp(points[:, 2]) == 0.0:  # a flat sheet: lift the outline above the coplanar surface
+            outline = outline.translate((0.0, 0.0, 1e-3 * float(np.ptp(points, axis=0).max())))
         plotter.add_mesh(outline, color="#737373", line_width=1.5)
         self.deformed = self.reference.copy()
         self.deformed.cell_data[field] = snapshot.fields[field][0]
@@ -158,8 +170,8 @@ def render_side_by_side(snapshots: list[Snapshot], path: Path, options: RenderOp
     """One PNG with a panel per snapshot; returns what it drew (range, camera, panel models)."""
     field, frame = options.field, options.frame
     clim = common_range(snapshots, field, frame)
-    deformed = [s.mesh.p.T + s.displacement[frame] for s in snapshots]
-    camera = _camera(np.vstack(deformed + [snapshots[0].mesh.p.T]))
+    deformed = [s.points + s.displacement[frame] for s in snapshots]
+    camera = _camera(np.vstack(deformed + [snapshots[0].points]))
     plotter = _new_plotter(len(snapshots), options.panel_size, bar=True)
     try:
         for col, snap in enumerate(snapshots):
@@ -185,7 +197,7 @@ def render_animation(snapshot: Snapshot, path: Path, options: RenderOptions = Re
     field = options.field
     frames = list(range(snapshot.n_frames))
     clim = common_range([snapshot], field, slice(None))
-    camera = _camera(np.vstack([snapshot.mesh.p.T + u for u in snapshot.displacement]))
+    camera = _camera(np.vstack([snapshot.points + u for u in snapshot.displacement]))
     plotter = _new_plotter(1, options.panel_size, bar=True)
     images = []
     try:

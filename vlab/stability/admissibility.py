@@ -12,7 +12,7 @@ thickness, P₃₃ = 0). The check runs on the target stretch; the message it re
 
 from __future__ import annotations
 
-from vlab.materials.homogeneous import InadmissibleState, biaxial, uniaxial
+from vlab.materials.homogeneous import InadmissibleState, homogeneous_state
 
 
 def inadmissible_request(material, stretch: tuple[float, ...]) -> str | None:
@@ -20,10 +20,7 @@ def inadmissible_request(material, stretch: tuple[float, ...]) -> str | None:
     if material is None or getattr(material, "is_linear", False):  # spring network: no oracle
         return None
     try:
-        if len(stretch) == 1:
-            uniaxial(material, stretch[0])
-        else:
-            biaxial(material, *stretch)
+        homogeneous_state(material, stretch)
     except InadmissibleState as exc:
         return f"request refused before solving: {exc}"
     return None
