@@ -27,8 +27,9 @@ from vlab.geometry.quality import MeshQuality, mesh_quality
 from vlab.geometry.mesh_check import MeshError, check_mesh
 from vlab.geometry.specimen import Specimen
 from vlab.loading.grips import grip_loading
-from vlab.loading.schedule import monotonic_schedule
+from vlab.loading.protocol import protocol_levels
 from vlab.materials import make_material
+from vlab.materials.history import HistoryMaterial
 from vlab.materials.plane import plane_model
 from vlab.materials.split import SPLIT_LAWS, make_split_law
 from vlab.measure.elastic_constants import ElasticConstants, crosshead_modulus, elastic_constants
@@ -109,10 +110,18 @@ def make_body(scene: Scene, space: DisplacementSpace):
         return SpringNetwork(space, moduli.E)
     if scene.mesh.formulation == "mixed":
         return MixedHyperelasticBody(space, make_split_law(scene.material.model, moduli.lmbda, moduli.mu))
-    material = make_material(scene.material.model, moduli.lmbda, moduli.mu)
+    elastic = make_material(scene.material.model, moduli.lmbda, moduli.mu)
     if space.dim == 2:
-        material = plane_model(material, scene.specimen.plane)
-    return HyperelasticBody(space, material)
+        elastic = plane_model(elastic, scene.specimen.plane)
+    if not scene.effects:  # the elastic path: nothing else is built or assembled
+        return HyperelasticBody(space, elastic)
+    from vlab.effects.build import external_load, history_law
+    from vlab.fe.external_load import LoadedBody
+    from vlab.fe.history_body import HistoryBody
+    law = history_law(scene, elastic)
+    body = HistoryBody(space, law) if law is not None else HyperelasticBody(space, elastic)
+    f_ext = external_load(scene, space)
+    return body if f_ext is None else LoadedBody(body, f_ext)
 
 
 def run_scene(scene: Scene, on_level=None, specimen: Specimen | None = None) -> RunResult:
@@ -128,6 +137,9 @@ def run_scene(scene: Scene, on_level=None, specimen: Specimen | None = None) -> 
     space = DisplacementSpace.build(specimen.mesh, scene.mesh.order, specimen.sheet_thickness or 1.0)
     body = make_body(scene, space)
     material = getattr(body, "material", None)  # None for the spring network: no analytic oracle
+    ground = getattr(material, "elastic", material)  # a history law's elastic ground law
+    if isinstance(material, HistoryMaterial) or scene.effect("gravity") is not None:
+        material = None  # a history law or a dead load: the elastic homogeneous oracles do not apply
     loading = grip_loading(specimen, space.node_coordinates, scene.test.stretch, scene.test.grips)
     partition = Partition.build(body.pattern, loading.prescribed)
     timing["mesh_s"] = clock() - t0
@@ -139,27 +151,32 @@ def run_scene(scene: Scene, on_level=None, specimen: Specimen | None = None) -> 
 
     monitor = StabilityMonitor(body, partition, loading.moving_dofs, scene.test.stretch,
                                scene.material.model, loading.u_hat)
+    monitor.watch_limits = scene.test.protocol.name == "monotonic" and not scene.effects
 
     def observe(level):
         monitor(level)
         t = clock()
         recorder(level)
+        if hasattr(body, "keep_cells"):
+            body.keep_cells(level.evaluation)
         if probe is not None:
             homogeneity.append(probe.read(level.evaluation.F, recorder.curve.force[0][-1]))
         measure_time[0] += clock() - t
         if on_level is not None:
             on_level(level)
 
+    levels = protocol_levels(scene.test.protocol, scene.test.stretch, scene.test.steps,
+                             scene.measure.modulus_window, scene.measure.modulus_points)
     stepping = Stepping(
-        schedule=monotonic_schedule(scene.test.stretch, scene.test.steps, scene.measure.modulus_window,
-                                    scene.measure.modulus_points),
+        schedule=levels.t, times=levels.time,
+        force_held=levels.force_held if levels.force_held.any() else None,
         max_cutbacks=scene.solver.max_cutbacks,
         newton=NewtonOptions(rtol=scene.solver.rtol, max_iterations=scene.solver.max_iterations),
         accept=monitor.accept,
     )
     force_floor = 1e-12 * scene.material.moduli.mu * specimen.length_scale**2
     t1 = clock()
-    refusal = _refusal(material, scene, space, loading.prescribed)
+    refusal = _refusal(ground, scene, space, loading.prescribed)
     if refusal is not None:
         history = SolveHistory(failure=Failure(0, 1.0, 1.0, 0.0, refusal, []))
     else:
@@ -185,6 +202,9 @@ def run_scene(scene: Scene, on_level=None, specimen: Specimen | None = None) -> 
     timing["measure_s"] += clock() - t2
     timing["total_s"] = clock() - t0
     extra |= {"body": body, "stability": [r.as_dict() for r in monitor.records], "warnings": _warnings(scene)}
+    if scene.effects or scene.test.protocol.name != "monotonic":
+        from vlab.effects.report import effects_summary
+        extra["effects"] = effects_summary(scene, body, history.levels)
     return RunResult(scene, specimen, space, curve, constants, history, timing, reference, extra)
 
 
@@ -204,6 +224,9 @@ def _warnings(scene: Scene) -> list[str]:
     """Caveats about the set-up (also logged)."""
     found = []
     nu = scene.material.moduli.nu
+    if scene.effects or scene.test.protocol.name != "monotonic":
+        from vlab.effects.build import effect_warnings
+        found += effect_warnings(scene)
     if nu > LOCKING_NU and scene.mesh.formulation == "displacement":
         cure = (f'use mesh.formulation = "mixed" (locking-free up to nu = {MIXED_NU_LIMIT:g})'
                 if scene.material.model in SPLIT_LAWS else

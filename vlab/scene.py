@@ -38,6 +38,7 @@ from typing import Any, Callable, Mapping
 
 from vlab.geometry.dogbone import DIMENSION_KEYS, DogboneDimensions, GeometryError
 from vlab.geometry.standards import standard_dimensions, standard_names
+from vlab.loading.protocol import HOLDS, PROTOCOLS, ProtocolSpec
 from vlab.materials.split import SPLIT_LAWS
 from vlab.moduli import ALIASES, KEYS as MODULI_KEYS, Moduli, ModuliError, from_pair
 
@@ -48,11 +49,14 @@ __all__ = ["SceneError", "Scene", "BlockSpecimen", "DogboneSpecimen", "SheetSpec
 SPRING_NETWORK = "spring-network"  # not a material law: mesh edges as springs (vlab.fe.spring_network)
 MODELS = ("linear", "stvk", "stvk-volumetric", "neo-hookean", SPRING_NETWORK)
 FORMULATIONS = ("displacement", "mixed")  # mesh.formulation
-SECTIONS = ("specimen", "mesh", "material", "test", "measure", "solver")
+SECTIONS = ("specimen", "mesh", "material", "test", "measure", "solver", "effects")
 TOP_KEYS = ("name", "description") + SECTIONS
 _MODULI_NAMES = MODULI_KEYS + tuple(ALIASES)  # E, nu, lambda, mu, K, M, G, lmbda
 _NAME_RE = re.compile(r"[A-Za-z0-9._-]+")
 _REQUIRED = object()
+KG_PER_M3 = 1e-12  # t/mm³: the mass unit of the N, mm, s system is the tonne (1 N = 1 t·mm/s²)
+PROTOCOL_KEYS = ("protocol", "amplitudes", "min_stretch", "strain_rate", "ramp_time", "hold_time",
+                 "hold_steps")
 
 
 class SceneError(ValueError):
@@ -125,6 +129,7 @@ class MaterialSpec:
     model: str
     moduli: Moduli
     given: dict[str, float]  # the two constants as given, canonical names (G -> mu)
+    density: float | None = None  # t/mm³ (given in kg/m³: 1 kg/m³ = 1e-12 t/mm³); gravity needs it
 
 
 @dataclass(frozen=True)
@@ -134,6 +139,7 @@ class TestSpec:
     grips: str  # "roller" | "clamped"
     stretch: tuple[float, ...]  # (s,) uniaxial, (sx, sy) biaxial
     steps: int
+    protocol: ProtocolSpec = ProtocolSpec()  # vlab.loading.protocol: monotonic unless given
 
 
 @dataclass(frozen=True)
@@ -162,6 +168,11 @@ class Scene:
     measure: MeasureSpec
     solver: SolverSpec
     source: dict  # the raw parsed TOML, for provenance
+    effects: tuple = ()  # validated effect specs (vlab.effects), each with a ``name``; () = elastic
+
+    def effect(self, name: str):
+        """The spec of the declared effect ``name``, or None."""
+        return next((e for e in self.effects if e.name == name), None)
 
     def content_hash(self) -> str:
         """sha256 hex of the canonical JSON of ``source`` (sorted keys; key order irrelevant)."""
@@ -350,7 +361,7 @@ def _check_formulation(mesh: MeshSpec, model: str) -> None:
 
 
 def _parse_material(raw: Any) -> MaterialSpec:
-    t = _Table("material", raw, ("model", "root") + _MODULI_NAMES)
+    t = _Table("material", raw, ("model", "root", "density") + _MODULI_NAMES)
     model = t.choice("model", MODELS)
     root = t.choice("root", ("plus", "minus"), default="plus")
     values = {k: t.number(k) for k in _MODULI_NAMES if k in t.raw}
@@ -361,7 +372,9 @@ def _parse_material(raw: Any) -> MaterialSpec:
         raise SceneError(msg if "material." in msg
                          else f"[material]: {msg}") from None
     given = {ALIASES.get(k, k): v for k, v in values.items()}
-    return MaterialSpec(model=model, moduli=moduli, given=given)
+    density = t.number("density", default=None, gt=0, le=30000, note=" kg/m³")
+    return MaterialSpec(model=model, moduli=moduli, given=given,
+                        density=None if density is None else density * KG_PER_M3)
 
 
 def _stretch_value(field: str, v: Any) -> float:
@@ -374,7 +387,7 @@ def _stretch_value(field: str, v: Any) -> float:
 
 
 def _parse_test(raw: Any, shape: str = "block") -> TestSpec:
-    t = _Table("test", raw, ("kind", "grips", "stretch", "steps"))
+    t = _Table("test", raw, ("kind", "grips", "stretch", "steps") + PROTOCOL_KEYS)
     kinds, grip_kinds = SPECIMEN_TESTS[shape]
     kind = t.choice("kind", ("uniaxial", "biaxial"))
     if kind not in kinds:
@@ -384,7 +397,14 @@ def _parse_test(raw: Any, shape: str = "block") -> TestSpec:
     if grips not in grip_kinds:
         raise SceneError(f"{t.field('grips')} must be one of {', '.join(grip_kinds)} for specimen.shape = "
                          f"{shape!r}, got {grips!r}")
-    field, v = t.field("stretch"), t.get("stretch")
+    protocol_name = t.choice("protocol", PROTOCOLS, default="monotonic")
+    field, v = t.field("stretch"), t.get("stretch", None if protocol_name == "cyclic" else _REQUIRED)
+    if protocol_name == "cyclic":
+        amplitudes = _amplitudes(t, kind)
+        if v is not None:
+            raise SceneError(f"{field} is not used with test.protocol = 'cyclic' (the largest of "
+                             f"test.amplitudes is the peak stretch); remove it, got {_show(v)}")
+        v = amplitudes[-1]
     if kind == "uniaxial":
         if isinstance(v, list):
             raise SceneError(f"{field} must be a single number for kind = 'uniaxial', got {_show(v)}")
@@ -398,7 +418,54 @@ def _parse_test(raw: Any, shape: str = "block") -> TestSpec:
         raise SceneError(f"{field} must not be 1 everywhere (a stretch of 1 applies no load), "
                          f"got {_show(v)}")
     return TestSpec(kind=kind, grips=grips, stretch=stretch,
-                    steps=t.integer("steps", 1, 10000, default=10))
+                    steps=t.integer("steps", 1, 10000, default=10),
+                    protocol=_parse_protocol(t, protocol_name, stretch))
+
+
+def _amplitudes(t: _Table, kind: str) -> tuple[float, ...]:
+    field, v = t.field("amplitudes"), t.get("amplitudes")
+    if kind != "uniaxial":
+        raise SceneError(f"test.protocol = 'cyclic' needs test.kind = 'uniaxial', got {kind!r}")
+    if not isinstance(v, list) or not 1 <= len(v) <= 50:
+        raise SceneError(f"{field} must be a list of 1..50 peak grip stretches, got {_show(v)}")
+    amps = tuple(_stretch_value(f"{field}[{i}]", x) for i, x in enumerate(v))
+    side = [a > 1.0 for a in amps]
+    growing = all(abs(b - 1.0) > abs(a - 1.0) for a, b in zip(amps, amps[1:]))
+    if 1.0 in amps or len(set(side)) > 1 or not growing:
+        raise SceneError(f"{field} must move away from 1 on one side with every cycle (rising "
+                         f"amplitudes, all > 1 or all < 1), got {list(amps)}")
+    return amps
+
+
+def _parse_protocol(t: _Table, name: str, stretch: tuple[float, ...]) -> ProtocolSpec:
+    """The [test] protocol keys: each allowed only for the protocols that use it."""
+    uses = {"amplitudes": ("cyclic",), "min_stretch": ("cyclic",), "hold_time": HOLDS,
+            "hold_steps": HOLDS}
+    for key, protocols in uses.items():
+        if key in t.raw and name not in protocols:
+            raise SceneError(f"{t.field(key)} applies to test.protocol = {' or '.join(map(repr, protocols))} "
+                             f"only, not {name!r}")
+    if "strain_rate" in t.raw and "ramp_time" in t.raw:
+        raise SceneError("give one of test.strain_rate (1/s) or test.ramp_time (s), not both")
+    if name in HOLDS and not ("strain_rate" in t.raw or "ramp_time" in t.raw):
+        raise SceneError(f"test.protocol = {name!r} holds for a time: give test.strain_rate (1/s) or "
+                         f"test.ramp_time (s) of the ramp, and test.hold_time (s)")
+    min_stretch = 1.0
+    if name == "cyclic" and "min_stretch" in t.raw:
+        top = stretch[0]
+        lo, hi = (1.0, None) if top > 1 else (None, 1.0)
+        min_stretch = t.number("min_stretch", ge=lo, le=hi, note=" (between 1 and the first amplitude)")
+        first = t.raw["amplitudes"][0]
+        if abs(min_stretch - 1.0) >= abs(first - 1.0):
+            raise SceneError(f"{t.field('min_stretch')} must lie between 1 and the first amplitude "
+                             f"{first:g}, got {min_stretch:g}")
+    return ProtocolSpec(
+        name=name, amplitudes=tuple(t.raw.get("amplitudes", ())) if name == "cyclic" else (),
+        min_stretch=min_stretch,
+        strain_rate=t.number("strain_rate", default=None, gt=0, le=1e4, note=" 1/s"),
+        ramp_time=t.number("ramp_time", default=None, gt=0, le=1e9, note=" s"),
+        hold_time=t.number("hold_time", gt=0, le=1e9, note=" s") if name in HOLDS else 0.0,
+        hold_steps=t.integer("hold_steps", 1, 10000, default=20))
 
 
 def _parse_measure(raw: Any, specimen: Specimen) -> MeasureSpec:
@@ -452,12 +519,59 @@ def _parse(data: Mapping[str, Any]) -> Scene:
     if material.model == SPRING_NETWORK and specimen.shape == "sheet":
         raise SceneError(f"material.model {SPRING_NETWORK!r} is a 3D network of mesh edges; "
                          f"specimen.shape = 'sheet' needs a continuum model (not {SPRING_NETWORK!r})")
+    test = _parse_test(data["test"], specimen.shape)
+    _check_effects_scope(data.get("effects", {}), specimen.shape, mesh, material.model)
     return Scene(name=name, description=description, specimen=specimen,
-                 mesh=mesh, material=material,
-                 test=_parse_test(data["test"], specimen.shape),
+                 mesh=mesh, material=material, test=test,
                  measure=_parse_measure(data.get("measure", {}), specimen),
                  solver=_parse_solver(data.get("solver", {})),
-                 source=copy.deepcopy(dict(data)))
+                 source=copy.deepcopy(dict(data)),
+                 effects=_parse_effects(data.get("effects", {}), material, test))
+
+
+def _check_effects_scope(raw: Any, shape: str, mesh: MeshSpec, model: str) -> None:
+    """Effects run on displacement-formulation 3D continua only: say so instead of ignoring them."""
+    if not raw or not isinstance(raw, dict):
+        return
+    name = f"effects.{next(iter(raw))}"
+    if model == SPRING_NETWORK:
+        raise SceneError(f"{name}: material.model {SPRING_NETWORK!r} is a network of springs without "
+                         f"effects; use a continuum model with [effects]")
+    if shape == "sheet":
+        raise SceneError(f"{name}: [effects] are not available on specimen.shape = 'sheet' (2D) in "
+                         f"this build; use a block or a dogbone")
+    if mesh.formulation == "mixed":
+        raise SceneError(f"{name}: [effects] need mesh.formulation = 'displacement' in this build "
+                         f"(the mixed formulation wraps split elastic laws only)")
+
+
+def _parse_effects(raw: Any, material: MaterialSpec, test: TestSpec) -> tuple:
+    """[effects.<name>] tables -> effect specs, validated by the registry (vlab.effects)."""
+    from vlab.effects import EFFECTS  # lazy: the effect parsers use this module's _Table
+
+    if not isinstance(raw, dict):
+        raise SceneError(f"[effects] must be a table of effects, got {_show(raw)}")
+    specs = []
+    for name, table in raw.items():
+        if name not in EFFECTS:
+            raise SceneError(f"unknown effect effects.{name} (allowed: {', '.join(EFFECTS)})"
+                             f"{_suggest(name, EFFECTS)}")
+        effect = EFFECTS[name]
+        spec = effect.parse(_Table(f"effects.{name}", table, effect.keys), material, test)
+        if effect.protocols is not None and test.protocol.name not in effect.protocols:
+            raise SceneError(f"effects.{name} cannot show with test.protocol = {test.protocol.name!r}: "
+                             f"use one of {', '.join(effect.protocols)}")
+        if effect.timed and not test.protocol.timed:
+            raise SceneError(f"effects.{name} makes the test rate-dependent: give test.strain_rate "
+                             f"(1/s) or test.ramp_time (s)")
+        specs.append(spec)
+    laws = [s.name for s in specs if EFFECTS[s.name].role == "material"]
+    if len(laws) > 1:
+        raise SceneError(f"effects: one history-dependent law at a time, got {', '.join(laws)}")
+    if laws and material.model not in EFFECTS[laws[0]].models:
+        raise SceneError(f"effects.{laws[0]} wraps material.model = one of "
+                         f"{', '.join(EFFECTS[laws[0]].models)}, got {material.model!r}")
+    return tuple(specs)
 
 
 # --- public entry points -------------------------------------------------------------------

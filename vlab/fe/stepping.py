@@ -13,6 +13,15 @@ the limit forever); then the test stops with a diagnosis. An optional acceptance
 (``Stepping.accept``, e.g. the stability monitor) may reject a converged substep; that too cuts
 back, and since the increment may not shrink below the level's first increment / 2^max_cutbacks,
 a critical load level is bracketed to within that increment instead of being approached forever.
+
+Time and history (only when a scene asks for them; the elastic loop does none of this): levels
+may carry a physical time (``Stepping.times``, s). A substep covering the fraction [s, s'] of a
+level's segment advances the time by (s' − s)(τ_k − τ_{k−1}), so a cut-back substep also halves
+the time step; a hold (t constant, time advancing) is a segment like any other. A body with
+history (``has_history``) is told the substep's time step before the solve and commits its state
+only after the substep converged and was accepted. Levels flagged in ``Stepping.force_held`` hold
+the moving grip's force instead of its position (creep; vlab.fe.force_control): t is then solved
+for. A body with a dead load (``f_ext``) is first brought to equilibrium under it at t = 0.
 """
 
 from __future__ import annotations
@@ -24,6 +33,7 @@ from typing import Callable
 import numpy as np
 
 from vlab.fe.assembly import Partition
+from vlab.fe.force_control import generalized_force, solve_force_controlled
 from vlab.fe.linsolve import SingularSystem
 from vlab.fe.newton import (NewtonFailure, NewtonOptions, NewtonRecord, Tangent,
                             solve_equilibrium, tangent_at)
@@ -40,6 +50,7 @@ class Level:
     evaluation: Evaluation
     newton: list[NewtonRecord]
     cutbacks: int
+    time: float | None = None  # physical time, s (None for a quasi-static test)
 
     @property
     def iterations(self) -> int:
@@ -81,6 +92,8 @@ class Stepping:
     max_cutbacks: int = 8
     newton: NewtonOptions = NewtonOptions()
     accept: Acceptance | None = None
+    times: np.ndarray | None = None  # physical time (s) at each level; None = quasi-static
+    force_held: np.ndarray | None = None  # True where a level holds the moving grip's force
 
 
 def run_schedule(body: HyperelasticBody, partition: Partition, u_hat: np.ndarray,
@@ -91,8 +104,17 @@ def run_schedule(body: HyperelasticBody, partition: Partition, u_hat: np.ndarray
     history = SolveHistory()
     u = np.zeros(body.space.n_dofs)
     current = body.evaluate(u)
+    timed = bool(getattr(body, "has_history", False))
     try:
+        if getattr(body, "f_ext", None) is not None:  # settle under a dead load (self-weight) first
+            current = _settled(body, partition, current, stepping, scales, timed)
         tangent = tangent_at(body, partition, current)
+    except NewtonFailure as exc:
+        history.failure = Failure(0, float(stepping.schedule[0]), 0.0, 0.0,
+                                  f"no equilibrium under the specimen's own weight: {exc.reason}",
+                                  list(exc.record.residuals))
+        history.seconds = time.perf_counter() - start
+        return history
     except SingularSystem as exc:
         history.failure = Failure(0, float(stepping.schedule[0]), 0.0, 0.0,
                                   f"the unloaded tangent is singular: the grips leave the specimen "
@@ -100,35 +122,52 @@ def run_schedule(body: HyperelasticBody, partition: Partition, u_hat: np.ndarray
         history.seconds = time.perf_counter() - start
         return history
     history.factorizations += 1
-    t = 0.0
+    t, clock, held_force = 0.0, 0.0, None
     for index, target in enumerate(stepping.schedule, start=1):
-        dt, cutbacks, records = target - t, 0, []
-        smallest = abs(dt) / 2.0**stepping.max_cutbacks
-        while t != target:
-            t_try = target if abs(target - t) <= abs(dt) * (1 + 1e-12) else t + dt
+        t0, clock0 = t, clock
+        span = (float(stepping.times[index - 1]) - clock0) if stepping.times is not None else 0.0
+        held = stepping.force_held is not None and bool(stepping.force_held[index - 1])
+        if held and held_force is None:
+            held_force = generalized_force(current, u_hat)  # the force reached when the hold starts
+        ds, s, cutbacks, records = 1.0, 0.0, 0, []  # substep = fraction [s, s + ds] of the segment
+        smallest = 1.0 / 2.0**stepping.max_cutbacks
+        while s < 1.0:
+            s_try = 1.0 if 1.0 - s <= ds * (1 + 1e-12) else s + ds
+            t_try = target if s_try == 1.0 else t0 + s_try * (target - t0)
+            if timed:
+                body.begin_increment((s_try - s) * span)
             try:
-                candidate, record, new_tangent = _substep(body, partition, current, tangent,
-                                                          u_hat, t, t_try, stepping, scales)
+                if held:
+                    candidate, t_try, record, new_tangent = solve_force_controlled(  # from the
+                        body, partition, body.evaluate(current.u), t, u_hat, held_force,  # new increment
+                        scales, stepping.newton)
+                else:
+                    candidate, record, new_tangent = _substep(body, partition, current, tangent,
+                                                              u_hat, t, t_try, stepping, scales)
                 objection = stepping.accept and stepping.accept(candidate, float(t_try))
                 if objection:
                     raise NewtonFailure(objection, record, None)
                 current = candidate
             except NewtonFailure as failure:
                 records.append(failure.record)
-                cutbacks, dt = cutbacks + 1, dt / 2
-                if cutbacks > stepping.max_cutbacks or abs(dt) < smallest * (1 - 1e-12):
+                cutbacks, ds = cutbacks + 1, ds / 2
+                if cutbacks > stepping.max_cutbacks or ds < smallest * (1 - 1e-12):
                     history.failure = _diagnose(index, target, t_try, t, failure)
                     history.seconds = time.perf_counter() - start
                     return history
                 continue
+            if timed:
+                body.commit(current)
             records.append(record)
             if new_tangent is not None:
                 tangent = new_tangent
                 history.factorizations += record.iterations
-            t = t_try
+            t, s = t_try, s_try
+            clock = clock0 + s * span
             if record.iterations <= EASY_ITERATIONS:
-                dt *= 2.0
-        level = Level(float(t), current, records, cutbacks)
+                ds *= 2.0
+        level = Level(float(t), current, records, cutbacks,
+                      None if stepping.times is None else float(stepping.times[index - 1]))
         history.levels.append(level)
         if on_level is not None:
             on_level(level)
@@ -153,6 +192,16 @@ def _substep(body, partition, current: Evaluation, tangent: Tangent, u_hat, t0, 
         if start.admissible:
             break
     return solve_equilibrium(body, partition, start, scales, stepping.newton)
+
+
+def _settled(body, partition, current: Evaluation, stepping: Stepping, scales, timed: bool) -> Evaluation:
+    """Equilibrium under the dead load alone, grips at rest (t = 0)."""
+    if timed:
+        body.begin_increment(0.0)
+    settled = solve_equilibrium(body, partition, current, scales, stepping.newton)[0]
+    if timed:
+        body.commit(settled)
+    return settled
 
 
 def _diagnose(index: int, target: float, attempted: float, converged: float,

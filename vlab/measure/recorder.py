@@ -32,6 +32,7 @@ class Curve:
     transverse_strain: list[float] = field(default_factory=list)
     thickness_strain: list[float] = field(default_factory=list)
     area0: dict[int, float] = field(default_factory=dict)
+    time: list[float] = field(default_factory=list)  # s, physical time of each level (timed tests only)
 
     @property
     def axes(self) -> list[int]:
@@ -71,6 +72,8 @@ class Recorder:
         u, f_int = level.evaluation.u, level.evaluation.f_int
         c = self.curve
         c.t.append(level.t)
+        if level.time is not None:
+            c.time.append(level.time)
         for a in self.axes:
             c.stretch[a].append(1.0 + level.t * (self.target[a] - 1.0))
             c.force[a].append(self.load_cells[a].read(f_int))

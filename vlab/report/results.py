@@ -35,6 +35,8 @@ def curve_columns(result: RunResult) -> dict[str, list[float]]:
         cols["true_stress" + sfx] = list(c.column("true_stress", axis))
     if len(c.axes) == 1:
         cols["crosshead_strain"] = [s - 1.0 for s in c.stretch[0]]
+    if c.time:
+        cols["time"] = list(c.time)
     cols["transverse_strain"] = list(c.transverse_strain)
     cols["thickness_strain"] = list(c.thickness_strain)
     return cols
@@ -62,7 +64,8 @@ def result_to_dict(result: RunResult) -> dict:
         "curve": curve_columns(result) | {
             "units": {"stretch": "1 (grip)", "strain": "1 (extensometer, engineering)",
                       "stress": "MPa (engineering)", "force": "N", "true_stress": "MPa",
-                      "crosshead_strain": "1 (grip separation change / initial grip separation)"},
+                      "crosshead_strain": "1 (grip separation change / initial grip separation)",
+                      "time": "s"},
         },
         "reference": result.reference,
         "homogeneity": result.extra.get("homogeneity"),
@@ -82,6 +85,7 @@ def result_to_dict(result: RunResult) -> dict:
             "quality": result.extra.get("mesh_quality"),
         },
         "stability": result.extra.get("stability", []),
+        "effects": result.extra.get("effects"),
         "warnings": result.extra.get("warnings", []),
         "failure": None if history.failure is None else failure_dict(scene, history.failure),
     })

@@ -100,6 +100,8 @@ def write_report(outcomes: list, out: Path, scene, scene_text: str | None,
         links = {o.model: _write_model_files(o, tmp, "." if single else o.model, options) for o in outcomes}
         plot_overlay(datas, tmp / "stress_strain.png", options.true_measures, departures)
         plot_lateral(datas, tmp / "lateral_strain.png")
+        from vlab.report.effect_plots import effect_figures
+        extra_figures = effect_figures(datas, tmp)
         figures = [
             Figure("stress_strain.png", f"{kind.capitalize()} stress against extensometer strain for every "
                    "model; dashed: the analytic homogeneous solution where the specimen has one; shaded: "
@@ -108,6 +110,7 @@ def write_report(outcomes: list, out: Path, scene, scene_text: str | None,
             Figure("lateral_strain.png", "Lateral against axial strain and the apparent Poisson's ratio "
                    "−ε_lat/ε_axial as the strain grows."),
         ]
+        figures += extra_figures
         renders, notes = _renders(outcomes, tmp, options, figures)
         if scene_text is not None:
             (tmp / "scene.toml").write_text(scene_text, encoding="utf-8")

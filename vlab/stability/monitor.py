@@ -66,6 +66,9 @@ class StabilityMonitor:
         self.model = model
         self.records: list[LevelStability] = []
         self._accepted: LevelStability | None = None
+        # a falling force is a limit point only on a monotonic ramp of an elastic material (not when
+        # unloading, relaxing or creeping); run.py switches this off for other protocols and effects
+        self.watch_limits = True
 
     def stretch_at(self, t: float) -> list[float]:
         return [1.0 + t * (s - 1.0) for s in self.target]
@@ -104,6 +107,8 @@ class StabilityMonitor:
         return [float(Kv[self.moving[a]].sum()) for a in range(len(self.target))]
 
     def _limit_axis(self, forces: list[float], slopes: list[float] | None) -> int | None:
+        if not self.watch_limits:
+            return None
         last = self._accepted
         for a, f_new in enumerate(forces):
             sign = np.sign(self.target[a] - 1.0)

@@ -1,0 +1,24 @@
+"""What results.json records about the declared effects, the protocol and the history state."""
+
+from __future__ import annotations
+
+from dataclasses import asdict
+
+import numpy as np
+
+
+def effects_summary(scene, body, levels) -> dict:
+    """Declared effects with their parameters, the protocol, and per recorded level the largest
+    cell value of each history variable (e.g. viscous_stress, MPa)."""
+    history: dict[str, list[float]] = {}
+    if hasattr(body, "cell_fields_of"):
+        for level in levels:
+            cells = body.cell_fields_of(level.evaluation) or {}
+            for name, values in cells.items():
+                if name != "cauchy":
+                    history.setdefault(name + "_max", []).append(float(np.max(values)))
+    return {"declared": {spec.name: asdict(spec) for spec in scene.effects},
+            "protocol": asdict(scene.test.protocol),
+            "history": history,
+            "units": {"tau": "s", "g": "mm/s²", "strain_rate": "1/s", "ramp_time": "s",
+                      "hold_time": "s", "viscous_stress_max": "MPa (‖Σ Q_i‖, largest cell)"}}
