@@ -81,6 +81,7 @@ def result_to_dict(result: RunResult) -> dict:
         "timing": result.timing,
         "mesh": {
             "cell": scene.mesh.cell, "order": scene.mesh.order, "size": scene.mesh.size,
+            "formulation": scene.mesh.formulation,
             "elements": int(space.basis.nelems), "nodes": int(space.n_nodes), "dofs": int(space.n_dofs),
             "quality": result.extra.get("mesh_quality"),
         },
