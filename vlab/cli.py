@@ -196,3 +196,59 @@ def compare(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (
             _print_summary(outcome.data)
     console.print(f"report: {out / 'index.html'}", highlight=False, soft_wrap=True)
     raise typer.Exit(EXIT_OK if all(o.data["converged"] for o in outcomes) else EXIT_FAILED)
+
+
+# --- studies over many runs: sweep (parameter grid) and cost (accuracy against time) -----------
+
+def _execution(workers: int, scheduler: Optional[str]):
+    from vlab.study.sweep import Execution
+
+    return Execution(workers=workers, scheduler=scheduler)
+
+
+def _sweep_with_progress(points, knobs, cache_dir: Path, execution, quiet: bool, what: str):
+    """Run the points on Dask with a progress bar of runs done / running / failed."""
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+    from vlab.study.cache import SummaryCache
+    from vlab.study.sweep import run_sweep
+
+    with Progress(TextColumn(f"{what:>8}"), BarColumn(), MofNCompleteColumn(),
+                  TextColumn("done · {task.fields[running]} running · {task.fields[failed]} failed"),
+                  TimeElapsedColumn(), console=console, disable=quiet) as bar:
+        task = bar.add_task(what, total=len(points), running=0, failed=0)
+
+        def progress(done, running, failed, total):
+            bar.update(task, completed=done, total=total, running=running, failed=failed)
+
+        return run_sweep(points, knobs, SummaryCache(cache_dir), execution, progress)
+
+
+@app.command()
+def sweep(scene: Path = typer.Argument(..., help="Scene TOML file."),
+          sets: list[str] = typer.Option(..., "--set", help="Grid axis section.key=v1,v2,... (repeatable)."),
+          out: Optional[Path] = typer.Option(None, "--out", "-o", help="Output folder (default reports/<name>-sweep)."),
+          cache: Path = typer.Option(Path("reports") / ".cache", "--cache", help="Cache folder of run summaries."),
+          workers: int = typer.Option(2, "--workers", "-j", min=1, help="Worker processes of the local Dask cluster."),
+          scheduler: Optional[str] = typer.Option(None, "--scheduler",
+                                                  help="Use an existing Dask cluster, e.g. tcp://HOST:8786."),
+          quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress output.")):
+    """Run a scene over a parameter grid on Dask; cached runs are not recomputed. Writes a table."""
+    from vlab.study.grid import expand_grid, parse_axis
+    from vlab.study.summary import RunKnobs
+    from vlab.study.table import write_sweep_report
+
+    parsed, _ = _load(scene)
+    try:
+        points = expand_grid(parsed.source, [parse_axis(s) for s in sets])
+    except SceneError as exc:
+        console.print(f"[red]invalid option[/red] {exc}", highlight=False)
+        raise typer.Exit(EXIT_INVALID)
+    outcome = _sweep_with_progress(points, RunKnobs(), cache, _execution(workers, scheduler), quiet, "sweep")
+    folder = out or Path("reports") / f"{parsed.name}-sweep"
+    meta = {"scene": str(scene), "grid": sets, "cache_hits": outcome.cache_hits, "computed": outcome.computed,
+            "seconds": outcome.seconds}
+    index = write_sweep_report(folder, f"{parsed.name}: sweep", outcome.summaries, meta)
+    console.print(f"{len(points)} runs ({outcome.cache_hits} cached, {outcome.computed} computed, "
+                  f"{outcome.failed} failed or invalid); table: {index}", highlight=False, soft_wrap=True)
+    raise typer.Exit(EXIT_OK if outcome.failed == 0 else EXIT_FAILED)
