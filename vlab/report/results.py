@@ -84,4 +84,5 @@ def result_to_dict(result: RunResult) -> dict:
         "stability": result.extra.get("stability", []),
         "warnings": result.extra.get("warnings", []),
         "failure": None if history.failure is None else failure_dict(scene, history.failure),
+        "accuracy_estimate": result.extra.get("accuracy_estimate"),  # vlab.study.estimate; None if off
     })

@@ -155,7 +155,7 @@ class _client:
             self.client = Client(self.execution.scheduler, timeout="20s")
             return self.client
         self.cluster = LocalCluster(n_workers=self.execution.workers, threads_per_worker=1, processes=True,
-                                    dashboard_address=None, scheduler_port=0, silence_logs=logging.ERROR)
+                                    dashboard_address=":0", scheduler_port=0, silence_logs=logging.ERROR)
         self.client = Client(self.cluster)
         return self.client
 
