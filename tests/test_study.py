@@ -190,3 +190,30 @@ def test_estimate_is_exact_by_construction_on_the_roller_block_only():
     clamped = accuracy_estimate(run_scene(parse_scene(scene_dict(mesh={"size": 2.5}, test={"grips": "clamped"}))))
     assert clamped["available"] and not clamped["exact_by_construction"]
     assert 1e-6 < clamped["quantities"]["final_stress"]["relative"] < 0.2
+
+
+@pytest.mark.slow
+def test_dogbone_error_in_E_falls_with_mesh_size_at_an_observed_order(tmp_path):
+    """Coarse ISO 37 type 2 dumb-bell, order 1 hex, 4 sizes (ratio 2: with ratio √2 the mapper's rounded
+    element counts make the sequence non-monotone), small stretch. Measured once (shared machine):
+    E error 2.0e-2, 1.3e-3, 8.9e-4, 6.0e-4 at h = 6, 3, 1.5, 0.75; observed order of E 0.58."""
+    from vlab.study.cost import mesh_family, time_to_target
+
+    scene = parse_scene(tomllib.loads((ROOT / "specimens" / "dogbone-iso37-2.toml").read_text())
+                        | {"mesh": {"size": 3.0, "order": 1, "cell": "hex"},
+                           "test": {"kind": "uniaxial", "stretch": 1.05, "steps": 4}})
+    options = CostOptions(levels=4, ratio=2.0, orders=(1,), cells=("hex",))
+    points = [p for p in knob_points(scene, options) if p.label["knob"].startswith("mesh size")]
+    outcome = run_sweep(points, RunKnobs(), SummaryCache(tmp_path / "cache"), Execution(workers=2))
+    analysis = analyse(scene, outcome.summaries, options)
+    assert analysis.reference_kind == "richardson" and not analysis.round_off
+    p_E = analysis.orders["E"]
+    print(f"\nreference E = {analysis.reference['E']:.8g} MPa, observed order of E: {p_E}; notes: {analysis.notes}")
+    for s, e in zip(outcome.summaries, analysis.errors):
+        print(f"  {s['label']['knob']:26s} h = {s['label']['value']:<8g} DOFs {s['mesh']['dofs']:6d} "
+              f"t = {s['timing']['total_s']:6.2f} s  err E = {e['E']:.3e}  err max = {e['max']:.3e}")
+    for target in (1e-2, 3e-3, 1e-3):
+        print(f"  time to reach {target:g}: {time_to_target(outcome.summaries, analysis, mesh_family(1, 'hex'), target)} s")
+    assert p_E is not None and 0.5 < p_E < 6
+    order1 = [e["E"] for s, e in zip(outcome.summaries, analysis.errors) if s["label"]["knob"] == mesh_family(1, "hex")]
+    assert all(a > b for a, b in zip(order1, order1[1:]))  # falls monotonically with h
