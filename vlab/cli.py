@@ -41,7 +41,9 @@ def run(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (defa
         field: str = typer.Option("von-mises", "--field", help="Render colouring: von-mises, max-stretch or J."),
         single_file: bool = typer.Option(False, "--single-file", help="Inline the images in index.html."),
         gif: bool = typer.Option(False, "--gif", help="Also write an animated GIF of the test."),
-        render: bool = typer.Option(True, "--render/--no-render", help="3D renders of the deformed specimen.")):
+        render: bool = typer.Option(True, "--render/--no-render", help="3D renders of the deformed specimen."),
+        estimate: bool = typer.Option(True, "--estimate/--no-estimate",
+                                      help="Accuracy estimate from one coarser companion solve (mesh.size × 2).")):
     """Run one test and write its report: results.json, curve.csv, PNGs, renders, VTU/PVD, index.html."""
     from vlab.report.writer import write_run
     from vlab.run import run_scene
@@ -65,10 +67,28 @@ def run(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (defa
     except SceneError as exc:  # e.g. a mesh below mesh.min_quality: nothing is written
         console.print(f"[red]invalid scene[/red] {exc}", highlight=False)
         raise typer.Exit(EXIT_INVALID)
+    if estimate:
+        from vlab.study.estimate import accuracy_estimate
+
+        result.extra["accuracy_estimate"] = accuracy_estimate(result)
     data = write_run(result, out, text, options)
     _print_summary(data)
+    _print_estimate(data.get("accuracy_estimate"))
     console.print(f"report: {out / 'index.html'}", highlight=False, soft_wrap=True)
     raise typer.Exit(EXIT_OK if data["converged"] else EXIT_FAILED)
+
+
+def _print_estimate(est: Optional[dict]) -> None:
+    if not est:
+        return
+    if not est["available"]:
+        console.print(f"accuracy estimate not available: {est['reason']}", highlight=False)
+        return
+    q = est["quantities"]
+    parts = ", ".join(f"{k} ± {v['error']:.2g}" for k, v in q.items() if v["error"] is not None)
+    console.print(f"accuracy estimate (companion mesh.size {est['companion_mesh_size']:g}, {est['cost_s']:.2f} s): "
+                  f"{parts}" + (" — exact by construction (round-off)" if est["exact_by_construction"] else ""),
+                  highlight=False)
 
 
 def _print_summary(data: dict) -> None:
@@ -196,3 +216,107 @@ def compare(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (
             _print_summary(outcome.data)
     console.print(f"report: {out / 'index.html'}", highlight=False, soft_wrap=True)
     raise typer.Exit(EXIT_OK if all(o.data["converged"] for o in outcomes) else EXIT_FAILED)
+
+
+# --- studies over many runs: sweep (parameter grid) and cost (accuracy against time) -----------
+
+def _execution(workers: int, scheduler: Optional[str]):
+    from vlab.study.sweep import Execution
+
+    return Execution(workers=workers, scheduler=scheduler)
+
+
+def _sweep_with_progress(points, knobs, cache_dir: Path, execution, quiet: bool, what: str):
+    """Run the points on Dask with a progress bar of runs done / running / failed."""
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+    from vlab.study.cache import SummaryCache
+    from vlab.study.sweep import run_sweep
+
+    with Progress(TextColumn(f"{what:>8}"), BarColumn(), MofNCompleteColumn(),
+                  TextColumn("done · {task.fields[running]} running · {task.fields[failed]} failed"),
+                  TimeElapsedColumn(), console=console, disable=quiet) as bar:
+        task = bar.add_task(what, total=len(points), running=0, failed=0)
+
+        def progress(done, running, failed, total):
+            bar.update(task, completed=done, total=total, running=running, failed=failed)
+
+        return run_sweep(points, knobs, SummaryCache(cache_dir), execution, progress)
+
+
+@app.command()
+def sweep(scene: Path = typer.Argument(..., help="Scene TOML file."),
+          sets: list[str] = typer.Option(..., "--set", help="Grid axis section.key=v1,v2,... (repeatable)."),
+          out: Optional[Path] = typer.Option(None, "--out", "-o", help="Output folder (default reports/<name>-sweep)."),
+          cache: Path = typer.Option(Path("reports") / ".cache", "--cache", help="Cache folder of run summaries."),
+          workers: int = typer.Option(2, "--workers", "-j", min=1, help="Worker processes of the local Dask cluster."),
+          scheduler: Optional[str] = typer.Option(None, "--scheduler",
+                                                  help="Use an existing Dask cluster, e.g. tcp://HOST:8786."),
+          quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress output.")):
+    """Run a scene over a parameter grid on Dask; cached runs are not recomputed. Writes a table."""
+    from vlab.study.grid import expand_grid, parse_axis
+    from vlab.study.summary import RunKnobs
+    from vlab.study.table import write_sweep_report
+
+    parsed, _ = _load(scene)
+    try:
+        points = expand_grid(parsed.source, [parse_axis(s) for s in sets])
+    except SceneError as exc:
+        console.print(f"[red]invalid option[/red] {exc}", highlight=False)
+        raise typer.Exit(EXIT_INVALID)
+    outcome = _sweep_with_progress(points, RunKnobs(), cache, _execution(workers, scheduler), quiet, "sweep")
+    folder = out or Path("reports") / f"{parsed.name}-sweep"
+    meta = {"scene": str(scene), "grid": sets, "cache_hits": outcome.cache_hits, "computed": outcome.computed,
+            "seconds": outcome.seconds}
+    index = write_sweep_report(folder, f"{parsed.name}: sweep", outcome.summaries, meta)
+    console.print(f"{len(points)} runs ({outcome.cache_hits} cached, {outcome.computed} computed, "
+                  f"{outcome.failed} failed or invalid); table: {index}", highlight=False, soft_wrap=True)
+    raise typer.Exit(EXIT_OK if outcome.failed == 0 else EXIT_FAILED)
+
+
+def _fraction(text: str) -> float:
+    """'1%' -> 0.01, '0.01' -> 0.01."""
+    try:
+        value = float(text[:-1]) / 100.0 if text.strip().endswith("%") else float(text)
+    except ValueError:
+        value = -1.0
+    if not 0.0 < value < 1.0:
+        console.print(f"[red]invalid option[/red] --target {text!r}: a relative accuracy in (0, 1), "
+                      "e.g. 1% or 0.01", highlight=False)
+        raise typer.Exit(EXIT_INVALID)
+    return value
+
+
+@app.command()
+def cost(scene: Path = typer.Argument(..., help="Scene TOML file."),
+         target: str = typer.Option("1%", "--target", help="Requested relative accuracy, e.g. 1% or 0.001."),
+         levels: int = typer.Option(4, "--levels", min=3, help="Mesh sizes per order and cell (ratio √2)."),
+         out: Optional[Path] = typer.Option(None, "--out", "-o", help="Output folder (default reports/<name>-cost)."),
+         cache: Path = typer.Option(Path("reports") / ".cache", "--cache", help="Cache folder of run summaries."),
+         workers: int = typer.Option(2, "--workers", "-j", min=1, help="Worker processes of the local Dask cluster."),
+         scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Existing Dask cluster tcp://HOST:PORT."),
+         render: bool = typer.Option(False, "--render/--no-render", help="Time the 3D renders in each run's report."),
+         quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress output.")):
+    """Error against time for mesh size, order, cell, load steps, Newton tolerance and model."""
+    from vlab.study.cost import CostOptions, analyse, knob_points
+    from vlab.study.cost_report import write_cost_report
+    from vlab.study.summary import RunKnobs
+
+    parsed, _ = _load(scene)
+    options = CostOptions(levels=levels, target=_fraction(target))
+    points = knob_points(parsed, options)
+    outcome = _sweep_with_progress(points, RunKnobs(time_report=True, render=render), cache,
+                                   _execution(workers, scheduler), quiet, "cost")
+    analysis = analyse(parsed, outcome.summaries, options)
+    memory = next((s["memory"]["method"] for s in outcome.summaries if s.get("memory")), "")
+    meta = {"scene": str(scene), "target": options.target, "levels": levels, "cache_hits": outcome.cache_hits,
+            "computed": outcome.computed, "seconds": outcome.seconds, "render": render, "memory_method": memory}
+    folder = out or Path("reports") / f"{parsed.name}-cost"
+    index = write_cost_report(folder, f"{parsed.name}: what accuracy costs", outcome.summaries, analysis,
+                              options.target, meta)
+    console.print(analysis.recommendation, highlight=False, soft_wrap=True)
+    for q, note in analysis.notes.items():
+        console.print(f"  {q}: {note}", highlight=False, soft_wrap=True)
+    console.print(f"{len(points)} runs ({outcome.cache_hits} cached, {outcome.computed} computed, "
+                  f"{outcome.failed} failed or invalid); report: {index}", highlight=False, soft_wrap=True)
+    raise typer.Exit(EXIT_OK)

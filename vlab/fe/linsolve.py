@@ -32,6 +32,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from vlab.fe import pardiso
+from vlab.fe.timers import LINEAR_SOLVE, timed
 
 log = logging.getLogger(__name__)
 
@@ -132,6 +133,7 @@ class SuperLUFactorization(Factorization):
 
     _pivoting = False
 
+    @timed(LINEAR_SOLVE)
     def solve(self, b: np.ndarray) -> np.ndarray:
         b = np.asarray(b, dtype=float)
         x = self._lu.solve(b)
@@ -169,6 +171,7 @@ class PardisoFactorization(Factorization):
         self.negative_pivots = self._pattern.negative_pivots
         return slot
 
+    @timed(LINEAR_SOLVE)
     def solve(self, b: np.ndarray) -> np.ndarray:
         if self._pattern.owner[self._slot] is not self:
             log.debug("PARDISO factor slot reused since; refactorizing")
@@ -225,6 +228,7 @@ class EmptyFactorization(Factorization):
         return np.zeros(0)
 
 
+@timed(LINEAR_SOLVE)
 def factorize(K: sp.spmatrix) -> Factorization:
     """Factorize a symmetric sparse matrix with the backend in use."""
     if K.shape[0] == 0:

@@ -17,6 +17,7 @@ import scipy.sparse as sp
 
 from vlab.fe.assembly import SparsityPattern, element_forces, element_stiffness, scatter_vector
 from vlab.fe.space import DisplacementSpace
+from vlab.fe.timers import ASSEMBLY, timed
 
 J_COLLAPSE = 1e-4  # smallest admissible volume ratio det F
 
@@ -50,6 +51,7 @@ class HyperelasticBody:
         self.material = material
         self.pattern = SparsityPattern.build(space.element_nodes, space.dim)
 
+    @timed(ASSEMBLY)
     def evaluate(self, u: np.ndarray) -> Evaluation:
         F = self.space.deformation_gradient(u)
         J = np.linalg.det(np.moveaxis(F, (0, 1), (-2, -1)))
@@ -63,6 +65,7 @@ class HyperelasticBody:
         f_int = scatter_vector(self.space, element_forces(self.space, self.material.stress(F)))
         return Evaluation(u, F, W, f_int, min_J, (int(worst[0]), int(worst[1])))
 
+    @timed(ASSEMBLY)
     def stiffness(self, evaluation: Evaluation) -> sp.csr_matrix:
         """Tangent stiffness K = ∂f_int/∂u at an admissible state, N/mm."""
         return self.pattern.matrix(element_stiffness(self.space, self.material.tangent(evaluation.F)))

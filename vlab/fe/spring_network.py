@@ -26,6 +26,7 @@ import scipy.sparse as sp
 from vlab.fe.assembly import SparsityPattern
 from vlab.fe.problem import Evaluation
 from vlab.fe.space import DisplacementSpace
+from vlab.fe.timers import ASSEMBLY, timed
 
 #: c in k̃ = c E v_s / L: the isotropic-orientation average makes E_network = c E / 6.
 ISOTROPIC_FACTOR = 6.0
@@ -90,6 +91,7 @@ class SpringNetwork:
         length = np.linalg.norm(d, axis=1)
         return d, length
 
+    @timed(ASSEMBLY)
     def evaluate(self, u: np.ndarray) -> Evaluation:
         """Energy, spring forces and (for reports) the FE deformation gradient of the mesh.
 
@@ -109,6 +111,7 @@ class SpringNetwork:
         np.add.at(f_int, self.a, -f)
         return Evaluation(u, F, W, f_int.ravel(), float(J[worst]), worst)
 
+    @timed(ASSEMBLY)
     def stiffness(self, evaluation: Evaluation) -> sp.csr_matrix:
         """K = ∂f_int/∂u, N/mm, in the same sparsity pattern as the finite-element body."""
         d, length = self._geometry(evaluation.u)

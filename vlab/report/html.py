@@ -139,11 +139,31 @@ def comparison_rows(page: ReportPage) -> list[tuple[str, list[str]]]:
         ("mesh", per(lambda d: f"{d['mesh']['elements']} {d['mesh']['cell']} (order {d['mesh']['order']})")),
         ("mesh quality", per(lambda d: _quality(d["mesh"].get("quality")))),
     ]
+    if any(d.get("accuracy_estimate") for d in page.models):
+        rows.append(("accuracy estimate (coarser companion solve)", per(_estimate)))
     taylor = [page.checks.get(d["input"]["model"], {}).get("taylor") for d in page.models]
     if any(taylor):
         rows.append(("Taylor test order: energy / force (2 = consistent)",
                      [f"{t['energy_order']:.3f} / {t['force_order']:.3f}" if t else "—" for t in taylor]))
     return rows
+
+
+def _estimate(d: dict) -> str:
+    """E, ν and final-stress error estimates with their cost, or why there is none."""
+    est = d.get("accuracy_estimate")
+    if not est:
+        return "—"
+    if not est.get("available"):
+        return f"not available: {html.escape(est.get('reason', ''))}"
+    q = est["quantities"]
+    parts = "; ".join(f"{name} ± {_fmt(q[key]['error'], 2)} ({_fmt(100 * q[key]['relative'], 2)} %)"
+                      for key, name in (("E", "E"), ("nu", "ν"), ("final_stress", "final stress"))
+                      if q.get(key) and q[key]["error"] is not None and q[key]["relative"] is not None)
+    text = (f"{parts}; companion mesh.size {_fmt(est['companion_mesh_size'], 4)}, assumed order "
+            f"{est['assumed_order']}, cost {_fmt(est['cost_s'], 3)} s")
+    if est.get("exact_by_construction"):
+        text += f". <b>Exact by construction</b>: {html.escape(est['note'])}"
+    return text
 
 
 def _quality(quality) -> str:

@@ -89,4 +89,5 @@ def result_to_dict(result: RunResult) -> dict:
         "effects": result.extra.get("effects"),
         "warnings": result.extra.get("warnings", []),
         "failure": None if history.failure is None else failure_dict(scene, history.failure),
+        "accuracy_estimate": result.extra.get("accuracy_estimate"),  # vlab.study.estimate; None if off
     })

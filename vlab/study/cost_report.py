@@ -1,0 +1,97 @@
+"""The cost study's report: error against time (log–log, one curve per knob, Pareto front), the
+table behind it, the reference used and a plain-language recommendation."""
+
+from __future__ import annotations
+
+import html
+import json
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+from vlab.report.writer import atomic_folder  # noqa: E402
+from vlab.study.cost import CostAnalysis, run_seconds  # noqa: E402
+from vlab.study.table import html_table, page, table_rows, write_csv  # noqa: E402
+
+ERROR_FLOOR = 1e-17  # log axes: errors at exactly zero are drawn at this floor
+
+
+def plot_error_time(summaries: list[dict], analysis: CostAnalysis, target: float, path: Path) -> None:
+    fig, ax = plt.subplots(figsize=(8.0, 5.2), dpi=120)
+    knobs = list(dict.fromkeys(s["label"]["knob"] for s in summaries))
+    for knob in knobs:
+        pts = sorted((run_seconds(s), max(e["max"], ERROR_FLOOR))
+                     for s, e in zip(summaries, analysis.errors)
+                     if s["label"]["knob"] == knob and e and e["max"] is not None)
+        if pts:
+            ax.plot(*zip(*pts), "o-", ms=4, lw=1.2, label=knob)
+    front = sorted((run_seconds(summaries[i]), max(analysis.errors[i]["max"], ERROR_FLOOR)) for i in analysis.front)
+    if front:
+        ax.step(*zip(*front), where="post", color="k", lw=1.0, alpha=0.6)
+        ax.plot(*zip(*front), "o", ms=10, mfc="none", mec="k", label="Pareto front")
+    ax.axhline(target, color="tab:red", ls="--", lw=1, label=f"target {target:.3g}")
+    if analysis.best is not None:
+        s = summaries[analysis.best]
+        ax.plot([run_seconds(s)], [max(analysis.errors[analysis.best]["max"], ERROR_FLOOR)], "*",
+                ms=16, color="gold", mec="k", label="recommended", zorder=5)
+    if analysis.round_off:
+        ax.text(0.02, 0.95, "every mesh at round-off: no convergence trend", transform=ax.transAxes,
+                fontsize=9, color="tab:red", va="top")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("compute time per run [s] (mesh + solve + measure)")
+    ax.set_ylabel("largest relative error of E, ν, final force, final stress")
+    ax.set_title(f"Error against time — reference: {analysis.reference_kind}")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7.5, loc="best")
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+
+
+ERROR_COLUMNS = (("rel. error E", ("errors", "E")), ("rel. error ν", ("errors", "nu")),
+                 ("rel. error final force", ("errors", "final_force")),
+                 ("rel. error final stress", ("errors", "final_stress")), ("largest error", ("errors", "max")))
+
+
+def write_cost_report(folder: Path, title: str, summaries: list[dict], analysis: CostAnalysis,
+                      target: float, meta: dict) -> Path:
+    rows_in = [s | {"errors": e or {}} for s, e in zip(summaries, analysis.errors)]
+    headers, rows = table_rows(rows_in, extra=ERROR_COLUMNS)
+    reference = "".join(
+        f"<tr><th>{html.escape(q)}</th><td class=num>{_num(analysis.reference.get(q))}</td>"
+        f"<td>{_num(analysis.orders.get(q), 3)}</td><td>{html.escape(analysis.notes.get(q, ''))}</td></tr>"
+        for q in analysis.reference)
+    kind = ("the analytic homogeneous solution of the scene's model (vlab.measure.reference)"
+            if analysis.reference_kind == "analytic" else
+            "a Richardson extrapolation from the three finest mesh sizes of the scene's own order and cell")
+    body = (f"<p><b>Recommendation.</b> {html.escape(analysis.recommendation)}</p>"
+            f"<p>Reference: {kind}. Errors are relative, |q − q_ref| / |q_ref|.</p>"
+            f"<table><tr><th>quantity</th><th>reference</th><th>observed order</th><th>note</th></tr>"
+            f"{reference}</table>"
+            f"<figure><img src='error_time.png' alt='error against time'><figcaption>Largest relative "
+            f"error against compute time (mesh + solve + measure), one curve per knob; circled: the Pareto front (no run is both "
+            f"faster and more accurate); dashed: the target.</figcaption></figure>"
+            f"<p><small>Time split per run: mesh, assembly, linear solves (factorization + solve), other "
+            f"solver work, measurement, report (plots + HTML{'' if meta.get('render') else '; 3D renders off'}). "
+            f"Peak RSS: {html.escape(str(meta.get('memory_method', '')))}. Pareto rows are shaded. "
+            f"Timings were measured on a shared machine; cached runs keep the time they first took."
+            f"</small></p>" + html_table(headers, rows, set(analysis.front)))
+    with atomic_folder(folder) as tmp:
+        plot_error_time(summaries, analysis, target, tmp / "error_time.png")
+        write_csv(headers, rows, tmp / "cost.csv")
+        (tmp / "cost.json").write_text(json.dumps(
+            {"meta": meta, "reference_kind": analysis.reference_kind, "reference": analysis.reference,
+             "observed_order": analysis.orders, "notes": analysis.notes, "round_off": analysis.round_off,
+             "pareto_front": analysis.front, "recommended": analysis.best,
+             "recommendation": analysis.recommendation, "errors": analysis.errors, "runs": summaries},
+            indent=1, default=str))
+        (tmp / "index.html").write_text(page(title, body), encoding="utf-8")
+    return folder / "index.html"
+
+
+def _num(x, digits: int = 8) -> str:
+    return "—" if x is None else f"{x:.{digits}g}"

@@ -1,0 +1,142 @@
+"""One run of a scene reduced to the figures a study compares (a plain JSON-safe dict).
+
+``summarize(source, knobs)`` never raises for a bad grid point: an invalid scene or mesh gives
+status "invalid", a solver stop gives status "failed" with its diagnosis, anything unexpected gives
+status "error" with the exception text (not cached: it may be transient). It is a module-level
+function of picklable arguments so that Dask workers can run it.
+
+Figures kept: measured E and ν, the final grip stretch, load-cell force (N) and engineering stress
+(MPa); the wall-time split (mesh, assembly, linear solves, other solver work, measurement, report);
+peak memory; DOFs, elements, Newton iterations, factorizations, cutbacks; and, for a uniaxial block
+with roller grips, the analytic homogeneous values of the same quantities (``analytic``), obtained
+by applying the same fit over the same window to the analytic curve at the recorded stretches.
+"""
+
+from __future__ import annotations
+
+import logging
+import tempfile
+import time
+import traceback
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+import numpy as np
+
+from vlab import __version__
+from vlab.scene import SceneError, parse_scene
+from vlab.study.memory import peak_memory
+
+log = logging.getLogger(__name__)
+
+QUANTITIES = ("E", "nu", "final_force", "final_stress")
+
+
+@dataclass(frozen=True)
+class RunKnobs:
+    """What beyond the scene a summary depends on (part of the cache key)."""
+
+    time_report: bool = False  # write the run's report (plots + HTML) to a scratch folder and time it
+    render: bool = False  # include the 3D renders in that report
+
+    def as_dict(self) -> dict:
+        return asdict(self) | {"summary_format": 1}
+
+
+def summarize(source: dict, knobs: RunKnobs = RunKnobs(), label: dict | None = None) -> dict:
+    """Run the scene given as a raw dict; return its summary (see the module docstring)."""
+    base = {"label": label or {}, "vlab_version": __version__, "knobs": knobs.as_dict()}
+    try:
+        scene = parse_scene(source, origin="scene")
+    except SceneError as exc:
+        return base | {"status": "invalid", "diagnosis": str(exc)}
+    base["scene_hash"] = scene.content_hash()
+    try:
+        return base | _run(scene, knobs)
+    except SceneError as exc:  # mesh below mesh.min_quality, invalid mesh
+        return base | {"status": "invalid", "diagnosis": str(exc)}
+    except Exception as exc:  # noqa: BLE001 - a study reports every grid point, it never aborts
+        log.exception("run failed unexpectedly")
+        return base | {"status": "error", "diagnosis": f"{type(exc).__name__}: {exc}",
+                       "traceback": traceback.format_exc(limit=8)}
+
+
+def _run(scene, knobs: RunKnobs) -> dict:
+    from vlab.report.results import result_to_dict
+    from vlab.run import run_scene
+
+    start = time.perf_counter()
+    with peak_memory() as memory:
+        result = run_scene(scene)
+        data = result_to_dict(result)
+        report_s = _time_report(result, knobs) if knobs.time_report else None
+    timing = dict(result.timing)
+    timing["solve_other_s"] = max(0.0, timing["solve_s"] - timing["assembly_s"] - timing["linear_solve_s"])
+    timing["report_s"] = report_s
+    timing["wall_s"] = time.perf_counter() - start
+    out = {
+        "status": "ok" if data["converged"] else "failed",
+        "diagnosis": None if data["converged"] else _diagnosis(data["failure"]),
+        "measured": measured_quantities(data),
+        "timing": timing,
+        "memory": memory.as_dict(),
+        "mesh": {k: data["mesh"][k] for k in ("cell", "order", "size", "elements", "nodes", "dofs")},
+        "solver": {"newton_iterations": int(sum(data["solver"]["newton_iterations"])),
+                   "factorizations": data["solver"]["factorizations"],
+                   "cutbacks": int(sum(data["solver"]["cutbacks"])), "rtol": data["solver"]["rtol"],
+                   "levels": len(data["solver"]["newton_iterations"])},
+        "model": scene.material.model,
+        "steps": scene.test.steps,
+        "analytic": analytic_quantities(result),
+        "stress_max_relative_error": (data.get("reference") or {}).get("max_relative_error_x"),
+    }
+    return out
+
+
+def measured_quantities(data: dict) -> dict:
+    """E, ν and the final force/stress/stretch of a results.json dict (None where not measured)."""
+    curve = data["curve"]
+    last = (lambda key: curve[key][-1] if curve.get(key) else None)
+    return {"E": data["measured"]["E"], "nu": data["measured"]["nu"], "final_force": last("force"),
+            "final_stress": last("stress"), "final_stretch": last("stretch")}
+
+
+def analytic_quantities(result) -> dict | None:
+    """The analytic homogeneous E, ν, final force and stress of a uniaxial roller block, or None."""
+    from vlab.measure.fit import FitError, fit_line
+
+    ref, curve, scene = result.reference, result.curve, result.scene
+    if not ref or len(curve.axes) != 1 or "stress_x" not in ref or not ref["stress_x"]:
+        return None
+    n = len(ref["stress_x"])
+    strain = np.asarray(curve.stretch[0][:n]) - 1.0  # homogeneous: extensometer strain = grip strain
+    stress = np.asarray(ref["stress_x"])
+    lateral = np.asarray(ref["lateral_stretch"]) - 1.0
+    window, method = scene.measure.modulus_window, scene.measure.fit
+    try:
+        E = fit_line(strain, stress, window, method).slope
+        nu = -fit_line(strain, lateral, window, method).slope
+    except FitError:
+        E = nu = None
+    area0 = curve.area0.get(0)
+    final_stress = float(stress[-1]) if n == len(curve.t) else None
+    return {"E": E, "nu": nu, "final_stress": final_stress,
+            "final_force": None if final_stress is None or area0 is None else final_stress * area0}
+
+
+def _time_report(result, knobs: RunKnobs) -> float:
+    from vlab.report.writer import ReportOptions, write_run
+
+    start = time.perf_counter()
+    with tempfile.TemporaryDirectory(prefix="vlab-report-") as scratch:
+        write_run(result, Path(scratch) / "report", None, ReportOptions(render=knobs.render, vtu=False))
+    return time.perf_counter() - start
+
+
+def _diagnosis(failure: dict | None) -> str:
+    if not failure:
+        return "stopped"
+    residuals = ", ".join(f"{r:.2e}" for r in (failure.get("residual_history") or [])[-4:])
+    return (f"stopped at step {failure['step']}, stretch {failure['stretch']}: {failure['reason']}; "
+            f"last converged stretch {failure['last_converged_stretch']}"
+            + (f"; last residuals {residuals}" if residuals else ""))
