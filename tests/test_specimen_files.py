@@ -16,7 +16,8 @@ def coarse(raw: dict) -> dict:
     """Up to twice the element size (keeping two elements across the narrowest width), at most
     four regular steps."""
     spec = parse_scene(raw).specimen
-    narrow = spec.dimensions.width if spec.shape == "dogbone" else min(spec.size[1:])
+    narrow = {"dogbone": lambda: spec.dimensions.width, "block": lambda: min(spec.size[1:]),
+              "cruciform": lambda: spec.dimensions.gauge_region / 2}[spec.shape]()
     size = raw["mesh"]["size"]
     overrides = {"test.steps": min(raw["test"].get("steps", 10), 4)}
     if "gauge_size" not in raw["mesh"]:
@@ -25,7 +26,7 @@ def coarse(raw: dict) -> dict:
 
 
 def test_the_folder_holds_scenes():
-    assert len(FILES) >= 7
+    assert len(FILES) >= 8
 
 
 @pytest.mark.parametrize("path", FILES, ids=lambda p: p.stem)

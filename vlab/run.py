@@ -20,6 +20,7 @@ from vlab.fe.space import DisplacementSpace
 from vlab.fe.spring_network import SpringNetwork
 from vlab.fe.stepping import Failure, SolveHistory, Stepping, run_schedule
 from vlab.geometry.block import block_specimen
+from vlab.geometry.cruciform import cruciform_specimen
 from vlab.geometry.dogbone import dogbone_specimen
 from vlab.geometry.quality import MeshQuality, mesh_quality
 from vlab.geometry.mesh_check import MeshError, check_mesh
@@ -27,6 +28,7 @@ from vlab.geometry.specimen import Specimen
 from vlab.loading.grips import grip_loading
 from vlab.loading.schedule import monotonic_schedule
 from vlab.materials import make_material
+from vlab.measure.centre_stress import CentreStressProbe, centre_report
 from vlab.measure.elastic_constants import ElasticConstants, crosshead_modulus, elastic_constants
 from vlab.measure.homogeneity import HomogeneityProbe
 from vlab.measure.recorder import Curve, Recorder
@@ -68,10 +70,14 @@ class RunResult:
 
 def build_specimen(scene: Scene) -> Specimen:
     spec = scene.specimen
+    mesh = scene.mesh
     if spec.shape == "block":
-        return block_specimen(spec.size, scene.mesh.size, scene.mesh.cell, scene.measure.gauge_length)
+        return block_specimen(spec.size, mesh.size, mesh.cell, scene.measure.gauge_length, mesh.symmetry)
     if spec.shape == "dogbone":
-        return dogbone_specimen(spec.dimensions, scene.mesh.size, scene.mesh.cell, scene.mesh.gauge_size)
+        return dogbone_specimen(spec.dimensions, mesh.size, mesh.cell, mesh.gauge_size, mesh.symmetry)
+    if spec.shape == "cruciform":
+        return cruciform_specimen(spec.dimensions, mesh.size, mesh.cell, mesh.gauge_size, mesh.symmetry,
+                                  scene.measure.gauge_length)
     raise ValueError(f"specimen.shape {spec.shape!r} is not supported by this build")
 
 
@@ -117,7 +123,8 @@ def run_scene(scene: Scene, on_level=None, specimen: Specimen | None = None) -> 
     partition = Partition.build(body.pattern, loading.prescribed)
     timing["mesh_s"] = clock() - t0
 
-    recorder = Recorder(space, specimen, scene.test.stretch, loading.moving_dofs)
+    recorder = Recorder(space, specimen, scene.test.stretch, loading.moving_dofs,
+                        CentreStressProbe.build(space, specimen, material))
     probe = HomogeneityProbe.build(space, specimen, material) if material is not None else None
     homogeneity: list[dict] = []
     measure_time = [0.0]
@@ -165,6 +172,9 @@ def run_scene(scene: Scene, on_level=None, specimen: Specimen | None = None) -> 
                 curve.column("stress", axis), reference[key])
     extra = {"mesh_quality": quality.as_dict(),
              "crosshead": crosshead_modulus(curve, scene.measure.modulus_window, scene.measure.fit)}
+    centre = centre_report(curve, scene.measure.modulus_window, scene.measure.fit)
+    if centre is not None:
+        extra["cruciform"] = centre
     if homogeneity:
         extra["homogeneity"] = _homogeneity_report(curve, homogeneity, scene.measure.modulus_window)
     timing["measure_s"] += clock() - t2

@@ -13,6 +13,11 @@ vlab/data/standards/) and/or the explicit keys of ``DIMENSION_KEYS`` (explicit k
 uniaxially between clamped grips. ``[mesh] gauge_size`` refines a dogbone's parallel section and
 fillets; ``[mesh] min_quality`` (default 0.15) is the worst element quality a run accepts.
 
+Cruciforms: ``[specimen] shape = "cruciform"`` with arm_width, arm_length, gauge_region,
+fillet_radius, thickness, grip_length and optional slit_count, slit_width, slit_length; tested
+biaxially between four clamped grips. ``[mesh] symmetry = "none" | "half" | "quarter" | "eighth"``
+meshes only that part of a block, dogbone or cruciform (geometry/symmetry.py).
+
 New specimen shapes: write a frozen dataclass with ``length`` and ``max_dimension``
 properties and a parser ``(_Table) -> spec``, and register both in ``SPECIMEN_SHAPES`` (and the
 test kinds and grips it allows in ``SPECIMEN_TESTS``).
@@ -31,11 +36,13 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Mapping
 
+from vlab.geometry.cruciform import CRUCIFORM_KEYS, CruciformDimensions
 from vlab.geometry.dogbone import DIMENSION_KEYS, DogboneDimensions, GeometryError
+from vlab.geometry.symmetry import SYMMETRY_LEVELS
 from vlab.geometry.standards import standard_dimensions, standard_names
 from vlab.moduli import ALIASES, KEYS as MODULI_KEYS, Moduli, ModuliError, from_pair
 
-__all__ = ["SceneError", "Scene", "BlockSpecimen", "DogboneSpecimen", "MeshSpec", "MaterialSpec", "TestSpec",
+__all__ = ["SceneError", "Scene", "BlockSpecimen", "DogboneSpecimen", "CruciformSpecimen", "MeshSpec", "MaterialSpec", "TestSpec",
            "MeasureSpec", "SolverSpec", "load_scene", "parse_scene", "apply_overrides",
            "SPECIMEN_SHAPES", "MODELS"]
 
@@ -80,7 +87,21 @@ class DogboneSpecimen:
         return self.dimensions.overall_length
 
 
-Specimen = BlockSpecimen | DogboneSpecimen
+@dataclass(frozen=True)
+class CruciformSpecimen:
+    shape: str
+    dimensions: CruciformDimensions  # mm
+
+    @property
+    def length(self) -> float:
+        return 2 * self.dimensions.arm_end
+
+    @property
+    def max_dimension(self) -> float:
+        return 2 * self.dimensions.arm_end
+
+
+Specimen = BlockSpecimen | DogboneSpecimen | CruciformSpecimen
 
 
 @dataclass(frozen=True)
@@ -90,6 +111,7 @@ class MeshSpec:
     cell: str  # "tet" or "hex"
     gauge_size: float | None = None  # element edge over a dogbone's parallel section and fillets
     min_quality: float = 0.15  # smallest acceptable element quality (geometry/quality.py)
+    symmetry: str = "none"  # none | half | quarter | eighth (geometry/symmetry.py)
 
 
 @dataclass(frozen=True)
@@ -257,16 +279,41 @@ def _parse_dogbone(t: _Table) -> DogboneSpecimen:
     return DogboneSpecimen(shape="dogbone", dimensions=dims)
 
 
+def _parse_cruciform(t: _Table) -> CruciformSpecimen:
+    """All of arm_width, arm_length, gauge_region, fillet_radius, thickness, grip_length; slits
+    optional (slit_count = 0 by default; with slits, slit_width and slit_length are required)."""
+    values: dict[str, Any] = {}
+    for key in CRUCIFORM_KEYS[:6]:
+        values[key] = t.number(key, ge=0) if key == "fillet_radius" else t.number(key, gt=0)
+    values["slit_count"] = t.integer("slit_count", 0, 50, default=0)
+    for key in CRUCIFORM_KEYS[7:]:
+        if values["slit_count"]:
+            values[key] = t.number(key, gt=0)
+        elif key in t.raw:
+            raise SceneError(f"{t.field(key)} needs specimen.slit_count >= 1 (the number of slits per arm)")
+    dims = CruciformDimensions(**values)
+    try:
+        dims.check()
+    except GeometryError as exc:
+        raise SceneError(f"specimen.{exc}") from None
+    return CruciformSpecimen(shape="cruciform", dimensions=dims)
+
+
 # shape -> (allowed keys in [specimen], parser)
 SPECIMEN_SHAPES: dict[str, tuple[tuple[str, ...], Callable[[_Table], Specimen]]] = {
     "block": (("shape", "size"), _parse_block),
     "dogbone": (("shape", "standard") + DIMENSION_KEYS, _parse_dogbone),
+    "cruciform": (("shape",) + CRUCIFORM_KEYS, _parse_cruciform),
 }
 # shape -> (allowed test kinds, allowed grips); the first grip kind is the default
 SPECIMEN_TESTS: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
     "block": (("uniaxial", "biaxial"), ("roller", "clamped")),
     "dogbone": (("uniaxial",), ("clamped",)),
+    "cruciform": (("biaxial",), ("clamped",)),
 }
+# shapes whose meshes are built mirror-symmetric and may be reduced by [mesh] symmetry
+SYMMETRIC_SHAPES = ("block", "dogbone", "cruciform")
+_FINE_MESH_SHAPES = ("dogbone", "cruciform")  # shapes with a [mesh] gauge_size
 
 
 def _parse_specimen(raw: Any) -> Specimen:
@@ -280,15 +327,19 @@ def _parse_specimen(raw: Any) -> Specimen:
 
 
 def _parse_mesh(raw: Any, specimen: Specimen) -> MeshSpec:
-    t = _Table("mesh", raw, ("size", "order", "cell", "gauge_size", "min_quality"))
+    t = _Table("mesh", raw, ("size", "order", "cell", "gauge_size", "min_quality", "symmetry"))
     size = t.number("size", gt=0, le=specimen.max_dimension, note=" (the largest specimen dimension)")
     gauge_size = t.number("gauge_size", default=None, gt=0, le=size, note=" (mesh.size)")
-    if gauge_size is not None and specimen.shape != "dogbone":
-        raise SceneError(f"{t.field('gauge_size')} applies to specimen.shape = 'dogbone' only, "
-                         f"not {specimen.shape!r}")
+    if gauge_size is not None and specimen.shape not in _FINE_MESH_SHAPES:
+        raise SceneError(f"{t.field('gauge_size')} applies to specimen.shape = "
+                         f"{' or '.join(map(repr, _FINE_MESH_SHAPES))} only, not {specimen.shape!r}")
+    symmetry = t.choice("symmetry", SYMMETRY_LEVELS, default="none")
+    if symmetry != "none" and specimen.shape not in SYMMETRIC_SHAPES:
+        raise SceneError(f"{t.field('symmetry')} must be 'none' for specimen.shape = {specimen.shape!r} "
+                         f"(symmetry reduction is for {', '.join(SYMMETRIC_SHAPES)}), got {symmetry!r}")
     return MeshSpec(size=size, order=t.integer("order", 1, 2, default=1),
                     cell=t.choice("cell", ("tet", "hex"), default="tet"), gauge_size=gauge_size,
-                    min_quality=t.number("min_quality", default=0.15, gt=0, lt=1))
+                    min_quality=t.number("min_quality", default=0.15, gt=0, lt=1), symmetry=symmetry)
 
 
 def _parse_material(raw: Any) -> MaterialSpec:
@@ -353,6 +404,10 @@ def _parse_measure(raw: Any, specimen: Specimen) -> MeasureSpec:
             raise SceneError(f"{field} must satisfy 0 <= a < b <= 0.05, got {list(window)}")
     gauge = t.number("gauge_length", default=None, gt=0, lt=specimen.length,
                      note=" (the specimen length)")
+    if gauge is not None and specimen.shape == "cruciform" and gauge > specimen.dimensions.gauge_region:
+        raise SceneError(f"{t.field('gauge_length')} must be in (0, specimen.gauge_region = "
+                         f"{specimen.dimensions.gauge_region:g}] mm for a cruciform (the extensometers sit in "
+                         f"the gauge region), got {gauge:g}")
     return MeasureSpec(modulus_window=window, gauge_length=gauge,  # type: ignore[arg-type]
                        fit=t.choice("fit", ("regression", "chord"), default="regression"),
                        modulus_points=t.integer("modulus_points", 0, 100, default=9))

@@ -35,6 +35,8 @@ def curve_columns(result: RunResult) -> dict[str, list[float]]:
         cols["true_stress" + sfx] = list(c.column("true_stress", axis))
     if len(c.axes) == 1:
         cols["crosshead_strain"] = [s - 1.0 for s in c.stretch[0]]
+    for key, values in c.centre.items():  # cruciform: FE centre averages, e.g. centre_stress_x
+        cols[f"centre_{key}"] = list(values)
     cols["transverse_strain"] = list(c.transverse_strain)
     cols["thickness_strain"] = list(c.thickness_strain)
     return cols
@@ -66,6 +68,7 @@ def result_to_dict(result: RunResult) -> dict:
         },
         "reference": result.reference,
         "homogeneity": result.extra.get("homogeneity"),
+        "cruciform": result.extra.get("cruciform"),
         "solver": {
             "newton_iterations": [lv.iterations for lv in levels],
             "cutbacks": [lv.cutbacks for lv in levels],
@@ -78,6 +81,7 @@ def result_to_dict(result: RunResult) -> dict:
         "timing": result.timing,
         "mesh": {
             "cell": scene.mesh.cell, "order": scene.mesh.order, "size": scene.mesh.size,
+            "symmetry": scene.mesh.symmetry,
             "elements": int(space.basis.nelems), "nodes": int(space.n_nodes), "dofs": int(space.n_dofs),
             "quality": result.extra.get("mesh_quality"),
         },

@@ -34,7 +34,8 @@ def unrestrained_modes(X: np.ndarray, prescribed: np.ndarray, tol: float = 1e-8)
     R = rigid_body_modes(X)[np.asarray(prescribed, dtype=np.int64)]
     if len(R) == 0:
         return list(MODE_NAMES)
-    _, s, vt = np.linalg.svd(R, full_matrices=True)
+    # all six right singular vectors; U only as wide as needed (a full U is n_prescribed² floats)
+    _, s, vt = np.linalg.svd(R, full_matrices=len(R) < 6)
     s = np.concatenate([s, np.zeros(6 - len(s))])
     null = vt[s <= tol * max(s[0], 1e-300)]
     names = []
