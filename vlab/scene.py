@@ -420,6 +420,19 @@ def _parse_solver(raw: Any) -> SolverSpec:
                       max_cutbacks=t.integer("max_cutbacks", 0, 30, default=8))
 
 
+def _check_symmetry(mesh: MeshSpec, test: TestSpec, specimen: Specimen) -> None:
+    """Refuse a symmetry reduction of a set-up that is not symmetric: a block pulled biaxially
+    between clamped grips, one of each pair fixed, shifts the y grips against the x clamps (which
+    hold u_y = 0), so its solution is not mirror-symmetric. (Roller grips are: their 3-2-1
+    supports pin rigid motions only and give way to the symmetry planes; dogbones and centred
+    cruciforms are.)"""
+    if (mesh.symmetry != "none" and specimen.shape == "block" and test.kind == "biaxial"
+            and test.grips == "clamped"):
+        raise SceneError(f"mesh.symmetry must be 'none' for a biaxial block between clamped grips (one "
+                         f"grip per axis holds, so the set-up is not mirror-symmetric), got {mesh.symmetry!r}; "
+                         f"use test.grips = 'roller' or a cruciform")
+
+
 def _parse(data: Mapping[str, Any]) -> Scene:
     if not isinstance(data, Mapping):
         raise SceneError(f"a scene must be a table of sections, got {_show(data)}")
@@ -445,9 +458,11 @@ def _parse(data: Mapping[str, Any]) -> Scene:
     if material.model == SPRING_NETWORK and mesh.order != 1:
         raise SceneError(f"material.model {SPRING_NETWORK!r} joins mesh vertices by springs and needs "
                          f"mesh.order = 1, got {mesh.order}")
+    test = _parse_test(data["test"], specimen.shape)
+    _check_symmetry(mesh, test, specimen)
     return Scene(name=name, description=description, specimen=specimen,
                  mesh=mesh, material=material,
-                 test=_parse_test(data["test"], specimen.shape),
+                 test=test,
                  measure=_parse_measure(data.get("measure", {}), specimen),
                  solver=_parse_solver(data.get("solver", {})),
                  source=copy.deepcopy(dict(data)))

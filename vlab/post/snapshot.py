@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 import skfem
 
+from vlab.geometry.symmetry import reflection
 from vlab.post.fields import FIELDS, cell_fields
 
 
@@ -56,7 +57,8 @@ def take_snapshot(result) -> Snapshot:
     fields = {name: np.stack([cf.get(name) for cf in per_state]) for name in FIELDS}
     marks = {}
     for name, gauge in _gauge_marks(result.specimen).items():
-        X = np.array([gauge.a, gauge.b], dtype=float)
+        # on a symmetry-reduced model a mark behind a cut plane is drawn at its image on the part
+        X = np.array([reflection(p, result.specimen.symmetry)[0] for p in (gauge.a, gauge.b)])
         probe = space.probe_matrix(X.T)
         marks[name] = (X, np.stack([X + probe @ ev.u.reshape(-1, 3) for ev in states]))
     t = np.array([0.0] + [lv.t for lv in result.history.levels])
