@@ -21,6 +21,7 @@ from vlab.fe.spring_network import SpringNetwork
 from vlab.fe.stepping import Failure, SolveHistory, Stepping, run_schedule
 from vlab.geometry.block import block_specimen
 from vlab.geometry.cruciform import cruciform_specimen
+from vlab.geometry.imported import imported_specimen
 from vlab.geometry.dogbone import dogbone_specimen
 from vlab.geometry.quality import MeshQuality, mesh_quality
 from vlab.geometry.mesh_check import MeshError, check_mesh
@@ -78,6 +79,8 @@ def build_specimen(scene: Scene) -> Specimen:
     if spec.shape == "cruciform":
         return cruciform_specimen(spec.dimensions, mesh.size, mesh.cell, mesh.gauge_size, mesh.symmetry,
                                   scene.measure.gauge_length)
+    if spec.shape == "mesh":
+        return imported_specimen(spec.spec, spec.data)
     raise ValueError(f"specimen.shape {spec.shape!r} is not supported by this build")
 
 

@@ -32,12 +32,16 @@ import json
 import math
 import re
 import tomllib
-from dataclasses import dataclass
+from contextvars import ContextVar
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Mapping
 
+import numpy as np
+
 from vlab.geometry.cruciform import CRUCIFORM_KEYS, CruciformDimensions
 from vlab.geometry.dogbone import DIMENSION_KEYS, DogboneDimensions, GeometryError
+from vlab.geometry.imported import ImportedMesh, MeshImport, MeshImportError, read_mesh
 from vlab.geometry.symmetry import SYMMETRY_LEVELS
 from vlab.geometry.standards import standard_dimensions, standard_names
 from vlab.moduli import ALIASES, KEYS as MODULI_KEYS, Moduli, ModuliError, from_pair
@@ -101,7 +105,26 @@ class CruciformSpecimen:
         return 2 * self.dimensions.arm_end
 
 
-Specimen = BlockSpecimen | DogboneSpecimen | CruciformSpecimen
+@dataclass(frozen=True)
+class MeshFileSpecimen:
+    shape: str
+    spec: MeshImport  # file (absolute), grip region names, loading axis, marks, area
+    data: ImportedMesh = field(compare=False, repr=False)  # the mesh as read at validation
+
+    @property
+    def extent(self) -> np.ndarray:
+        return self.data.points.max(axis=0) - self.data.points.min(axis=0)
+
+    @property
+    def length(self) -> float:
+        return float(self.extent[self.spec.axis])
+
+    @property
+    def max_dimension(self) -> float:
+        return float(self.extent.max())
+
+
+Specimen = BlockSpecimen | DogboneSpecimen | CruciformSpecimen | MeshFileSpecimen
 
 
 @dataclass(frozen=True)
@@ -299,17 +322,78 @@ def _parse_cruciform(t: _Table) -> CruciformSpecimen:
     return CruciformSpecimen(shape="cruciform", dimensions=dims)
 
 
+_BASE_DIR: ContextVar[Path] = ContextVar("scene_base_dir", default=Path("."))  # resolves specimen.file
+_AXES = ("x", "y", "z")
+
+
+def _marks(t: _Table, key: str) -> tuple[tuple[float, ...], tuple[float, ...]]:
+    v = t.get(key)
+    if not isinstance(v, list) or len(v) != 2:
+        raise SceneError(f"{t.field(key)} must be two points [[x, y, z], [x, y, z]] in the mesh file's "
+                         f"coordinates (mm), got {_show(v)}")
+    return tuple(_vector(f"{t.field(key)}[{i}]", p, 3, "[x, y, z] in mm") for i, p in enumerate(v))  # type: ignore
+
+
+def _parse_mesh_file(t: _Table) -> MeshFileSpecimen:
+    """``file`` (.msh or .vtu, relative to the scene file), ``grips = {a = "name", b = "name"}``
+    (two named regions of the file), ``axis`` (loading axis of the file, default "x"),
+    ``gauge_marks``, ``transverse_marks``, ``thickness_marks`` (two points each) and ``area`` (mm²,
+    the section the nominal stress divides by)."""
+    name = t.get("file")
+    if not isinstance(name, str) or not name:
+        raise SceneError(f"{t.field('file')} must be a path to a .msh or .vtu file, got {_show(name)}")
+    path = Path(name) if Path(name).is_absolute() else _BASE_DIR.get() / name
+    try:
+        data = read_mesh(path)
+    except MeshImportError as exc:
+        raise SceneError(f"{exc}") from None
+    grips = t.get("grips")
+    if not isinstance(grips, dict) or len(grips) != 2 or not all(isinstance(v, str) for v in grips.values()):
+        raise SceneError(f"{t.field('grips')} must be a table of two region names, e.g. {{left = \"grip_left\", "
+                         f"right = \"grip_right\"}}, got {_show(grips)}")
+    for key, region in grips.items():
+        if region not in data.regions:
+            raise SceneError(f"{t.field('grips')}.{key} = {region!r} is not a region of {path.name}; regions "
+                             f"found: {', '.join(data.names) or 'none'}")
+    spec = MeshImport(file=path.resolve(), grips=tuple(grips.values()),  # type: ignore[arg-type]
+                      axis=_AXES.index(t.choice("axis", _AXES, default="x")),
+                      gauge_marks=_marks(t, "gauge_marks"), transverse_marks=_marks(t, "transverse_marks"),
+                      thickness_marks=_marks(t, "thickness_marks"), area=t.number("area", gt=0))
+    _check_marks_inside(t, spec, data)
+    return MeshFileSpecimen(shape="mesh", spec=spec, data=data)
+
+
+def _check_marks_inside(t: _Table, spec: MeshImport, data: ImportedMesh) -> None:
+    import skfem
+
+    mesh = (skfem.MeshTet if data.cell == "tet" else skfem.MeshHex)(
+        np.ascontiguousarray(data.points.T), np.ascontiguousarray(data.cells.T))
+    find = mesh.element_finder()
+    for key in ("gauge_marks", "transverse_marks", "thickness_marks"):
+        for point in getattr(spec, key):
+            try:
+                find(*(np.array([c]) for c in point))
+            except ValueError:
+                raise SceneError(f"{t.field(key)}: point {list(point)} lies outside the mesh of "
+                                 f"{spec.file.name} (bounding box {data.points.min(axis=0).tolist()} to "
+                                 f"{data.points.max(axis=0).tolist()})") from None
+
+
+MESH_FILE_KEYS = ("file", "grips", "axis", "gauge_marks", "transverse_marks", "thickness_marks", "area")
+
 # shape -> (allowed keys in [specimen], parser)
 SPECIMEN_SHAPES: dict[str, tuple[tuple[str, ...], Callable[[_Table], Specimen]]] = {
     "block": (("shape", "size"), _parse_block),
     "dogbone": (("shape", "standard") + DIMENSION_KEYS, _parse_dogbone),
     "cruciform": (("shape",) + CRUCIFORM_KEYS, _parse_cruciform),
+    "mesh": (("shape",) + MESH_FILE_KEYS, _parse_mesh_file),
 }
 # shape -> (allowed test kinds, allowed grips); the first grip kind is the default
 SPECIMEN_TESTS: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
     "block": (("uniaxial", "biaxial"), ("roller", "clamped")),
     "dogbone": (("uniaxial",), ("clamped",)),
     "cruciform": (("biaxial",), ("clamped",)),
+    "mesh": (("uniaxial",), ("clamped",)),
 }
 # shapes whose meshes are built mirror-symmetric and may be reduced by [mesh] symmetry
 SYMMETRIC_SHAPES = ("block", "dogbone", "cruciform")
@@ -328,6 +412,8 @@ def _parse_specimen(raw: Any) -> Specimen:
 
 def _parse_mesh(raw: Any, specimen: Specimen) -> MeshSpec:
     t = _Table("mesh", raw, ("size", "order", "cell", "gauge_size", "min_quality", "symmetry"))
+    if specimen.shape == "mesh":
+        return _parse_mesh_of_file(t, specimen)
     size = t.number("size", gt=0, le=specimen.max_dimension, note=" (the largest specimen dimension)")
     gauge_size = t.number("gauge_size", default=None, gt=0, le=size, note=" (mesh.size)")
     if gauge_size is not None and specimen.shape not in _FINE_MESH_SHAPES:
@@ -340,6 +426,27 @@ def _parse_mesh(raw: Any, specimen: Specimen) -> MeshSpec:
     return MeshSpec(size=size, order=t.integer("order", 1, 2, default=1),
                     cell=t.choice("cell", ("tet", "hex"), default="tet"), gauge_size=gauge_size,
                     min_quality=t.number("min_quality", default=0.15, gt=0, lt=1), symmetry=symmetry)
+
+
+def _parse_mesh_of_file(t: _Table, specimen: MeshFileSpecimen) -> MeshSpec:
+    """An imported mesh is meshed already: size and gauge_size do not apply, the cell kind is the
+    file's; order (2 adds mid-edge nodes to tetrahedra) and min_quality do."""
+    for key in ("size", "gauge_size"):
+        if key in t.raw:
+            raise SceneError(f"{t.field(key)} does not apply to specimen.shape = 'mesh' (the file is meshed "
+                             f"already); remove it")
+    cell = specimen.data.cell
+    if t.get("cell", cell) != cell:
+        raise SceneError(f"{t.field('cell')} must be {cell!r} (the cells of {specimen.spec.file.name}), "
+                         f"got {_show(t.raw['cell'])}")
+    symmetry = t.choice("symmetry", SYMMETRY_LEVELS, default="none")
+    if symmetry != "none":
+        raise SceneError(f"{t.field('symmetry')} must be 'none' for specimen.shape = 'mesh' (vlab cannot know "
+                         f"that a user's mesh is symmetric), got {symmetry!r}")
+    edges = specimen.data.points[specimen.data.cells[:, :2]]
+    size = float(np.mean(np.linalg.norm(edges[:, 1] - edges[:, 0], axis=1)))
+    return MeshSpec(size=size, order=t.integer("order", 1, 2, default=1), cell=cell,
+                    min_quality=t.number("min_quality", default=0.15, gt=0, lt=1))
 
 
 def _parse_material(raw: Any) -> MaterialSpec:
@@ -470,12 +577,16 @@ def _parse(data: Mapping[str, Any]) -> Scene:
 
 # --- public entry points -------------------------------------------------------------------
 
-def parse_scene(data: dict, origin: str = "<scene>") -> Scene:
-    """Validate a parsed scene dict; errors are ``SceneError("<origin>: <message>")``."""
+def parse_scene(data: dict, origin: str = "<scene>", base_dir: str | Path | None = None) -> Scene:
+    """Validate a parsed scene dict; errors are ``SceneError("<origin>: <message>")``. Relative
+    paths in the scene (specimen.file) are taken from ``base_dir`` (default: the current folder)."""
+    token = _BASE_DIR.set(Path(base_dir) if base_dir is not None else Path("."))
     try:
         return _parse(data)
     except SceneError as exc:
         raise SceneError(f"{origin}: {exc}") from None
+    finally:
+        _BASE_DIR.reset(token)
 
 
 def load_scene(path: str | Path) -> Scene:
@@ -489,7 +600,7 @@ def load_scene(path: str | Path) -> Scene:
         raise SceneError(f"{path}: scene file is not UTF-8 ({exc})") from None
     except tomllib.TOMLDecodeError as exc:
         raise SceneError(f"{path}: TOML syntax error: {exc}") from None
-    return parse_scene(data, origin=str(path))
+    return parse_scene(data, origin=str(path), base_dir=path.parent)
 
 
 def apply_overrides(data: Mapping[str, Any], overrides: Mapping[str, object]) -> dict:
