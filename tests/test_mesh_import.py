@@ -40,6 +40,34 @@ def write_msh(path: Path, cell="tet") -> Path:
     return path
 
 
+def write_msh41(path: Path) -> Path:
+    """The same as write_msh in the Gmsh 4.1 ASCII format, written by hand (entities carry the
+    physical tags): two surfaces (the end faces) and one volume."""
+    mesh = block_specimen(SIZE, 1.25, "tet").mesh
+    left, right = end_faces(mesh, SIZE[0])
+    lo, hi = mesh.p.min(axis=1), mesh.p.max(axis=1)
+    box = " ".join(f"{v:g}" for v in (*lo, *hi))
+    lines = ["$MeshFormat", "4.1 0 8", "$EndMeshFormat",
+             "$PhysicalNames", "3", '2 1 "grip_left"', '2 2 "grip_right"', '3 3 "body"', "$EndPhysicalNames",
+             "$Entities", "0 0 2 1", f"1 {box} 1 1 0", f"2 {box} 1 2 0", f"1 {box} 1 3 0", "$EndEntities",
+             "$Nodes", f"1 {mesh.nvertices} 1 {mesh.nvertices}", f"3 1 0 {mesh.nvertices}"]
+    lines += [str(i + 1) for i in range(mesh.nvertices)]
+    lines += [" ".join(f"{c:.17g}" for c in x) for x in mesh.p.T]
+    lines += ["$EndNodes"]
+    blocks = [(2, 1, 2, left), (2, 2, 2, right), (3, 1, 4, mesh.t.T)]
+    total = sum(len(b[3]) for b in blocks)
+    lines += ["$Elements", f"3 {total} 1 {total}"]
+    tag = 1
+    for dim, entity, kind, conn in blocks:
+        lines.append(f"{dim} {entity} {kind} {len(conn)}")
+        for row in conn:
+            lines.append(" ".join(map(str, [tag, *(row + 1)])))
+            tag += 1
+    lines += ["$EndElements"]
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
 def write_vtu(path: Path) -> Path:
     """A .vtu of the block's hexahedra (VTK corner order) with the grips as point-data arrays."""
     mesh = block_specimen(SIZE, 1.25, "hex").mesh
@@ -66,10 +94,11 @@ def native_block(cell):
                         "measure": {"gauge_length": 10.0}})
 
 
-@pytest.mark.parametrize("fmt", ["msh", "vtu"])
+@pytest.mark.parametrize("fmt", ["msh", "msh41", "vtu"])
 def test_imported_mesh_reads_what_the_native_block_reads(fmt, tmp_path):
-    if fmt == "msh":
-        scene = parse_scene(mesh_scene(write_msh(tmp_path / "bar.msh"), {"left": "grip_left", "right": "grip_right"}))
+    if fmt.startswith("msh"):
+        write = write_msh if fmt == "msh" else write_msh41
+        scene = parse_scene(mesh_scene(write(tmp_path / "bar.msh"), {"left": "grip_left", "right": "grip_right"}))
         cell = "tet"
     else:
         scene = parse_scene(mesh_scene(write_vtu(tmp_path / "bar.vtu"), {"a": "clamp_b", "b": "clamp_a"}))
