@@ -304,12 +304,18 @@ def _parse_dogbone(t: _Table) -> DogboneSpecimen:
 
 def _parse_cruciform(t: _Table) -> CruciformSpecimen:
     """All of arm_width, arm_length, gauge_region, fillet_radius, thickness, grip_length; slits
-    optional (slit_count = 0 by default; with slits, slit_width and slit_length are required)."""
+    optional (slit_count = 0 by default; with slits, slit_width and slit_length are required); a
+    thinned centre optional (gauge_thickness with thinning_length)."""
     values: dict[str, Any] = {}
     for key in CRUCIFORM_KEYS[:6]:
         values[key] = t.number(key, ge=0) if key == "fillet_radius" else t.number(key, gt=0)
     values["slit_count"] = t.integer("slit_count", 0, 50, default=0)
-    for key in CRUCIFORM_KEYS[7:]:
+    if "gauge_thickness" in t.raw:
+        values["gauge_thickness"] = t.number("gauge_thickness", gt=0)
+        values["thinning_length"] = t.number("thinning_length", gt=0)
+    elif "thinning_length" in t.raw:
+        raise SceneError(f"{t.field('thinning_length')} needs specimen.gauge_thickness (a thinned centre)")
+    for key in CRUCIFORM_KEYS[7:9]:
         if values["slit_count"]:
             values[key] = t.number(key, gt=0)
         elif key in t.raw:

@@ -8,7 +8,14 @@ radius r tangent to both arm edges: centre (w/2 + r, w/2 + r), so along the +x a
 The fillet meets the diagonal x = y at c = w/2 + r (1 − 1/√2). Optional slits (the ISO 16842 design)
 cut each arm into n + 1 fingers of equal width (w − n s)/(n + 1): slits of width s, open at the arm
 end, running ``slit_length`` inwards; they stop the arms from carrying load across each other, so
-more of the load passes through the gauge region. The central gauge region is the square of side g = ``gauge_region``
+more of the load passes through the gauge region. Optionally the centre is thinned from both faces
+to ``gauge_thickness`` h_g < h (so failure, and the strain, concentrate there): with the Chebyshev
+distance s = max(|x|, |y|) − g/2 from the gauge region, the thickness is
+    t(s) = h_g                                            for s ≤ 0,
+    t(s) = h_g + (h − h_g) (1 − cos(π s / ℓ_t)) / 2       for 0 ≤ s ≤ ℓ_t (``thinning_length``),
+    t(s) = h                                              beyond,
+a smooth (zero-slope) ramp that must end inside the central square, g + 2 ℓ_t ≤ w.
+The central gauge region is the square of side g = ``gauge_region``
 (≤ w) where the extensometers sit and the centre stress is averaged.
 
 Mesh (vlab's own structured mesher): in the quadrant x, y ≥ 0, a lattice on the square
@@ -34,7 +41,7 @@ from vlab.geometry.specimen import GaugeMarks, Grip, Specimen
 from vlab.geometry.symmetry import mirrored_planes
 
 CRUCIFORM_KEYS = ("arm_width", "arm_length", "gauge_region", "fillet_radius", "thickness", "grip_length",
-                  "slit_count", "slit_width", "slit_length")
+                  "slit_count", "slit_width", "slit_length", "gauge_thickness", "thinning_length")
 
 
 @dataclass(frozen=True)
@@ -50,6 +57,22 @@ class CruciformDimensions:
     slit_count: int = 0
     slit_width: float = 0.0
     slit_length: float = 0.0
+    gauge_thickness: float | None = None  # thinned centre (None: the full thickness)
+    thinning_length: float = 0.0
+
+    @property
+    def centre_thickness(self) -> float:
+        """h_g: thickness over the gauge region."""
+        return self.thickness if self.gauge_thickness is None else self.gauge_thickness
+
+    def local_thickness(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+        """t(x, y), module docstring."""
+        h, hg = self.thickness, self.centre_thickness
+        if hg == h:
+            return np.full(np.shape(x), h)
+        s = np.maximum(np.abs(x), np.abs(y)) - self.gauge_region / 2
+        u = np.clip(s / self.thinning_length, 0.0, 1.0)
+        return hg + (h - hg) * (1 - np.cos(np.pi * u)) / 2
 
     @property
     def arm_end(self) -> float:
@@ -92,6 +115,18 @@ class CruciformDimensions:
             raise GeometryError("fillet_radius", f"= {r:g} mm is too large for the arms: it must be in "
                                 f"[0, arm_length - grip_length = {room:g}] mm (the fillet must end before the grips)")
         self._check_slits()
+        self._check_thinning()
+
+    def _check_thinning(self) -> None:
+        hg, lt, h, w, g = self.gauge_thickness, self.thinning_length, self.thickness, self.arm_width, self.gauge_region
+        if hg is None:
+            return
+        if not (math.isfinite(hg) and 0 < hg < h):
+            raise GeometryError("gauge_thickness", f"must be in (0, thickness = {h:g}) mm, got {hg:g}")
+        room = (w - g) / 2
+        if not (0 < lt <= room):
+            raise GeometryError("thinning_length", f"must be in (0, (arm_width - gauge_region)/2 = {room:g}] mm "
+                                f"(the ramp ends inside the central square), got {lt:g}")
 
     def _check_slits(self) -> None:
         n, s, sl = self.slit_count, self.slit_width, self.slit_length
@@ -128,7 +163,8 @@ def _quadrant_grids(d: CruciformDimensions, size: float, gauge_size: float) -> l
     ≤ ``gauge_size`` over the central square and the fillets, ≤ ``size`` along the arms beyond."""
     a, X, r = d.arm_width / 2, d.arm_end, d.fillet_radius
     slit_edges = [abs(y) / a for strip in d.slit_strips() for y in strip]
-    eta = _nodes([d.gauge_region / d.arm_width] + slit_edges, 0.0, 1.0, lambda _: gauge_size / a)
+    ramp_end = [(d.gauge_region / 2 + d.thinning_length) / a] if d.gauge_thickness is not None else []
+    eta = _nodes([d.gauge_region / d.arm_width] + slit_edges + ramp_end, 0.0, 1.0, lambda _: gauge_size / a)
     centre = np.stack(np.meshgrid(a * eta, a * eta, indexing="ij"), axis=-1)
     points = [d.fillet_diagonal, a + r, X - d.grip_length] + ([X - d.slit_length] if d.slit_count else [])
     xs = _nodes(points, a, X, lambda mid: gauge_size if mid < a + r else size)
@@ -140,16 +176,17 @@ def _quadrant_grids(d: CruciformDimensions, size: float, gauge_size: float) -> l
 
 
 def cruciform_unit(d: CruciformDimensions, size: float, gauge_size: float | None = None) -> Lattice:
-    """The octant x, y ≥ 0, z ≥ h/2 as hexahedra in lattice order, slits cut out."""
+    """The octant x, y ≥ 0, z ≥ h/2 as hexahedra in lattice order, slits cut out; a thinned centre
+    maps the layers ζ ∈ [0, 1] to z = h/2 + ζ t(x, y)/2."""
     gauge_size = gauge_size or size
     h = d.thickness
-    zs = np.linspace(h / 2, h, divisions(h / 2, min(size, gauge_size)) + 1)
+    zeta = np.linspace(0.0, 1.0, divisions(d.centre_thickness / 2, min(size, gauge_size)) + 1)
     tol = 1e-9 * d.arm_end
     unit = None
     for grid in _quadrant_grids(d, size, gauge_size):
-        X = np.empty(grid.shape[:2] + (len(zs), 3))
+        X = np.empty(grid.shape[:2] + (len(zeta), 3))
         X[..., :2] = grid[:, :, None, :]
-        X[..., 2] = zs
+        X[..., 2] = h / 2 + zeta * d.local_thickness(X[..., 0], X[..., 1]) / 2
         block = Lattice.block(X)
         unit = block if unit is None else unit.join(block, tol)
     return unit.without(_in_slits(d, unit.centroids()))
@@ -169,9 +206,12 @@ def cruciform_specimen(d: CruciformDimensions, size: float, cell: str, gauge_siz
                        symmetry: str = "none", gauge_length: float | None = None) -> Specimen:
     """Four clamped grips over ``grip_length`` at the arm ends, moved symmetrically (centred); the
     x and y extensometers across the gauge region on the top face (gauge length ``gauge_length``,
-    default the gauge region side g); the thickness marks at the centre; nominal areas w · h."""
+    default the gauge region side g); the thickness marks at the centre; nominal areas w · h_g
+    (arm width times the gauge thickness, h_g = h unless the centre is thinned)."""
     d.check()
     w, h, X, g = d.arm_width, d.thickness, d.arm_end, d.gauge_region
+    hg = d.centre_thickness
+    top, bottom = (h + hg) / 2, (h - hg) / 2
     planes = {0: 0.0, 1: 0.0, 2: h / 2}
     mirrored = mirrored_planes(symmetry)
     mesh = symmetric_mesh(cruciform_unit(d, size, gauge_size), [(a, planes[a]) for a in mirrored], cell, X)
@@ -186,12 +226,12 @@ def cruciform_specimen(d: CruciformDimensions, size: float, cell: str, gauge_siz
         mesh=mesh,
         grips=tuple(gr for gr in grips if not (gr.side < 0 and gr.axis not in mirrored)),
         grip_separation={0: 2 * edge, 1: 2 * edge},
-        extensometers={0: GaugeMarks((-e / 2, 0.0, h), (e / 2, 0.0, h)),
-                       1: GaugeMarks((0.0, -e / 2, h), (0.0, e / 2, h))},
+        extensometers={0: GaugeMarks((-e / 2, 0.0, top), (e / 2, 0.0, top)),
+                       1: GaugeMarks((0.0, -e / 2, top), (0.0, e / 2, top))},
         transverse={0: GaugeMarks((0.0, -e / 2, h / 2), (0.0, e / 2, h / 2)),
                     1: GaugeMarks((-e / 2, 0.0, h / 2), (e / 2, 0.0, h / 2))},
-        thickness=GaugeMarks((0.0, 0.0, 0.0), (0.0, 0.0, h)),
-        area0={0: w * h, 1: w * h},
+        thickness=GaugeMarks((0.0, 0.0, bottom), (0.0, 0.0, top)),
+        area0={0: w * hg, 1: w * hg},
         length_scale=float(np.linalg.norm([2 * X, 2 * X, h])),
         regions={"centre": lambda X_: (np.abs(X_[:, 0]) <= half) & (np.abs(X_[:, 1]) <= half)},
         centred=True,

@@ -8,16 +8,17 @@ Biaxial (plane stress in the gauge region):
 The window applies to |strain| of the axis (the larger one for biaxial), so the same window serves
 tension and compression.
 
-Cruciform (the curve carries the FE centre averages P̄, ε̄ of the gauge region; the nominal stress
-F/A_arm is not the gauge stress there, measure/centre_stress.py). Plane stress in the centre:
-           σ_x = E/(1−ν²) (ε_x + ν ε_y),   σ_y = E/(1−ν²) (ε_y + ν ε_x),   ε_z = −ν/(1−ν) (ε_x + ε_y).
-- any ratio but equibiaxial: the per-axis readings of one test fix both constants. With
-  a = E/(1−ν²), b = ν a the two axes' rows σ_x = c_x + a ε̄_x + b ε̄_y, σ_y = c_y + a ε̄_y + b ε̄_x
-  are fitted together (least squares over the window; chord: the end rows' differences), then
-  ν = b/a, E = a (1−ν²);
-- equibiaxial (ε̄_x and ε̄_y within 5 % over the window): the in-plane rows only fix a + b =
-  E/(1−ν), so ν comes from the through-thickness strain, r = −slope(ε̄_z vs ε̄_x + ε̄_y), ν = r/(1+r),
-  and E per axis from σ_a against (ε̄_a + ν ε̄_other)/(1−ν²) as for the block.
+Cruciform (the curve carries the FE centre averages P̄_aa, ε̄_aa (a = x, y, z) of the gauge region;
+the nominal stress F/A_arm is not the gauge stress there, measure/centre_stress.py). Isotropic
+linear elasticity holds between averages over one region, with no plane-stress assumption:
+           σ_a = λ (ε_x + ε_y + ε_z) + 2μ ε_a,        a = x, y, z,
+fitted for λ, μ over the window (the three rows of every reading stacked; regression with one
+intercept per row kind, or chord: the end readings' differences), then
+           E = μ (3λ + 2μ)/(λ + μ),   ν = λ / (2 (λ + μ)).
+Any ratio, equibiaxial included, fixes both (ε_z differs from ε_x, ε_y). With σ_z = 0 (plane
+stress) the z row gives ε_z = −ν/(1−ν)(ε_x + ε_y) and the x, y rows become the lab's
+σ_x = E/(1−ν²)(ε_x + ν ε_y), σ_y = E/(1−ν²)(ε_y + ν ε_x); on a thin plate that assumption costs
+~0.2 % (σ̄_z/σ̄_x ~ 2e-3), in a thinned pocket ~1 % (σ̄_z/σ̄_x ~ 9e-3), which is why the z row is kept.
 The lab's figure from extensometers and nominal stress (:func:`nominal_biaxial`) is reported beside
 it: it is off by the correction factor.
 """
@@ -78,53 +79,43 @@ def nominal_biaxial(curve: Curve, window, method) -> ElasticConstants:
         return ElasticConstants(None, None, None, None, [], f"not measured: {exc}")
 
 
-EQUIBIAXIAL_SPREAD = 0.05  # |ε̄_x − ε̄_y| ≤ this × |ε̄_lead| over the window: treated as equibiaxial
-
-
 def _centre(curve: Curve, window, method) -> ElasticConstants:
     c = {k: np.array(v) for k, v in curve.centre.items()}
-    ex, ey, sx, sy = c["strain_x"], c["strain_y"], c["stress_x"], c["stress_y"]
-    lead = ex if np.max(np.abs(ex)) >= np.max(np.abs(ey)) else ey
-    inside = (np.abs(lead) >= window[0] * (1 - 1e-9)) & (np.abs(lead) <= window[1] * (1 + 1e-9))
+    eps = np.array([c["strain_x"], c["strain_y"], c["strain_z"]])
+    sig = np.array([c["stress_x"], c["stress_y"], c["stress_z"]])
+    lead = np.max(np.abs(eps[:2]), axis=0)
+    inside = (lead >= window[0] * (1 - 1e-9)) & (lead <= window[1] * (1 + 1e-9))
     if inside.sum() < 2:
         raise FitError(f"only {int(inside.sum())} recorded point(s) with |centre strain| in {window}; need at least 2")
-    if np.max(np.abs(ex - ey)[inside]) <= EQUIBIAXIAL_SPREAD * np.max(np.abs(lead)[inside]):
-        r_fit = _slope_on(lead, ex + ey, c["strain_z"], window, method)
-        nu = -r_fit.slope / (1 - r_fit.slope)
-        axes = []
-        for axis, (own, other, stress) in enumerate(((ex, ey, sx), (ey, ex, sy))):
-            fit = _slope_on(lead, (own + nu * other) / (1 - nu**2), stress, window, method)
-            axes.append({"axis": "xy"[axis], "E": fit.slope, "nu": nu, "fit": fit.as_dict()})
-        E = float(np.mean([a["E"] for a in axes]))
-        return ElasticConstants(E, nu, axes[0]["fit"], r_fit.as_dict(), axes,
-                                "centre averages, equibiaxial: nu from the through-thickness strain")
-    a, b, fit = _in_plane_fit(ex[inside], ey[inside], sx[inside], sy[inside], method)
-    nu = b / a
-    E = a * (1 - nu**2)
-    fit |= {"window": tuple(window), "slope": E}
-    return ElasticConstants(E, nu, fit, fit, [{"axis": "xy", "E": E, "nu": nu, "fit": fit}],
-                            "centre averages: E and nu from the per-axis readings")
+    lam, mu, fit = _lame_fit(eps[:, inside], sig[:, inside], method)
+    E = mu * (3 * lam + 2 * mu) / (lam + mu)
+    nu = lam / (2 * (lam + mu))
+    fit |= {"window": tuple(window), "slope": E, "lambda": lam, "mu": mu}
+    return ElasticConstants(E, nu, fit, fit, [{"axis": "xyz", "E": E, "nu": nu, "fit": fit}],
+                            "centre averages of the gauge region: sigma_a = lambda tr(eps) + 2 mu eps_a, a = x, y, z")
 
 
-def _in_plane_fit(ex, ey, sx, sy, method) -> tuple[float, float, dict]:
-    """a, b of σ_x = c_x + a ε_x + b ε_y, σ_y = c_y + a ε_y + b ε_x (module docstring)."""
-    n = len(ex)
+def _lame_fit(eps: np.ndarray, sig: np.ndarray, method: str) -> tuple[float, float, dict]:
+    """λ, μ of σ_a = c_a + λ tr ε + 2μ ε_a over readings eps, sig (3, n) (module docstring)."""
+    trace = eps.sum(axis=0)
     if method == "chord":
-        order = np.argsort(np.abs(ex) + np.abs(ey))
-        i, j = order[0], order[-1]
-        A = np.array([[ex[j] - ex[i], ey[j] - ey[i]], [ey[j] - ey[i], ex[j] - ex[i]]])
-        a, b = np.linalg.solve(A, [sx[j] - sx[i], sy[j] - sy[i]])
-        return float(a), float(b), {"method": "chord", "n_points": 2, "r2": 1.0, "a": float(a), "b": float(b)}
-    one, zero = np.ones(n), np.zeros(n)
-    design = np.vstack([np.column_stack([one, zero, ex, ey]), np.column_stack([zero, one, ey, ex])])
-    y = np.concatenate([sx, sy])
+        i, j = np.argsort(np.max(np.abs(eps[:2]), axis=0))[[0, -1]]
+        A = np.column_stack([np.full(3, trace[j] - trace[i]), 2 * (eps[:, j] - eps[:, i])])
+        (lam, mu), *_ = np.linalg.lstsq(A, sig[:, j] - sig[:, i], rcond=None)
+        return float(lam), float(mu), {"method": "chord", "n_points": 2, "r2": 1.0}
+    n = eps.shape[1]
+    rows = []
+    for a in range(3):
+        intercepts = np.zeros((n, 3))
+        intercepts[:, a] = 1.0
+        rows.append(np.column_stack([intercepts, trace, 2 * eps[a]]))
+    design, y = np.vstack(rows), sig.ravel()
     coef, *_ = np.linalg.lstsq(design, y, rcond=None)
     resid = y - design @ coef
-    centred = np.concatenate([sx - sx.mean(), sy - sy.mean()])
+    centred = (sig - sig.mean(axis=1, keepdims=True)).ravel()
     ss_tot = float(centred @ centred)
     r2 = 1.0 - float(resid @ resid) / ss_tot if ss_tot > 0 else 1.0
-    a, b = float(coef[2]), float(coef[3])
-    return a, b, {"method": "regression", "n_points": n, "r2": r2, "a": a, "b": b}
+    return float(coef[3]), float(coef[4]), {"method": "regression", "n_points": n, "r2": r2}
 
 
 def _uniaxial(curve: Curve, window, method) -> ElasticConstants:
