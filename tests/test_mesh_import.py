@@ -163,3 +163,12 @@ def test_the_committed_mesh_scene_resolves_its_file_next_to_it():
     scene = load_scene(SPECIMENS / "mesh-import-bar.toml")
     assert scene.specimen.spec.file == (SPECIMENS / "meshes" / "bar.msh").resolve()
     assert tomllib.loads((SPECIMENS / "mesh-import-bar.toml").read_text())["specimen"]["file"] == "meshes/bar.msh"
+
+
+def test_compare_rebuilds_the_scene_with_its_file_from_any_folder(tmp_path, monkeypatch):
+    from vlab.compare import scene_for_model
+
+    scene = load_scene(SPECIMENS / "mesh-import-bar.toml")
+    monkeypatch.chdir(tmp_path)  # the relative file must still resolve next to the scene file
+    other = scene_for_model(scene, "linear")
+    assert other.material.model == "linear" and other.specimen.spec.file == scene.specimen.spec.file

@@ -179,6 +179,7 @@ class Scene:
     measure: MeasureSpec
     solver: SolverSpec
     source: dict  # the raw parsed TOML, for provenance
+    base_dir: str = "."  # where relative paths in the scene (specimen.file) are taken from
 
     def content_hash(self) -> str:
         """sha256 hex of the canonical JSON of ``source`` (sorted keys; key order irrelevant)."""
@@ -578,7 +579,7 @@ def _parse(data: Mapping[str, Any]) -> Scene:
                  test=test,
                  measure=_parse_measure(data.get("measure", {}), specimen),
                  solver=_parse_solver(data.get("solver", {})),
-                 source=copy.deepcopy(dict(data)))
+                 source=copy.deepcopy(dict(data)), base_dir=str(_BASE_DIR.get()))
 
 
 # --- public entry points -------------------------------------------------------------------
