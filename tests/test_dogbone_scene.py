@@ -74,5 +74,5 @@ def test_mesh_keys_are_validated(mesh, fragment):
 def test_gauge_size_is_rejected_for_a_block():
     raw = scene(mesh={"gauge_size": 1.0})
     raw["specimen"] = {"shape": "block", "size": [10.0, 10.0, 10.0]}
-    with pytest.raises(SceneError, match="mesh.gauge_size applies to specimen.shape = 'dogbone' only"):
+    with pytest.raises(SceneError, match="mesh.gauge_size applies to specimen.shape = 'dogbone' or 'cruciform' only"):
         parse_scene(raw)

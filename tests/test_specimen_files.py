@@ -15,23 +15,27 @@ FILES = sorted((Path(__file__).resolve().parents[1] / "specimens").glob("*.toml"
 def coarse(raw: dict) -> dict:
     """Up to twice the element size (keeping two elements across the narrowest width), at most
     four regular steps."""
-    spec = parse_scene(raw).specimen
-    narrow = spec.dimensions.width if spec.shape == "dogbone" else min(spec.size[1:])
-    size = raw["mesh"]["size"]
+    spec = parse_scene(raw, base_dir=FILES[0].parent).specimen
     overrides = {"test.steps": min(raw["test"].get("steps", 10), 4)}
+    if spec.shape == "mesh":  # meshed already
+        return apply_overrides(raw, overrides)
+    narrow = {"dogbone": lambda: spec.dimensions.width, "block": lambda: min(spec.size[1:]),
+              "sheet": lambda: spec.size[1],
+              "cruciform": lambda: spec.dimensions.gauge_region / 2}[spec.shape]()
+    size = raw["mesh"]["size"]
     if "gauge_size" not in raw["mesh"]:
         overrides["mesh.size"] = max(size, min(2 * size, narrow / 2))
     return apply_overrides(raw, overrides)
 
 
 def test_the_folder_holds_scenes():
-    assert len(FILES) >= 7
+    assert len(FILES) >= 8
 
 
 @pytest.mark.parametrize("path", FILES, ids=lambda p: p.stem)
 def test_specimen_file_runs_on_a_coarse_mesh(path, tmp_path):
     raw = tomllib.loads(path.read_text(encoding="utf-8"))
-    scene = parse_scene(coarse(raw), origin=path.name)
+    scene = parse_scene(coarse(raw), origin=path.name, base_dir=path.parent)
     result = run_scene(scene)
     assert result.converged, result.history.failure
     data = write_run(result, tmp_path / scene.name, path.read_text(encoding="utf-8"))

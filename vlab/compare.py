@@ -43,7 +43,8 @@ class ModelOutcome:
 
 def scene_for_model(scene: Scene, model: str) -> Scene:
     """The same scene with ``material.model`` replaced (validated like a scene file)."""
-    return parse_scene(apply_overrides(scene.source, {"material.model": model}), origin=f"model {model}")
+    return parse_scene(apply_overrides(scene.source, {"material.model": model}), origin=f"model {model}",
+                       base_dir=scene.base_dir)
 
 
 def scheduled_levels(scene: Scene) -> int:

@@ -22,6 +22,8 @@ from vlab.fe.spring_network import SpringNetwork
 from vlab.fe.stepping import Failure, SolveHistory, Stepping, run_schedule
 from vlab.fe.timers import phase_clock
 from vlab.geometry.block import block_specimen
+from vlab.geometry.cruciform import cruciform_specimen
+from vlab.geometry.imported import imported_specimen
 from vlab.geometry.dogbone import dogbone_specimen
 from vlab.geometry.sheet import sheet_specimen
 from vlab.geometry.quality import MeshQuality, mesh_quality
@@ -33,6 +35,7 @@ from vlab.materials import make_material
 from vlab.materials.history import HistoryMaterial
 from vlab.materials.plane import plane_model
 from vlab.materials.split import SPLIT_LAWS, make_split_law
+from vlab.measure.centre_stress import CentreStressProbe, centre_report
 from vlab.measure.elastic_constants import ElasticConstants, crosshead_modulus, elastic_constants
 from vlab.measure.homogeneity import HomogeneityProbe
 from vlab.measure.recorder import Curve, Recorder
@@ -75,13 +78,18 @@ class RunResult:
 
 def build_specimen(scene: Scene) -> Specimen:
     spec = scene.specimen
+    mesh = scene.mesh
     if spec.shape == "block":
-        return block_specimen(spec.size, scene.mesh.size, scene.mesh.cell, scene.measure.gauge_length)
+        return block_specimen(spec.size, mesh.size, mesh.cell, scene.measure.gauge_length, mesh.symmetry)
     if spec.shape == "dogbone":
-        return dogbone_specimen(spec.dimensions, scene.mesh.size, scene.mesh.cell, scene.mesh.gauge_size)
+        return dogbone_specimen(spec.dimensions, mesh.size, mesh.cell, mesh.gauge_size, mesh.symmetry)
     if spec.shape == "sheet":
-        return sheet_specimen(spec.size, spec.thickness, scene.mesh.size, scene.mesh.cell,
-                              scene.measure.gauge_length)
+        return sheet_specimen(spec.size, spec.thickness, mesh.size, mesh.cell, scene.measure.gauge_length)
+    if spec.shape == "cruciform":
+        return cruciform_specimen(spec.dimensions, mesh.size, mesh.cell, mesh.gauge_size, mesh.symmetry,
+                                  scene.measure.gauge_length)
+    if spec.shape == "mesh":
+        return imported_specimen(spec.spec, spec.data)
     raise ValueError(f"specimen.shape {spec.shape!r} is not supported by this build")
 
 
@@ -154,7 +162,8 @@ def _run_scene(scene: Scene, on_level, specimen: Specimen | None) -> RunResult:
     partition = Partition.build(body.pattern, loading.prescribed)
     timing["mesh_s"] = clock() - t0
 
-    recorder = Recorder(space, specimen, scene.test.stretch, loading.moving_dofs, material)
+    recorder = Recorder(space, specimen, scene.test.stretch, loading.moving_dofs, material,
+                        CentreStressProbe.build(space, specimen, material))
     probe = HomogeneityProbe.build(space, specimen, material) if material is not None else None
     homogeneity: list[dict] = []
     measure_time = [0.0]
@@ -207,6 +216,9 @@ def _run_scene(scene: Scene, on_level, specimen: Specimen | None) -> RunResult:
                 curve.column("stress", axis), reference[key])
     extra = {"mesh_quality": quality.as_dict(),
              "crosshead": crosshead_modulus(curve, scene.measure.modulus_window, scene.measure.fit)}
+    centre = centre_report(curve, scene.measure.modulus_window, scene.measure.fit)
+    if centre is not None:
+        extra["cruciform"] = centre
     if homogeneity:
         extra["homogeneity"] = _homogeneity_report(curve, homogeneity, scene.measure.modulus_window)
     timing["measure_s"] += clock() - t2

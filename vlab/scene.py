@@ -18,6 +18,11 @@ model with a volumetric–isochoric split, ``SPLIT_LAWS``, and hexes or order-2 
 Sheets: ``[specimen] shape = "sheet"`` with ``size = [length, width]``, ``thickness`` (mm) and
 ``plane = "stress"`` (default) or ``"strain"``; meshed in 2D with ``mesh.cell = "tri" | "quad"``.
 
+Cruciforms: ``[specimen] shape = "cruciform"`` with arm_width, arm_length, gauge_region,
+fillet_radius, thickness, grip_length and optional slit_count, slit_width, slit_length; tested
+biaxially between four clamped grips. ``[mesh] symmetry = "none" | "half" | "quarter" | "eighth"``
+meshes only that part of a block, dogbone or cruciform (geometry/symmetry.py).
+
 New specimen shapes: write a frozen dataclass with ``length`` and ``max_dimension``
 properties and a parser ``(_Table) -> spec``, and register both in ``SPECIMEN_SHAPES`` (and the
 test kinds and grips it allows in ``SPECIMEN_TESTS``).
@@ -32,17 +37,23 @@ import json
 import math
 import re
 import tomllib
-from dataclasses import dataclass
+from contextvars import ContextVar
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Mapping
 
+import numpy as np
+
+from vlab.geometry.cruciform import CRUCIFORM_KEYS, CruciformDimensions
 from vlab.geometry.dogbone import DIMENSION_KEYS, DogboneDimensions, GeometryError
+from vlab.geometry.imported import ImportedMesh, MeshImport, MeshImportError, read_mesh
+from vlab.geometry.symmetry import SYMMETRY_LEVELS
 from vlab.geometry.standards import standard_dimensions, standard_names
 from vlab.loading.protocol import HOLDS, PROTOCOLS, ProtocolSpec
 from vlab.materials.split import SPLIT_LAWS
 from vlab.moduli import ALIASES, KEYS as MODULI_KEYS, Moduli, ModuliError, from_pair
 
-__all__ = ["SceneError", "Scene", "BlockSpecimen", "DogboneSpecimen", "SheetSpecimen", "MeshSpec", "MaterialSpec", "TestSpec",
+__all__ = ["SceneError", "Scene", "BlockSpecimen", "DogboneSpecimen", "SheetSpecimen", "CruciformSpecimen", "MeshSpec", "MaterialSpec", "TestSpec",
            "MeasureSpec", "SolverSpec", "load_scene", "parse_scene", "apply_overrides",
            "SPECIMEN_SHAPES", "MODELS"]
 
@@ -111,7 +122,40 @@ class SheetSpecimen:
         return max(self.size)
 
 
-Specimen = BlockSpecimen | DogboneSpecimen | SheetSpecimen
+@dataclass(frozen=True)
+class CruciformSpecimen:
+    shape: str
+    dimensions: CruciformDimensions  # mm
+
+    @property
+    def length(self) -> float:
+        return 2 * self.dimensions.arm_end
+
+    @property
+    def max_dimension(self) -> float:
+        return 2 * self.dimensions.arm_end
+
+
+@dataclass(frozen=True)
+class MeshFileSpecimen:
+    shape: str
+    spec: MeshImport  # file (absolute), grip region names, loading axis, marks, area
+    data: ImportedMesh = field(compare=False, repr=False)  # the mesh as read at validation
+
+    @property
+    def extent(self) -> np.ndarray:
+        return self.data.points.max(axis=0) - self.data.points.min(axis=0)
+
+    @property
+    def length(self) -> float:
+        return float(self.extent[self.spec.axis])
+
+    @property
+    def max_dimension(self) -> float:
+        return float(self.extent.max())
+
+
+Specimen = BlockSpecimen | DogboneSpecimen | SheetSpecimen | CruciformSpecimen | MeshFileSpecimen
 
 
 @dataclass(frozen=True)
@@ -122,6 +166,7 @@ class MeshSpec:
     gauge_size: float | None = None  # element edge over a dogbone's parallel section and fillets
     min_quality: float = 0.15  # smallest acceptable element quality (geometry/quality.py)
     formulation: str = "displacement"  # or "mixed": condensed θ/p per element (vlab/fe/mixed.py)
+    symmetry: str = "none"  # none | half | quarter | eighth (geometry/symmetry.py)
 
 
 @dataclass(frozen=True)
@@ -173,6 +218,7 @@ class Scene:
     def effect(self, name: str):
         """The spec of the declared effect ``name``, or None."""
         return next((e for e in self.effects if e.name == name), None)
+    base_dir: str = "."  # where relative paths in the scene (specimen.file) are taken from
 
     def content_hash(self) -> str:
         """sha256 hex of the canonical JSON of ``source`` (sorted keys; key order irrelevant)."""
@@ -304,18 +350,110 @@ def _parse_sheet(t: _Table) -> SheetSpecimen:
                          plane=t.choice("plane", ("stress", "strain"), default="stress"))
 
 
+def _parse_cruciform(t: _Table) -> CruciformSpecimen:
+    """All of arm_width, arm_length, gauge_region, fillet_radius, thickness, grip_length; slits
+    optional (slit_count = 0 by default; with slits, slit_width and slit_length are required); a
+    thinned centre optional (gauge_thickness with thinning_length)."""
+    values: dict[str, Any] = {}
+    for key in CRUCIFORM_KEYS[:6]:
+        values[key] = t.number(key, ge=0) if key == "fillet_radius" else t.number(key, gt=0)
+    values["slit_count"] = t.integer("slit_count", 0, 50, default=0)
+    if "gauge_thickness" in t.raw:
+        values["gauge_thickness"] = t.number("gauge_thickness", gt=0)
+        values["thinning_length"] = t.number("thinning_length", gt=0)
+    elif "thinning_length" in t.raw:
+        raise SceneError(f"{t.field('thinning_length')} needs specimen.gauge_thickness (a thinned centre)")
+    for key in CRUCIFORM_KEYS[7:9]:
+        if values["slit_count"]:
+            values[key] = t.number(key, gt=0)
+        elif key in t.raw:
+            raise SceneError(f"{t.field(key)} needs specimen.slit_count >= 1 (the number of slits per arm)")
+    dims = CruciformDimensions(**values)
+    try:
+        dims.check()
+    except GeometryError as exc:
+        raise SceneError(f"specimen.{exc}") from None
+    return CruciformSpecimen(shape="cruciform", dimensions=dims)
+
+
+_BASE_DIR: ContextVar[Path] = ContextVar("scene_base_dir", default=Path("."))  # resolves specimen.file
+_AXES = ("x", "y", "z")
+
+
+def _marks(t: _Table, key: str) -> tuple[tuple[float, ...], tuple[float, ...]]:
+    v = t.get(key)
+    if not isinstance(v, list) or len(v) != 2:
+        raise SceneError(f"{t.field(key)} must be two points [[x, y, z], [x, y, z]] in the mesh file's "
+                         f"coordinates (mm), got {_show(v)}")
+    return tuple(_vector(f"{t.field(key)}[{i}]", p, 3, "[x, y, z] in mm") for i, p in enumerate(v))  # type: ignore
+
+
+def _parse_mesh_file(t: _Table) -> MeshFileSpecimen:
+    """``file`` (.msh or .vtu, relative to the scene file), ``grips = {a = "name", b = "name"}``
+    (two named regions of the file), ``axis`` (loading axis of the file, default "x"),
+    ``gauge_marks``, ``transverse_marks``, ``thickness_marks`` (two points each) and ``area`` (mm²,
+    the section the nominal stress divides by)."""
+    name = t.get("file")
+    if not isinstance(name, str) or not name:
+        raise SceneError(f"{t.field('file')} must be a path to a .msh or .vtu file, got {_show(name)}")
+    path = Path(name) if Path(name).is_absolute() else _BASE_DIR.get() / name
+    try:
+        data = read_mesh(path)
+    except MeshImportError as exc:
+        raise SceneError(f"{exc}") from None
+    grips = t.get("grips")
+    if not isinstance(grips, dict) or len(grips) != 2 or not all(isinstance(v, str) for v in grips.values()):
+        raise SceneError(f"{t.field('grips')} must be a table of two region names, e.g. {{left = \"grip_left\", "
+                         f"right = \"grip_right\"}}, got {_show(grips)}")
+    for key, region in grips.items():
+        if region not in data.regions:
+            raise SceneError(f"{t.field('grips')}.{key} = {region!r} is not a region of {path.name}; regions "
+                             f"found: {', '.join(data.names) or 'none'}")
+    spec = MeshImport(file=path.resolve(), grips=tuple(grips.values()),  # type: ignore[arg-type]
+                      axis=_AXES.index(t.choice("axis", _AXES, default="x")),
+                      gauge_marks=_marks(t, "gauge_marks"), transverse_marks=_marks(t, "transverse_marks"),
+                      thickness_marks=_marks(t, "thickness_marks"), area=t.number("area", gt=0))
+    _check_marks_inside(t, spec, data)
+    return MeshFileSpecimen(shape="mesh", spec=spec, data=data)
+
+
+def _check_marks_inside(t: _Table, spec: MeshImport, data: ImportedMesh) -> None:
+    import skfem
+
+    mesh = (skfem.MeshTet if data.cell == "tet" else skfem.MeshHex)(
+        np.ascontiguousarray(data.points.T), np.ascontiguousarray(data.cells.T))
+    find = mesh.element_finder()
+    for key in ("gauge_marks", "transverse_marks", "thickness_marks"):
+        for point in getattr(spec, key):
+            try:
+                find(*(np.array([c]) for c in point))
+            except ValueError:
+                raise SceneError(f"{t.field(key)}: point {list(point)} lies outside the mesh of "
+                                 f"{spec.file.name} (bounding box {data.points.min(axis=0).tolist()} to "
+                                 f"{data.points.max(axis=0).tolist()})") from None
+
+
+MESH_FILE_KEYS = ("file", "grips", "axis", "gauge_marks", "transverse_marks", "thickness_marks", "area")
+
 # shape -> (allowed keys in [specimen], parser)
 SPECIMEN_SHAPES: dict[str, tuple[tuple[str, ...], Callable[[_Table], Specimen]]] = {
     "block": (("shape", "size"), _parse_block),
     "dogbone": (("shape", "standard") + DIMENSION_KEYS, _parse_dogbone),
     "sheet": (("shape", "size", "thickness", "plane"), _parse_sheet),
+    "cruciform": (("shape",) + CRUCIFORM_KEYS, _parse_cruciform),
+    "mesh": (("shape",) + MESH_FILE_KEYS, _parse_mesh_file),
 }
 # shape -> (allowed test kinds, allowed grips); the first grip kind is the default
 SPECIMEN_TESTS: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
     "block": (("uniaxial", "biaxial"), ("roller", "clamped")),
     "dogbone": (("uniaxial",), ("clamped",)),
     "sheet": (("uniaxial", "biaxial"), ("roller", "clamped")),
+    "cruciform": (("biaxial",), ("clamped",)),
+    "mesh": (("uniaxial",), ("clamped",)),
 }
+# shapes whose meshes are built mirror-symmetric and may be reduced by [mesh] symmetry
+SYMMETRIC_SHAPES = ("block", "dogbone", "cruciform")
+_FINE_MESH_SHAPES = ("dogbone", "cruciform")  # shapes with a [mesh] gauge_size
 
 
 def _parse_specimen(raw: Any) -> Specimen:
@@ -329,15 +467,43 @@ def _parse_specimen(raw: Any) -> Specimen:
 
 
 def _parse_mesh(raw: Any, specimen: Specimen) -> MeshSpec:
-    t = _Table("mesh", raw, ("size", "order", "cell", "gauge_size", "min_quality", "formulation"))
+    t = _Table("mesh", raw, ("size", "order", "cell", "gauge_size", "min_quality", "symmetry", "formulation"))
+    if specimen.shape == "mesh":
+        return _parse_mesh_of_file(t, specimen)
     size = t.number("size", gt=0, le=specimen.max_dimension, note=" (the largest specimen dimension)")
     gauge_size = t.number("gauge_size", default=None, gt=0, le=size, note=" (mesh.size)")
-    if gauge_size is not None and specimen.shape != "dogbone":
-        raise SceneError(f"{t.field('gauge_size')} applies to specimen.shape = 'dogbone' only, "
-                         f"not {specimen.shape!r}")
+    if gauge_size is not None and specimen.shape not in _FINE_MESH_SHAPES:
+        raise SceneError(f"{t.field('gauge_size')} applies to specimen.shape = "
+                         f"{' or '.join(map(repr, _FINE_MESH_SHAPES))} only, not {specimen.shape!r}")
+    symmetry = t.choice("symmetry", SYMMETRY_LEVELS, default="none")
+    if symmetry != "none" and specimen.shape not in SYMMETRIC_SHAPES:
+        raise SceneError(f"{t.field('symmetry')} must be 'none' for specimen.shape = {specimen.shape!r} "
+                         f"(symmetry reduction is for {', '.join(SYMMETRIC_SHAPES)}), got {symmetry!r}")
     cells = getattr(specimen, "cells", ("tet", "hex"))  # a specimen's own cells (2D: tri, quad)
     return MeshSpec(size=size, order=t.integer("order", 1, 2, default=1),
                     cell=t.choice("cell", cells, default=cells[0]), gauge_size=gauge_size,
+                    min_quality=t.number("min_quality", default=0.15, gt=0, lt=1), symmetry=symmetry,
+                    formulation=t.choice("formulation", FORMULATIONS, default="displacement"))
+
+
+def _parse_mesh_of_file(t: _Table, specimen: MeshFileSpecimen) -> MeshSpec:
+    """An imported mesh is meshed already: size and gauge_size do not apply, the cell kind is the
+    file's; order (2 adds mid-edge nodes to tetrahedra) and min_quality do."""
+    for key in ("size", "gauge_size"):
+        if key in t.raw:
+            raise SceneError(f"{t.field(key)} does not apply to specimen.shape = 'mesh' (the file is meshed "
+                             f"already); remove it")
+    cell = specimen.data.cell
+    if t.get("cell", cell) != cell:
+        raise SceneError(f"{t.field('cell')} must be {cell!r} (the cells of {specimen.spec.file.name}), "
+                         f"got {_show(t.raw['cell'])}")
+    symmetry = t.choice("symmetry", SYMMETRY_LEVELS, default="none")
+    if symmetry != "none":
+        raise SceneError(f"{t.field('symmetry')} must be 'none' for specimen.shape = 'mesh' (vlab cannot know "
+                         f"that a user's mesh is symmetric), got {symmetry!r}")
+    edges = specimen.data.points[specimen.data.cells[:, :2]]
+    size = float(np.mean(np.linalg.norm(edges[:, 1] - edges[:, 0], axis=1)))
+    return MeshSpec(size=size, order=t.integer("order", 1, 2, default=1), cell=cell,
                     min_quality=t.number("min_quality", default=0.15, gt=0, lt=1),
                     formulation=t.choice("formulation", FORMULATIONS, default="displacement"))
 
@@ -478,6 +644,10 @@ def _parse_measure(raw: Any, specimen: Specimen) -> MeasureSpec:
             raise SceneError(f"{field} must satisfy 0 <= a < b <= 0.05, got {list(window)}")
     gauge = t.number("gauge_length", default=None, gt=0, lt=specimen.length,
                      note=" (the specimen length)")
+    if gauge is not None and specimen.shape == "cruciform" and gauge > specimen.dimensions.gauge_region:
+        raise SceneError(f"{t.field('gauge_length')} must be in (0, specimen.gauge_region = "
+                         f"{specimen.dimensions.gauge_region:g}] mm for a cruciform (the extensometers sit in "
+                         f"the gauge region), got {gauge:g}")
     return MeasureSpec(modulus_window=window, gauge_length=gauge,  # type: ignore[arg-type]
                        fit=t.choice("fit", ("regression", "chord"), default="regression"),
                        modulus_points=t.integer("modulus_points", 0, 100, default=9))
@@ -488,6 +658,19 @@ def _parse_solver(raw: Any) -> SolverSpec:
     return SolverSpec(rtol=t.number("rtol", default=1e-8, ge=1e-14, le=1e-2),
                       max_iterations=t.integer("max_iterations", 1, 200, default=25),
                       max_cutbacks=t.integer("max_cutbacks", 0, 30, default=8))
+
+
+def _check_symmetry(mesh: MeshSpec, test: TestSpec, specimen: Specimen) -> None:
+    """Refuse a symmetry reduction of a set-up that is not symmetric: a block pulled biaxially
+    between clamped grips, one of each pair fixed, shifts the y grips against the x clamps (which
+    hold u_y = 0), so its solution is not mirror-symmetric. (Roller grips are: their 3-2-1
+    supports pin rigid motions only and give way to the symmetry planes; dogbones and centred
+    cruciforms are.)"""
+    if (mesh.symmetry != "none" and specimen.shape == "block" and test.kind == "biaxial"
+            and test.grips == "clamped"):
+        raise SceneError(f"mesh.symmetry must be 'none' for a biaxial block between clamped grips (one "
+                         f"grip per axis holds, so the set-up is not mirror-symmetric), got {mesh.symmetry!r}; "
+                         f"use test.grips = 'roller' or a cruciform")
 
 
 def _parse(data: Mapping[str, Any]) -> Scene:
@@ -520,12 +703,13 @@ def _parse(data: Mapping[str, Any]) -> Scene:
         raise SceneError(f"material.model {SPRING_NETWORK!r} is a 3D network of mesh edges; "
                          f"specimen.shape = 'sheet' needs a continuum model (not {SPRING_NETWORK!r})")
     test = _parse_test(data["test"], specimen.shape)
+    _check_symmetry(mesh, test, specimen)
     _check_effects_scope(data.get("effects", {}), specimen.shape, mesh, material.model)
     return Scene(name=name, description=description, specimen=specimen,
                  mesh=mesh, material=material, test=test,
                  measure=_parse_measure(data.get("measure", {}), specimen),
                  solver=_parse_solver(data.get("solver", {})),
-                 source=copy.deepcopy(dict(data)),
+                 source=copy.deepcopy(dict(data)), base_dir=str(_BASE_DIR.get()),
                  effects=_parse_effects(data.get("effects", {}), material, test))
 
 
@@ -576,12 +760,16 @@ def _parse_effects(raw: Any, material: MaterialSpec, test: TestSpec) -> tuple:
 
 # --- public entry points -------------------------------------------------------------------
 
-def parse_scene(data: dict, origin: str = "<scene>") -> Scene:
-    """Validate a parsed scene dict; errors are ``SceneError("<origin>: <message>")``."""
+def parse_scene(data: dict, origin: str = "<scene>", base_dir: str | Path | None = None) -> Scene:
+    """Validate a parsed scene dict; errors are ``SceneError("<origin>: <message>")``. Relative
+    paths in the scene (specimen.file) are taken from ``base_dir`` (default: the current folder)."""
+    token = _BASE_DIR.set(Path(base_dir) if base_dir is not None else Path("."))
     try:
         return _parse(data)
     except SceneError as exc:
         raise SceneError(f"{origin}: {exc}") from None
+    finally:
+        _BASE_DIR.reset(token)
 
 
 def load_scene(path: str | Path) -> Scene:
@@ -595,7 +783,7 @@ def load_scene(path: str | Path) -> Scene:
         raise SceneError(f"{path}: scene file is not UTF-8 ({exc})") from None
     except tomllib.TOMLDecodeError as exc:
         raise SceneError(f"{path}: TOML syntax error: {exc}") from None
-    return parse_scene(data, origin=str(path))
+    return parse_scene(data, origin=str(path), base_dir=path.parent)
 
 
 def apply_overrides(data: Mapping[str, Any], overrides: Mapping[str, object]) -> dict:

@@ -1,43 +1,55 @@
 """Rectangular block specimen: length x (first loading axis), width y, thickness z, in mm.
 
 Structured mesh of ceil(side / size) divisions per side: hexahedra, or each hexahedron split into
-tetrahedra (scikit-fem's tensor-product tet mesh). The grips are the four side faces normal to x
-and y; the extensometer marks sit on the top face (z = thickness) centred on the block.
+tetrahedra (scikit-fem's tensor-product tet mesh). A symmetry-reduced block ([mesh] symmetry) is
+the part x ≥ L/2 (, y ≥ W/2, z ≥ H/2) of the mirror-built mesh (geometry/lattice.py): one octant
+of ceil(side / (2 size)) divisions per half side, mirrored across the planes not cut. With an even
+number of divisions per side its hexahedra are exactly those of the full mesh; its tetrahedra are
+the octant's Kuhn split, not scikit-fem's (the same only up to discretisation error on a
+non-uniform field, e.g. with clamped grips). The grips are the four side faces normal to x and y;
+the extensometer marks sit on the top face (z = thickness) centred on the block.
 """
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import skfem
 
+from vlab.geometry.lattice import Lattice, divisions, symmetric_mesh
 from vlab.geometry.specimen import GaugeMarks, Grip, Specimen
+from vlab.geometry.symmetry import cut_axes, mirrored_planes
 
 
-def block_mesh(size: tuple[float, float, float], element_size: float, cell: str) -> skfem.Mesh:
-    axes = [np.linspace(0.0, side, max(1, math.ceil(side / element_size - 1e-9)) + 1) for side in size]
-    mesh_type = skfem.MeshHex if cell == "hex" else skfem.MeshTet
-    return mesh_type.init_tensor(*axes)
+def block_mesh(size: tuple[float, float, float], element_size: float, cell: str,
+               symmetry: str = "none") -> skfem.Mesh:
+    if symmetry == "none":
+        axes = [np.linspace(0.0, side, divisions(side, element_size) + 1) for side in size]
+        return (skfem.MeshHex if cell == "hex" else skfem.MeshTet).init_tensor(*axes)
+    axes = [np.linspace(side / 2, side, divisions(side / 2, element_size) + 1) for side in size]
+    X = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1)
+    planes = [(a, size[a] / 2) for a in mirrored_planes(symmetry)]
+    return symmetric_mesh(Lattice.block(X), planes, cell, max(size))
 
 
 def _face(axis: int, value: float, tol: float):
     return lambda X: np.abs(X[:, axis] - value) <= tol
 
 
-def block_specimen(size, element_size: float, cell: str, gauge_length: float | None = None) -> Specimen:
+def block_specimen(size, element_size: float, cell: str, gauge_length: float | None = None,
+                   symmetry: str = "none") -> Specimen:
     """A block with grips on its x and y faces and gauge marks of ``gauge_length`` (default L/2)."""
     L, W, H = (float(s) for s in size)
     tol = 1e-9 * max(L, W, H)
-    grips = (
+    cut = cut_axes(symmetry)
+    grips = tuple(g for g in (
         Grip("x-", 0, -1, _face(0, 0.0, tol)), Grip("x+", 0, +1, _face(0, L, tol)),
         Grip("y-", 1, -1, _face(1, 0.0, tol)), Grip("y+", 1, +1, _face(1, W, tol)),
-    )
+    ) if not (g.side < 0 and g.axis in cut))
     gx = gauge_length or L / 2
     gy = W / 2 if gauge_length is None else min(gauge_length, W)
     return Specimen(
         shape="block",
-        mesh=block_mesh((L, W, H), element_size, cell),
+        mesh=block_mesh((L, W, H), element_size, cell, symmetry),
         grips=grips,
         grip_separation={0: L, 1: W},
         extensometers={
@@ -51,4 +63,5 @@ def block_specimen(size, element_size: float, cell: str, gauge_length: float | N
         thickness=GaugeMarks((L / 2, W / 2, 0.0), (L / 2, W / 2, H)),
         area0={0: W * H, 1: L * H},
         length_scale=float(np.linalg.norm([L, W, H])),
+        symmetry=tuple((a, (L, W, H)[a] / 2) for a in cut),
     )

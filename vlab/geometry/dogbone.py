@@ -15,8 +15,9 @@ transition of step d = (b2 − b1)/2 is
 Mesh: a structured block in (x, η, z), η ∈ [−1, 1], mapped by y = η · half_width(x). Mesh lines sit
 at the grip edges, the ends of the parallel section and the arc junctions, so the parallel section
 is meshed with undistorted boxes (a homogeneous uniaxial state is represented exactly there) and
-the grips select whole element layers. Hexahedra, or tetrahedra from scikit-fem's tensor-product
-tet split of the same lattice. (Why not Gmsh: the PyPI ``gmsh`` wheel's libgmsh links libGLU,
+the grips select whole element layers. One octant (x ≥ L/2, η ≥ 0, z ≥ h/2) of hexahedra, or of
+their Kuhn split into tetrahedra, is mirrored across the mid-planes (geometry/lattice.py), so the
+mesh is symmetric and ``[mesh] symmetry`` can keep half, a quarter or an eighth of it. (Why not Gmsh: the PyPI ``gmsh`` wheel's libgmsh links libGLU,
 libGL, libXrender, libXft, libXcursor, libXinerama and libX11 — ldd on gmsh 4.15.2 — which a
 pip-only machine need not have; this mesher needs only numpy and scikit-fem.)
 """
@@ -29,7 +30,9 @@ from dataclasses import dataclass
 import numpy as np
 import skfem
 
+from vlab.geometry.lattice import Lattice, divisions, symmetric_mesh
 from vlab.geometry.specimen import GaugeMarks, Grip, Specimen
+from vlab.geometry.symmetry import cut_axes, mirrored_planes
 
 DIMENSION_KEYS = ("overall_length", "gauge_length", "parallel_length", "width", "end_width",
                   "fillet_radius", "outer_radius", "thickness", "grip_length")
@@ -152,32 +155,36 @@ def _axial_nodes(dims: DogboneDimensions, size: float, gauge_size: float) -> np.
     return np.concatenate(xs)
 
 
-def dogbone_mesh(dims: DogboneDimensions, size: float, cell: str, gauge_size: float | None = None) -> skfem.Mesh:
+def dogbone_mesh(dims: DogboneDimensions, size: float, cell: str, gauge_size: float | None = None,
+                 symmetry: str = "none") -> skfem.Mesh:
     """Structured mesh of the outline (module docstring); element edge ≈ ``size`` mm,
     ≈ ``gauge_size`` over the parallel section and fillets (default ``size``)."""
     gauge_size = gauge_size or size
+    L, h = dims.overall_length, dims.thickness
     xs = _axial_nodes(dims, size, gauge_size)
-    ny = max(2, math.ceil(dims.width / gauge_size - 1e-9))
-    nz = max(1, math.ceil(dims.thickness / min(size, gauge_size) - 1e-9))
-    mesh_type = skfem.MeshHex if cell == "hex" else skfem.MeshTet
-    lattice = mesh_type.init_tensor(xs, np.linspace(-1.0, 1.0, ny + 1), np.linspace(0.0, dims.thickness, nz + 1))
-    p = lattice.p.copy()
-    p[1] *= dims.half_width(p[0])
-    return mesh_type(p, lattice.t)
+    xs = xs[xs >= L / 2 - 1e-9 * L]
+    eta = np.linspace(0.0, 1.0, divisions(dims.width / 2, gauge_size) + 1)
+    zs = np.linspace(h / 2, h, divisions(h / 2, min(size, gauge_size)) + 1)
+    X = np.stack(np.meshgrid(xs, eta, zs, indexing="ij"), axis=-1)
+    X[..., 1] *= dims.half_width(X[..., 0])
+    planes = {0: L / 2, 1: 0.0, 2: h / 2}
+    return symmetric_mesh(Lattice.block(X), [(a, planes[a]) for a in mirrored_planes(symmetry)], cell, L)
 
 
-def dogbone_specimen(dims: DogboneDimensions, size: float, cell: str, gauge_size: float | None = None) -> Specimen:
+def dogbone_specimen(dims: DogboneDimensions, size: float, cell: str, gauge_size: float | None = None,
+                     symmetry: str = "none") -> Specimen:
     """Clamped grips over ``grip_length`` (snapped to the nearest mesh plane) at each end; gauge marks of ``gauge_length`` centred on
     the top face; transverse marks across the width and thickness marks at the gauge centre."""
     dims.check()
     L, G, b1, h = dims.overall_length, dims.gauge_length, dims.width, dims.thickness
-    mesh = dogbone_mesh(dims, size, cell, gauge_size)
+    mesh = dogbone_mesh(dims, size, cell, gauge_size, symmetry)
     planes = np.unique(mesh.p[0])
-    g = float(planes[np.argmin(np.abs(planes - dims.grip_length))])  # the meshed grip edge
+    g = L - float(planes[np.argmin(np.abs(planes - (L - dims.grip_length)))])  # the meshed grip edge
     tol = 1e-9 * L
     xc = L / 2
+    cut = cut_axes(symmetry)
     grips = (Grip("x-", 0, -1, lambda X: X[:, 0] <= g + tol),
-             Grip("x+", 0, +1, lambda X: X[:, 0] >= L - g - tol))
+             Grip("x+", 0, +1, lambda X: X[:, 0] >= L - g - tol))[1 if 0 in cut else 0:]
     fillet_end = min(dims.parallel_length / 2 + dims.transition_length, xc - g - dims.end_width / 2)
     regions = {
         "gauge": lambda X: np.abs(X[:, 0] - xc) <= G / 2 + tol,
@@ -197,4 +204,5 @@ def dogbone_specimen(dims: DogboneDimensions, size: float, cell: str, gauge_size
         area0={0: b1 * h},
         length_scale=float(np.linalg.norm([L, dims.end_width, h])),
         regions=regions,
+        symmetry=tuple((a, {0: xc, 1: 0.0, 2: h / 2}[a]) for a in cut),
     )

@@ -49,6 +49,11 @@ class Specimen:
     ``regions`` named selectors (reference coordinates) such as "gauge" and "fillets" that the
     homogeneity measurement reads; ``sheet_thickness`` the thickness of a 2D (plane) specimen,
     whose ``thickness`` marks are the two faces (z = 0 and z = t) over an in-plane point.
+
+    ``centred``: both grips of an axis move, by ±Δ/2 (a biaxial machine's four actuators keep the
+    specimen centre in place); otherwise the side −1 grip holds and the side +1 grip moves by Δ.
+    ``symmetry``: the planes (axis, value) of a reduced model; the mesh is the part X[axis] ≥ value
+    of the full specimen, every other field (marks, areas, grip separation) is the full specimen's.
     """
 
     shape: str
@@ -62,8 +67,21 @@ class Specimen:
     length_scale: float
     regions: dict[str, Selector] = field(default_factory=dict)
     sheet_thickness: float | None = None  # mm, for a 2D sheet (its mesh is in the x-y plane)
+    centred: bool = False
+    symmetry: tuple[tuple[int, float], ...] = ()
 
-    def grips_on(self, axis: int) -> tuple[Grip, Grip]:
-        fixed = next(g for g in self.grips if g.axis == axis and g.side < 0)
+    def grips_on(self, axis: int) -> tuple[Grip, ...]:
+        """The (fixed, moving) grips of an axis; only the moving one when a symmetry plane normal to
+        the axis has cut the fixed one away."""
         moving = next(g for g in self.grips if g.axis == axis and g.side > 0)
-        return fixed, moving
+        fixed = [g for g in self.grips if g.axis == axis and g.side < 0]
+        return (*fixed, moving)
+
+    def reduced(self, axis: int) -> bool:
+        """True if a symmetry plane normal to ``axis`` cuts the specimen."""
+        return any(a == axis for a, _ in self.symmetry)
+
+    def force_factor(self, axis: int) -> float:
+        """Full-specimen force / force on the kept part's grip along ``axis``: each symmetry plane
+        parallel to the axis halves the grip's section, a plane normal to it leaves it whole."""
+        return float(2 ** sum(1 for a, _ in self.symmetry if a != axis))

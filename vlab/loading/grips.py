@@ -7,6 +7,13 @@
 - clamped grips prescribe all components (three, or two on a 2D sheet): the fixed grip holds, the moving grip translates
   along its axis. In a biaxial test a clamp leaves out the nodes it shares with the perpendicular
   clamps, which would otherwise be pulled two ways at once.
+
+A grip's travel at t = 1 is Δ = (λ − 1) L_grip (L_grip the initial grip separation): the side +1
+grip moves by Δ and the side −1 grip holds, or, for a centred specimen (a biaxial machine with four
+actuators) and on an axis a symmetry plane cuts, each grip moves by ±Δ/2 about the centre.
+Symmetry planes (Specimen.symmetry) prescribe the normal displacement zero on their nodes; with
+roller grips they take the place of the 3-2-1 supports, and only the rigid modes they leave free
+are pinned.
 """
 
 from __future__ import annotations
@@ -16,6 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from vlab.geometry.specimen import Specimen
+from vlab.stability.constraints import unrestrained_modes
 
 
 @dataclass(frozen=True)
@@ -46,23 +54,50 @@ def grip_loading(specimen: Specimen, X: np.ndarray, stretch: tuple[float, ...], 
             comps = range(dim) if clamped else (axis,)
             for c in comps:
                 fixed.update(dim * nodes + c)
+            travel = _travel(specimen, axis, grip.side, stretch[axis])
+            dofs = dim * nodes + axis
+            u_hat[dofs] = travel
             if grip.side > 0:
-                dofs = dim * nodes + axis
-                u_hat[dofs] = (stretch[axis] - 1.0) * specimen.grip_separation[axis]
                 moving[axis] = dofs
+    fixed.update(_symmetry_dofs(specimen, X))
     if not clamped:
-        fixed.update(_rigid_body_supports(specimen, X, len(stretch)))
+        fixed.update(_rigid_body_supports(specimen, X, len(stretch), sorted(fixed)))
     prescribed = np.array(sorted(fixed), dtype=np.int64)
     return GripLoading(prescribed, u_hat, moving)
 
 
-def _rigid_body_supports(specimen: Specimen, X: np.ndarray, n_axes: int) -> list[int]:
-    """DOFs that pin the modes roller grips leave free, at nodes that stay put homogeneously."""
+def _travel(specimen: Specimen, axis: int, side: int, stretch: float) -> float:
+    """A grip's displacement along its axis at t = 1 (mm), module docstring."""
+    delta = (stretch - 1.0) * specimen.grip_separation[axis]
+    if specimen.centred or specimen.reduced(axis):
+        return side * delta / 2
+    return delta if side > 0 else 0.0
+
+
+def _symmetry_dofs(specimen: Specimen, X: np.ndarray) -> list[int]:
+    """Normal-displacement DOFs of the nodes on the symmetry planes."""
+    tol, dim = 1e-9 * specimen.length_scale, X.shape[1]
+    return [int(d) for axis, value in specimen.symmetry
+            for d in dim * np.flatnonzero(np.abs(X[:, axis] - value) <= tol) + axis]
+
+
+def _rigid_body_supports(specimen: Specimen, X: np.ndarray, n_axes: int, prescribed: list[int]) -> list[int]:
+    """DOFs that pin the modes roller grips (and symmetry planes) leave free, at nodes that stay
+    put homogeneously; a candidate is taken only if it restrains a mode still free, so the
+    supports never over-constrain the body."""
     lo, hi = X.min(axis=0), X.max(axis=0)
     origin = int(np.argmin(np.linalg.norm(X - lo, axis=1)))
     if X.shape[1] == 2:  # sheet: the x edges hold x and the rotation; one node holds y
         return [] if n_axes == 2 else [2 * origin + 1]
-    if n_axes == 2:
-        return [3 * origin + 2]
     side = int(np.argmin(np.linalg.norm(X - np.array([lo[0], hi[1], lo[2]]), axis=1)))
-    return [3 * origin + 1, 3 * origin + 2, 3 * side + 2]
+    candidates = [3 * origin + 2] if n_axes == 2 else [3 * origin + 1, 3 * origin + 2, 3 * side + 2]
+    if not specimen.symmetry:
+        return candidates
+    chosen: list[int] = []
+    free = len(unrestrained_modes(X, np.array(prescribed)))
+    for dof in candidates:
+        left = len(unrestrained_modes(X, np.array(prescribed + chosen + [dof])))
+        if left < free:
+            chosen.append(dof)
+            free = left
+    return chosen

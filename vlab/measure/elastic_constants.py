@@ -7,6 +7,20 @@ Biaxial (plane stress in the gauge region):
            s_x = E/(1−ν²) (ε_x + ν ε_y)  ⇒  E = (1−ν²) slope(s_x vs ε_x + ν ε_y), likewise for y.
 The window applies to |strain| of the axis (the larger one for biaxial), so the same window serves
 tension and compression.
+
+Cruciform (the curve carries the FE centre averages P̄_aa, ε̄_aa (a = x, y, z) of the gauge region;
+the nominal stress F/A_arm is not the gauge stress there, measure/centre_stress.py). Isotropic
+linear elasticity holds between averages over one region, with no plane-stress assumption:
+           σ_a = λ (ε_x + ε_y + ε_z) + 2μ ε_a,        a = x, y, z,
+fitted for λ, μ over the window (the three rows of every reading stacked; regression with one
+intercept per row kind, or chord: the end readings' differences), then
+           E = μ (3λ + 2μ)/(λ + μ),   ν = λ / (2 (λ + μ)).
+Any ratio, equibiaxial included, fixes both (ε_z differs from ε_x, ε_y). With σ_z = 0 (plane
+stress) the z row gives ε_z = −ν/(1−ν)(ε_x + ε_y) and the x, y rows become the lab's
+σ_x = E/(1−ν²)(ε_x + ν ε_y), σ_y = E/(1−ν²)(ε_y + ν ε_x); on a thin plate that assumption costs
+~0.2 % (σ̄_z/σ̄_x ~ 2e-3), in a thinned pocket ~1 % (σ̄_z/σ̄_x ~ 9e-3), which is why the z row is kept.
+The lab's figure from extensometers and nominal stress (:func:`nominal_biaxial`) is reported beside
+it: it is off by the correction factor.
 """
 
 from __future__ import annotations
@@ -35,6 +49,8 @@ def elastic_constants(curve: Curve, window: tuple[float, float], method: str) ->
     try:
         if len(curve.axes) == 1:
             return _uniaxial(curve, window, method)
+        if curve.centre:
+            return _centre(curve, window, method)
         return _biaxial(curve, window, method)
     except FitError as exc:
         return ElasticConstants(None, None, None, None, [], f"not measured: {exc}")
@@ -52,6 +68,54 @@ def crosshead_modulus(curve: Curve, window, method) -> dict | None:
     except FitError as exc:
         return {"E": None, "fit": None, "note": f"not measured: {exc}"}
     return {"E": fit.slope, "fit": fit.as_dict(), "note": ""}
+
+
+def nominal_biaxial(curve: Curve, window, method) -> ElasticConstants:
+    """E and ν a lab gets from the extensometers, the thickness extensometer and the nominal stress
+    F/A0 (the block's biaxial formulas), whatever the specimen."""
+    try:
+        return _biaxial(curve, window, method)
+    except FitError as exc:
+        return ElasticConstants(None, None, None, None, [], f"not measured: {exc}")
+
+
+def _centre(curve: Curve, window, method) -> ElasticConstants:
+    c = {k: np.array(v) for k, v in curve.centre.items()}
+    eps = np.array([c["strain_x"], c["strain_y"], c["strain_z"]])
+    sig = np.array([c["stress_x"], c["stress_y"], c["stress_z"]])
+    lead = np.max(np.abs(eps[:2]), axis=0)
+    inside = (lead >= window[0] * (1 - 1e-9)) & (lead <= window[1] * (1 + 1e-9))
+    if inside.sum() < 2:
+        raise FitError(f"only {int(inside.sum())} recorded point(s) with |centre strain| in {window}; need at least 2")
+    lam, mu, fit = _lame_fit(eps[:, inside], sig[:, inside], method)
+    E = mu * (3 * lam + 2 * mu) / (lam + mu)
+    nu = lam / (2 * (lam + mu))
+    fit |= {"window": tuple(window), "slope": E, "lambda": lam, "mu": mu}
+    return ElasticConstants(E, nu, fit, fit, [{"axis": "xyz", "E": E, "nu": nu, "fit": fit}],
+                            "centre averages of the gauge region: sigma_a = lambda tr(eps) + 2 mu eps_a, a = x, y, z")
+
+
+def _lame_fit(eps: np.ndarray, sig: np.ndarray, method: str) -> tuple[float, float, dict]:
+    """λ, μ of σ_a = c_a + λ tr ε + 2μ ε_a over readings eps, sig (3, n) (module docstring)."""
+    trace = eps.sum(axis=0)
+    if method == "chord":
+        i, j = np.argsort(np.max(np.abs(eps[:2]), axis=0))[[0, -1]]
+        A = np.column_stack([np.full(3, trace[j] - trace[i]), 2 * (eps[:, j] - eps[:, i])])
+        (lam, mu), *_ = np.linalg.lstsq(A, sig[:, j] - sig[:, i], rcond=None)
+        return float(lam), float(mu), {"method": "chord", "n_points": 2, "r2": 1.0}
+    n = eps.shape[1]
+    rows = []
+    for a in range(3):
+        intercepts = np.zeros((n, 3))
+        intercepts[:, a] = 1.0
+        rows.append(np.column_stack([intercepts, trace, 2 * eps[a]]))
+    design, y = np.vstack(rows), sig.ravel()
+    coef, *_ = np.linalg.lstsq(design, y, rcond=None)
+    resid = y - design @ coef
+    centred = (sig - sig.mean(axis=1, keepdims=True)).ravel()
+    ss_tot = float(centred @ centred)
+    r2 = 1.0 - float(resid @ resid) / ss_tot if ss_tot > 0 else 1.0
+    return float(coef[3]), float(coef[4]), {"method": "regression", "n_points": n, "r2": r2}
 
 
 def _uniaxial(curve: Curve, window, method) -> ElasticConstants:

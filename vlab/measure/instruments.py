@@ -1,8 +1,11 @@
 """Lab instruments. They read a converged state and never write it.
 
-- LoadCell: the reaction force of a moving grip, Σ f_int over the grip's DOFs along its axis (N).
+- LoadCell: the reaction force of a moving grip, Σ f_int over the grip's DOFs along its axis (N),
+  times ``factor`` (the full specimen's force over the kept part's on a symmetry-reduced model).
 - Extensometer: two material points; reads their deformed distance |x_b - x_a| (mm) from the
-  finite-element interpolation of u, so the marks follow the material.
+  finite-element interpolation of u, so the marks follow the material. On a symmetry-reduced
+  model a mark behind a cut plane is read at its mirror image and reflected back
+  (geometry/symmetry.py).
 - ThicknessGauge: a micrometer through a 2D sheet at an in-plane point: the current thickness
   λ₃ t, with λ₃ the out-of-plane stretch of the plane law (vlab.materials.plane) averaged over the
   quadrature points of the element holding the point (weights dx).
@@ -16,29 +19,35 @@ import numpy as np
 
 from vlab.fe.space import DisplacementSpace
 from vlab.geometry.specimen import GaugeMarks
+from vlab.geometry.symmetry import reflect_back, reflection
 
 
 @dataclass(frozen=True)
 class LoadCell:
     dofs: np.ndarray
+    factor: float = 1.0
 
     def read(self, f_int: np.ndarray) -> float:
         """Axial grip force, N (positive in tension)."""
-        return float(f_int[self.dofs].sum())
+        return self.factor * float(f_int[self.dofs].sum())
 
 
 class Extensometer:
-    def __init__(self, space: DisplacementSpace, marks: GaugeMarks):
+    def __init__(self, space: DisplacementSpace, marks: GaugeMarks, planes: tuple = ()):
         self.marks = marks
         self.length0 = marks.length
-        self._X = np.array([marks.a, marks.b], dtype=float)
+        self._planes = planes
+        images = [reflection(p, planes) for p in (marks.a, marks.b)]
+        self._X = np.array([x for x, _ in images])
+        self._signs = [s for _, s in images]
         self._probe = space.probe_matrix(self._X.T)
         self._dim = space.dim
 
     def length(self, u: np.ndarray) -> float:
         """Current distance between the marks, mm."""
         x = self._X + self._probe @ u.reshape(-1, self._dim)
-        return float(np.linalg.norm(x[1] - x[0]))
+        a, b = (reflect_back(x[i], self._signs[i], self._planes) for i in (0, 1))
+        return float(np.linalg.norm(b - a))
 
     def strain(self, u: np.ndarray) -> float:
         """Engineering strain (L - L0)/L0 of the gauge length."""

@@ -7,6 +7,8 @@ thickness strain (on a 2D sheet from the plane law's out-of-plane stretch λ₃,
     engineering stress  s = force / A0                          (MPa)
     true strain         e = ln(1 + extensometer strain)
     true stress         σ = force / A, A = A0 (1 + ε_w)(1 + ε_t) for uniaxial, A0_axis (1 + ε_other)(1 + ε_t) biaxial
+On a cruciform it also logs the centre averages of stress and strain from the FE field
+(measure/centre_stress.py).
 """
 
 from __future__ import annotations
@@ -33,6 +35,7 @@ class Curve:
     thickness_strain: list[float] = field(default_factory=list)
     area0: dict[int, float] = field(default_factory=dict)
     time: list[float] = field(default_factory=list)  # s, physical time of each level (timed tests only)
+    centre: dict[str, list[float]] = field(default_factory=dict)  # FE centre averages (cruciform)
 
     @property
     def axes(self) -> list[int]:
@@ -56,14 +59,16 @@ class Recorder:
     """Observer hooked after every converged level; reads the instruments into a Curve."""
 
     def __init__(self, space: DisplacementSpace, specimen: Specimen, stretch: tuple[float, ...],
-                 moving_dofs: dict[int, np.ndarray], material=None):
+                 moving_dofs: dict[int, np.ndarray], material=None, centre=None):
+        self.centre = centre  # CentreStressProbe or None
         self.axes = list(range(len(stretch)))
         self.target = stretch
-        self.load_cells = {a: LoadCell(moving_dofs[a]) for a in self.axes}
-        self.extensometers = {a: Extensometer(space, specimen.extensometers[a]) for a in self.axes}
-        self.width = Extensometer(space, specimen.transverse[0])
+        planes = specimen.symmetry
+        self.load_cells = {a: LoadCell(moving_dofs[a], specimen.force_factor(a)) for a in self.axes}
+        self.extensometers = {a: Extensometer(space, specimen.extensometers[a], planes) for a in self.axes}
+        self.width = Extensometer(space, specimen.transverse[0], planes)
         self.thickness = (ThicknessGauge(space, material, specimen.thickness) if space.dim == 2
-                          else Extensometer(space, specimen.thickness))
+                          else Extensometer(space, specimen.thickness, planes))
         self.curve = Curve(area0={a: specimen.area0[a] for a in self.axes})
         for a in self.axes:
             self.curve.stretch[a], self.curve.force[a], self.curve.strain[a] = [], [], []
@@ -78,5 +83,8 @@ class Recorder:
             c.stretch[a].append(1.0 + level.t * (self.target[a] - 1.0))
             c.force[a].append(self.load_cells[a].read(f_int))
             c.strain[a].append(self.extensometers[a].strain(u))
+        if self.centre is not None:
+            for key, value in self.centre.read(level.evaluation.F).items():
+                c.centre.setdefault(key, []).append(value)
         c.transverse_strain.append(self.width.strain(u))
         c.thickness_strain.append(self.thickness.strain(u))

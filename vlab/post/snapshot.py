@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 import skfem
 
+from vlab.geometry.symmetry import reflection
 from vlab.post.fields import FIELDS, cell_fields
 
 
@@ -74,7 +75,8 @@ def take_snapshot(result) -> Snapshot:
             fields[name] = np.stack([h[name] for h in per_state_history])
     marks = {}
     for name, gauge in _gauge_marks(result.specimen).items():
-        X = np.array([gauge.a, gauge.b], dtype=float)
+        # on a symmetry-reduced model a mark behind a cut plane is drawn at its image on the part
+        X = np.array([reflection(p, result.specimen.symmetry)[0] for p in (gauge.a, gauge.b)])
         probe = space.probe_matrix(X.T)
         marks[name] = (_in_3d(X), np.stack([_in_3d(X + probe @ ev.u.reshape(-1, d)) for ev in states]))
     t = np.array([0.0] + [lv.t for lv in result.history.levels])

@@ -65,6 +65,10 @@ def _draw_curves(ax, datas, true, departures, marker_size=4):
         model, c = d["input"]["model"], colour(d["input"]["model"])
         x, y = measured_curve(d, true)
         ax.plot(x, y, "-", marker="o", ms=marker_size * 0.7, color=c, lw=1.6, label=f"{model} (FE)")
+        centre = d["curve"].get("centre_stress_x")
+        if centre and not true:  # cruciform: the FE centre stress vs centre strain, beside the nominal
+            ax.plot(np.r_[0.0, d["curve"]["centre_strain_x"]], np.r_[0.0, centre], ":", color=c, lw=1.6,
+                    label=f"{model} centre stress (FE average)")
         ref = analytic_curve(d, true)
         if ref is not None:  # on top, thin and dark, so it shows where it coincides with FE
             ax.plot(*ref, "--", color="0.15", lw=0.9, zorder=4)
@@ -127,6 +131,8 @@ def _legend_handles(datas, departures, window):
                       label=f"{d['input']['model']} (FE)") for d in datas]
     if any(analytic_curve(d, False) is not None for d in datas):
         handles.append(Line2D([], [], color="0.3", ls="--", label="analytic homogeneous (each model)"))
+    if any(d["curve"].get("centre_stress_x") for d in datas):
+        handles.append(Line2D([], [], color="0.3", ls=":", label="centre stress vs centre strain (FE average)"))
     if window is not None:
         handles.append(Patch(color="gold", alpha=0.35, label=f"E fit window |ε| {window[0]:g}–{window[1]:g}"))
     if any(v for dep in departures.values() for v in dep.values()):

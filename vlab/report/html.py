@@ -26,7 +26,8 @@ def summary_rows(data: dict) -> list[tuple[str, str]]:
         ("force at last level [N]", _fmt(data["curve"]["force"][-1] if data["curve"]["force"] else None)),
         ("Newton iterations (total)", _fmt(sum(solver["newton_iterations"]))),
         ("cutbacks", _fmt(sum(solver["cutbacks"]))),
-        ("mesh", f"{mesh['cell']} order {mesh['order']}, {mesh['elements']} elements, {mesh['dofs']} DOFs"),
+        ("mesh", f"{mesh['cell']} order {mesh['order']}, {mesh['elements']} elements, {mesh['dofs']} DOFs"
+                 + (f", symmetry {mesh['symmetry']}" if mesh.get("symmetry", "none") != "none" else "")),
         ("wall time [s]", _fmt(timing["total_s"], 3)),
     ]
     if m.get("E_fit"):
@@ -40,10 +41,30 @@ def summary_rows(data: dict) -> list[tuple[str, str]]:
                      + (f"; stopped at stretch {unstable[0]['stretch']}: "
                         f"{unstable[0]['negative_eigenvalues']} negative eigenvalue(s), "
                         f"limit point {unstable[0]['limit_point']}" if unstable else "")))
+    rows += cruciform_rows(data.get("cruciform"))
     ref = data.get("reference") or {}
     for k, v in ref.items():
         if k.startswith("max_relative_error"):
             rows.append((f"stress vs analytic ({k[-1]})", f"max relative error {_fmt(v, 3)}"))
+    return rows
+
+
+def cruciform_rows(cruciform: dict | None) -> list[tuple[str, str]]:
+    """Nominal vs centre stress and the correction factor, per axis (cruciform runs only)."""
+    if not cruciform:
+        return []
+    rows = []
+    for when in ("small_strain", "final"):
+        row = cruciform.get(when)
+        if not row:
+            continue
+        for xy in "xy":
+            if f"nominal_stress_{xy}" in row:
+                rows.append((f"{xy} stress nominal / centre [MPa], {when.replace('_', ' ')}",
+                             f"{_fmt(row[f'nominal_stress_{xy}'])} / {_fmt(row[f'centre_stress_{xy}'])} "
+                             f"(correction factor {_fmt(row[f'correction_factor_{xy}'], 4)})"))
+    rows.append(("E, ν from extensometers and nominal stress",
+                 f"{_fmt(cruciform.get('E_nominal'))} MPa, {_fmt(cruciform.get('nu_nominal'))}"))
     return rows
 
 
@@ -136,11 +157,13 @@ def comparison_rows(page: ReportPage) -> list[tuple[str, list[str]]]:
         ("cutbacks", per(lambda d: _fmt(sum(d["solver"]["cutbacks"])))),
         ("wall time [s]", per(lambda d: _fmt(d["timing"]["total_s"], 3))),
         ("DOFs", per(lambda d: _fmt(d["mesh"]["dofs"]))),
-        ("mesh", per(lambda d: f"{d['mesh']['elements']} {d['mesh']['cell']} (order {d['mesh']['order']})")),
+        ("mesh", per(lambda d: f"{d['mesh']['elements']} {d['mesh']['cell']} (order {d['mesh']['order']})"
+                     + (f", {d['mesh']['symmetry']} model" if d["mesh"].get("symmetry", "none") != "none" else ""))),
         ("mesh quality", per(lambda d: _quality(d["mesh"].get("quality")))),
     ]
     if any(d.get("accuracy_estimate") for d in page.models):
         rows.append(("accuracy estimate (coarser companion solve)", per(_estimate)))
+    rows += _per_model_cruciform_rows(page.models)
     taylor = [page.checks.get(d["input"]["model"], {}).get("taylor") for d in page.models]
     if any(taylor):
         rows.append(("Taylor test order: energy / force (2 = consistent)",
@@ -164,6 +187,15 @@ def _estimate(d: dict) -> str:
     if est.get("exact_by_construction"):
         text += f". <b>Exact by construction</b>: {html.escape(est['note'])}"
     return text
+
+
+def _per_model_cruciform_rows(models: list[dict]) -> list[tuple[str, list[str]]]:
+    """The cruciform rows (nominal vs centre stress, correction factor) with one value per model."""
+    if not any(d.get("cruciform") for d in models):
+        return []
+    per_model = [dict(cruciform_rows(d.get("cruciform"))) for d in models]
+    labels = list(dict.fromkeys(k for rows in per_model for k in rows))
+    return [(label, [rows.get(label, "—") for rows in per_model]) for label in labels]
 
 
 def _quality(quality) -> str:

@@ -37,6 +37,8 @@ def curve_columns(result: RunResult) -> dict[str, list[float]]:
         cols["crosshead_strain"] = [s - 1.0 for s in c.stretch[0]]
     if c.time:
         cols["time"] = list(c.time)
+    for key, values in c.centre.items():  # cruciform: FE centre averages, e.g. centre_stress_x
+        cols[f"centre_{key}"] = list(values)
     cols["transverse_strain"] = list(c.transverse_strain)
     cols["thickness_strain"] = list(c.thickness_strain)
     return cols
@@ -69,6 +71,7 @@ def result_to_dict(result: RunResult) -> dict:
         },
         "reference": result.reference,
         "homogeneity": result.extra.get("homogeneity"),
+        "cruciform": result.extra.get("cruciform"),
         "solver": {
             "newton_iterations": [lv.iterations for lv in levels],
             "cutbacks": [lv.cutbacks for lv in levels],
@@ -82,6 +85,7 @@ def result_to_dict(result: RunResult) -> dict:
         "mesh": {
             "cell": scene.mesh.cell, "order": scene.mesh.order, "size": scene.mesh.size,
             "formulation": scene.mesh.formulation,
+            "symmetry": scene.mesh.symmetry,
             "elements": int(space.basis.nelems), "nodes": int(space.n_nodes), "dofs": int(space.n_dofs),
             "quality": result.extra.get("mesh_quality"),
         },

@@ -43,7 +43,9 @@ def unrestrained_modes(X: np.ndarray, prescribed: np.ndarray, tol: float = 1e-8)
     R = rigid_body_modes(X)[np.asarray(prescribed, dtype=np.int64)]
     if len(R) == 0:
         return list(names_all)
-    _, s, vt = np.linalg.svd(R, full_matrices=True)
+    n_modes = len(names_all)
+    # all right singular vectors; U only as wide as needed (a full U is n_prescribed² floats)
+    _, s, vt = np.linalg.svd(R, full_matrices=len(R) < n_modes)
     s = np.concatenate([s, np.zeros(len(names_all) - len(s))])
     null = vt[s <= tol * max(s[0], 1e-300)]
     names = []

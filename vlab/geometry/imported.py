@@ -1,0 +1,173 @@
+"""A user's mesh as a specimen: Gmsh .msh (v2 or v4) or VTK .vtu read with meshio, grips on named
+regions, gauge marks and cross-section area from the scene.
+
+Named regions (looked up in this order):
+- Gmsh physical groups: a physical name (``field_data``: name -> [tag, dim]) selects the cells of
+  that dimension whose ``gmsh:physical`` tag matches — e.g. the surface triangles of a grip face;
+- meshio cell sets of that name;
+- a point-data array of that name (its nonzero points) or a cell-data array (the nodes of its
+  nonzero cells) — the way a .vtu carries regions.
+The region's nodes are the grip. The volume cells are the mesh's tetrahedra (P1; P2 from
+``[mesh] order = 2``) or hexahedra; nodes no volume cell uses are dropped. The mesh is turned so
+its loading axis becomes x (a cyclic permutation of the axes, which keeps orientation): marks
+given in the file's coordinates are turned the same way. Of the two grips the one lower along the
+loading axis holds, the other moves; the grip separation is the gap between them along the axis.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import skfem
+from scipy.spatial import cKDTree
+
+from vlab.geometry.specimen import GaugeMarks, Grip, Specimen
+
+MESH_SUFFIXES = (".msh", ".vtu")
+_DIM = {"vertex": 0, "line": 1, "line3": 1, "triangle": 2, "triangle6": 2, "quad": 2, "quad8": 2, "quad9": 2,
+        "tetra": 3, "tetra10": 3, "hexahedron": 3, "hexahedron20": 3, "hexahedron27": 3}
+_VOLUME = {"tetra": ("tet", 4), "tetra10": ("tet", 4), "hexahedron": ("hex", 8)}
+# meshio (VTK) hexahedron corner order -> scikit-fem MeshHex corner order
+_HEX_FROM_VTK = np.array([0, 4, 3, 1, 7, 5, 2, 6])
+
+
+class MeshImportError(ValueError):
+    """The mesh file cannot serve as a specimen; ``field`` names the scene key to fix."""
+
+    def __init__(self, field: str, message: str):
+        super().__init__(f"{field} {message}")
+        self.field = field
+
+
+@dataclass(frozen=True)
+class ImportedMesh:
+    """Nodes (n, 3), volume cells and named node sets of a mesh file."""
+
+    points: np.ndarray
+    cell: str  # "tet" | "hex"
+    cells: np.ndarray  # (e, 4) or (e, 8), scikit-fem corner order
+    regions: dict[str, np.ndarray]  # name -> node indices
+
+    @property
+    def names(self) -> list[str]:
+        return sorted(self.regions)
+
+
+def read_mesh(path: Path) -> ImportedMesh:
+    """Read a .msh or .vtu file with meshio; MeshImportError naming specimen.file if it is unusable."""
+    import meshio
+
+    if path.suffix.lower() not in MESH_SUFFIXES:
+        raise MeshImportError("specimen.file", f"must be a Gmsh .msh or a .vtu file, got {path.name!r}")
+    if not path.is_file():
+        raise MeshImportError("specimen.file", f"{str(path)!r} does not exist")
+    try:
+        m = meshio.read(path)
+    except Exception as exc:  # meshio raises many types for malformed files
+        raise MeshImportError("specimen.file", f"cannot be read by meshio ({type(exc).__name__}: {exc})") from None
+    volume = [(b.type, b.data) for b in m.cells if b.type in _VOLUME]
+    kinds = {_VOLUME[t][0] for t, _ in volume}
+    if len(kinds) != 1:
+        found = sorted({b.type for b in m.cells})
+        raise MeshImportError("specimen.file", f"must hold tetrahedra or hexahedra (one kind), found cell "
+                           f"types {found}")
+    cell = kinds.pop()
+    cells = np.concatenate([data[:, :_VOLUME[t][1]] for t, data in volume]).astype(np.int64)
+    if cell == "hex":
+        cells = cells[:, _HEX_FROM_VTK]
+    regions = _regions(m)
+    used = np.unique(cells)
+    new_id = np.full(len(m.points), -1, dtype=np.int64)
+    new_id[used] = np.arange(len(used))
+    points = np.zeros((len(used), 3))
+    points[:, :m.points.shape[1]] = m.points[used]
+    regions = {k: new_id[v][new_id[v] >= 0] for k, v in regions.items()}
+    return ImportedMesh(points, cell, new_id[cells], {k: v for k, v in regions.items() if len(v)})
+
+
+def _regions(m) -> dict[str, np.ndarray]:
+    """name -> node indices (original numbering), module docstring."""
+    out: dict[str, set] = {}
+    physical = m.cell_data.get("gmsh:physical")
+    for name, (tag, dim) in ((k, v[:2]) for k, v in m.field_data.items()):
+        if physical is None:
+            break
+        for block, tags in zip(m.cells, physical):
+            if _DIM.get(block.type) == int(dim):
+                out.setdefault(name, set()).update(block.data[np.asarray(tags) == tag].ravel().tolist())
+    for name, per_block in m.cell_sets.items():
+        for block, idx in zip(m.cells, per_block):
+            if idx is not None and len(idx):
+                out.setdefault(name, set()).update(block.data[np.asarray(idx)].ravel().tolist())
+    for name, values in m.point_data.items():
+        if not name.startswith("gmsh:") and np.asarray(values).ndim == 1:
+            out.setdefault(name, set()).update(np.flatnonzero(np.asarray(values)).tolist())
+    for name, per_block in m.cell_data.items():
+        if name.startswith("gmsh:"):
+            continue
+        for block, values in zip(m.cells, per_block):
+            values = np.asarray(values)
+            if values.ndim == 1:
+                out.setdefault(name, set()).update(block.data[values != 0].ravel().tolist())
+    return {k: np.array(sorted(v), dtype=np.int64) for k, v in out.items()}
+
+
+@dataclass(frozen=True)
+class MeshImport:
+    """What a scene says about an imported mesh (file coordinates, mm)."""
+
+    file: Path
+    grips: tuple[str, str]  # region names
+    axis: int  # loading axis in the file: 0, 1, 2
+    gauge_marks: tuple[tuple[float, ...], tuple[float, ...]]
+    transverse_marks: tuple[tuple[float, ...], tuple[float, ...]]
+    thickness_marks: tuple[tuple[float, ...], tuple[float, ...]]
+    area: float
+
+
+def _turn(points: np.ndarray, axis: int) -> np.ndarray:
+    """Cyclic axis permutation that brings ``axis`` to x."""
+    return np.asarray(points, float)[..., [(axis + k) % 3 for k in range(3)]]
+
+
+def _region_selector(X: np.ndarray, nodes: np.ndarray, mesh: skfem.Mesh, tol: float):
+    """Selector of the region's vertices and of the midpoints of mesh edges between two of them
+    (the extra nodes of an order-2 space)."""
+    inside = np.zeros(mesh.nvertices, bool)
+    inside[nodes] = True
+    edges = mesh.edges[:, inside[mesh.edges[0]] & inside[mesh.edges[1]]]
+    points = np.vstack([X[nodes], 0.5 * (X[edges[0]] + X[edges[1]])])
+    tree = cKDTree(points)
+    return lambda Y: tree.query(np.asarray(Y, float), distance_upper_bound=tol)[0] <= tol
+
+
+def imported_specimen(spec: MeshImport, data: ImportedMesh) -> Specimen:
+    """The specimen of an imported mesh (module docstring)."""
+    X = _turn(data.points, spec.axis)
+    mesh = (skfem.MeshTet if data.cell == "tet" else skfem.MeshHex)(
+        np.ascontiguousarray(X.T), np.ascontiguousarray(data.cells.T))
+    extent = float(np.linalg.norm(X.max(axis=0) - X.min(axis=0)))
+    tol = 1e-9 * extent
+    grips = sorted(spec.grips, key=lambda name: X[data.regions[name], 0].mean())
+    fixed, moving = (data.regions[name] for name in grips)
+    gap = float(X[moving, 0].min() - X[fixed, 0].max())
+    if not gap > 0:
+        raise MeshImportError("specimen.grips", f"regions {grips[0]!r} and {grips[1]!r} overlap along the loading "
+                           f"axis; they must be apart (gap {gap:g} mm)")
+    marks = {key: GaugeMarks(*(tuple(_turn(p, spec.axis)) for p in pair)) for key, pair in
+             (("gauge", spec.gauge_marks), ("transverse", spec.transverse_marks),
+              ("thickness", spec.thickness_marks))}
+    return Specimen(
+        shape="mesh",
+        mesh=mesh,
+        grips=(Grip(grips[0], 0, -1, _region_selector(X, fixed, mesh, tol)),
+               Grip(grips[1], 0, +1, _region_selector(X, moving, mesh, tol))),
+        grip_separation={0: gap},
+        extensometers={0: marks["gauge"]},
+        transverse={0: marks["transverse"]},
+        thickness=marks["thickness"],
+        area0={0: spec.area},
+        length_scale=extent,
+    )
