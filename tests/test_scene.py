@@ -121,8 +121,8 @@ def _parse_error(overrides=None, drop=None):
      ["material.model must be one of linear, stvk, stvk-volumetric, neo-hookean, spring-network; got 'mooney'"]),
     ({"material.root": "up"}, ["material.root must be one of plus, minus"]),
     ({"material.poisson": 0.3}, ["unknown key 'poisson' in [material]"]),
-    ({"test.strech": 1.5}, ["unknown key 'strech' in [test] (allowed: kind, grips, stretch, steps)"
-                            " — did you mean 'stretch'?"]),
+    ({"test.strech": 1.5}, ["unknown key 'strech' in [test] (allowed: kind, grips, stretch, steps",
+                            "did you mean 'stretch'?"]),
     ({"test.stretch": -1}, ["test.stretch must be > 0 (allowed 0.2..10), got -1"]),
     ({"test.stretch": 0}, ["test.stretch must be > 0 (allowed 0.2..10), got 0"]),
     ({"test.stretch": 20}, ["test.stretch", "0.2..10", "got 20"]),

@@ -1,0 +1,37 @@
+"""A small geometric imperfection in the buckling mode, so a test follows the post-buckled path.
+
+A perfect specimen stays on its fundamental (straight) path until K_ff loses positive
+definiteness, where the path bifurcates; a displacement-controlled solver cannot choose a branch
+and the monitor stops the test there. Moving the reference nodes by
+    X ← X + a · φ / max_nodes |φ_lateral|
+(φ the mode of the first critical state, a the amplitude in mm = imperfection × thickness) turns
+the bifurcation into a smooth path: the lateral deflection grows from the start and the force
+levels off below the perfect specimen's critical load (Southwell's imperfect column).
+
+The perturbation keeps the grip faces where they are (φ vanishes on the clamped DOFs).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from vlab.geometry.specimen import Specimen
+
+
+def imperfect_specimen(specimen: Specimen, X: np.ndarray, mode: np.ndarray, amplitude: float,
+                       axis: int = 0) -> Specimen:
+    """The specimen with its mesh vertices moved by the mode scaled to a lateral peak ``amplitude``
+    (mm). ``X`` are the space's node coordinates (vertices first), ``mode`` a full DOF vector."""
+    nodes = mode.reshape(-1, 3)
+    lateral = [c for c in range(3) if c != axis]
+    peak = float(np.max(np.linalg.norm(nodes[:, lateral], axis=1), initial=0.0))
+    if peak == 0.0:
+        raise ValueError("the buckling mode has no lateral displacement to seed an imperfection")
+    mesh = specimen.mesh
+    n = mesh.p.shape[1]
+    if not np.allclose(X[:n], mesh.p.T):
+        raise ValueError("the space's first nodes are not the mesh vertices; cannot seed the mode")
+    p = mesh.p + (amplitude / peak) * nodes[:n].T
+    return dataclasses.replace(specimen, mesh=type(mesh)(p, mesh.t))
