@@ -108,3 +108,20 @@ def test_imperfection_is_validated(value, fragment):
 def test_imperfection_needs_uniaxial_compression():
     with pytest.raises(SceneError, match="applies to uniaxial compression"):
         strip_scene(stretch=1.2, imperfection=0.05)
+
+
+def test_an_imperfection_in_the_buckling_mode_follows_the_post_buckled_path():
+    data = result_to_dict(run_scene(strip_scene(10.0, stretch=0.94, steps=6, imperfection=0.05)))
+    assert data["converged"] and data["failure"] is None
+    perfect = data["imperfection"]["perfect_critical"]
+    assert perfect["kind"] == "buckling"
+    force, deflection = np.abs(data["curve"]["force"]), np.array(data["lateral_deflection"])
+    strain = 1.0 - np.array(data["curve"]["stretch"])
+    # the force levels off below the perfect strip's critical load (measured 0.653 < 0.677 N) ...
+    assert force.max() < abs(perfect["force_stable"][0])
+    assert force[-1] > 0.9 * abs(perfect["force_stable"][0])
+    # ... while the centre-line deflection grows smoothly from the seeded 0.05 t to about one t
+    assert np.all(np.diff(deflection) > 0) and deflection[-1] > 0.8
+    assert deflection[strain < 0.5 * perfect["critical_strain"]].max() < 0.2
+    assert all(s["negative_eigenvalues"] == 0 for s in data["stability"])
+    assert sum(data["solver"]["cutbacks"]) == 0

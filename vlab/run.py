@@ -206,7 +206,7 @@ def _seeded_specimen(scene: Scene, specimen: Specimen) -> _Seeded:
         return _Seeded(first, None, "test.imperfection: the perfect specimen did not buckle up to the "
                                     "requested stretch, so there is no mode to seed; this is the perfect run")
     space = first.space
-    moved = imperfect_specimen(specimen, space.node_coordinates, critical.mode,
+    moved = imperfect_specimen(specimen, space, critical.mode,
                                scene.test.imperfection * specimen_thickness(scene))
     return _Seeded(first, moved)
 

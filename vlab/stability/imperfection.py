@@ -17,13 +17,14 @@ import dataclasses
 
 import numpy as np
 
-from vlab.geometry.specimen import Specimen
+from vlab.geometry.specimen import GaugeMarks, Specimen
 
 
-def imperfect_specimen(specimen: Specimen, X: np.ndarray, mode: np.ndarray, amplitude: float,
+def imperfect_specimen(specimen: Specimen, space, mode: np.ndarray, amplitude: float,
                        axis: int = 0) -> Specimen:
     """The specimen with its mesh vertices moved by the mode scaled to a lateral peak ``amplitude``
-    (mm). ``X`` are the space's node coordinates (vertices first), ``mode`` a full DOF vector."""
+    (mm). ``space`` is the (perfect) specimen's displacement space (vertices first), ``mode`` a
+    full DOF vector on it. Gauge marks are material points: they move with the interpolated mode."""
     nodes = mode.reshape(-1, 3)
     lateral = [c for c in range(3) if c != axis]
     peak = float(np.max(np.linalg.norm(nodes[:, lateral], axis=1), initial=0.0))
@@ -31,7 +32,17 @@ def imperfect_specimen(specimen: Specimen, X: np.ndarray, mode: np.ndarray, ampl
         raise ValueError("the buckling mode has no lateral displacement to seed an imperfection")
     mesh = specimen.mesh
     n = mesh.p.shape[1]
-    if not np.allclose(X[:n], mesh.p.T):
+    if not np.allclose(space.node_coordinates[:n], mesh.p.T):
         raise ValueError("the space's first nodes are not the mesh vertices; cannot seed the mode")
-    p = mesh.p + (amplitude / peak) * nodes[:n].T
-    return dataclasses.replace(specimen, mesh=type(mesh)(p, mesh.t))
+    shift = (amplitude / peak) * nodes
+
+    def moved(marks: GaugeMarks) -> GaugeMarks:
+        points = np.array([marks.a, marks.b], dtype=float)
+        points = points + space.probe_matrix(points.T) @ shift
+        return GaugeMarks(tuple(points[0]), tuple(points[1]))
+
+    return dataclasses.replace(
+        specimen, mesh=type(mesh)(mesh.p + shift[:n].T, mesh.t),
+        extensometers={a: moved(m) for a, m in specimen.extensometers.items()},
+        transverse={a: moved(m) for a, m in specimen.transverse.items()},
+        thickness=moved(specimen.thickness))
