@@ -41,8 +41,8 @@ def render_mode(mesh, base: np.ndarray, mode: np.ndarray, path: Path, label: str
         plotter.add_mesh(_outline(reference), color="#737373", line_width=1.5)
         plotter.add_mesh(deformed, scalars="mode", cmap="plasma", clim=(0.0, 1.0), show_edges=True,
                          edge_color="#404040", line_width=0.4, ambient=0.35, diffuse=0.7,
-                         scalar_bar_args={"title": "mode magnitude / peak", "color": "black", "fmt": "%.2g",
-                                          "vertical": True, "position_x": 0.86, "position_y": 0.1,
+                         scalar_bar_args={"title": "rel. mode", "color": "black", "fmt": "%.2g",
+                                          "vertical": True, "position_x": 0.84, "position_y": 0.1,
                                           "height": 0.7, "width": 0.06})
         plotter.add_text(label, position=(0.02, 0.82), viewport=True, font_size=11, color="black")
         _apply_camera(plotter, _camera(np.vstack([X, deformed.points])))
