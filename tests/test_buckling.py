@@ -111,17 +111,30 @@ def test_imperfection_needs_uniaxial_compression():
 
 
 def test_an_imperfection_in_the_buckling_mode_follows_the_post_buckled_path():
-    data = result_to_dict(run_scene(strip_scene(10.0, stretch=0.94, steps=6, imperfection=0.05)))
+    data = result_to_dict(run_scene(strip_scene(10.0, stretch=0.95, steps=4, imperfection=0.05)))
     assert data["converged"] and data["failure"] is None
     perfect = data["imperfection"]["perfect_critical"]
     assert perfect["kind"] == "buckling"
     force, deflection = np.abs(data["curve"]["force"]), np.array(data["lateral_deflection"])
     strain = 1.0 - np.array(data["curve"]["stretch"])
-    # the force levels off below the perfect strip's critical load (measured 0.653 < 0.677 N) ...
+    # the force levels off below the perfect strip's critical load (measured 0.644 < 0.677 N) ...
     assert force.max() < abs(perfect["force_stable"][0])
     assert force[-1] > 0.9 * abs(perfect["force_stable"][0])
-    # ... while the centre-line deflection grows smoothly from the seeded 0.05 t to about one t
-    assert np.all(np.diff(deflection) > 0) and deflection[-1] > 0.8
+    # ... while the centre-line deflection grows smoothly from the seeded 0.05 t to most of t
+    assert np.all(np.diff(deflection) > 0) and deflection[-1] > 0.6
     assert deflection[strain < 0.5 * perfect["critical_strain"]].max() < 0.2
     assert all(s["negative_eigenvalues"] == 0 for s in data["stability"])
     assert sum(data["solver"]["cutbacks"]) == 0
+
+
+def test_the_run_report_renders_the_buckling_mode(tmp_path):
+    from vlab.report.writer import ReportOptions, write_run
+
+    scene = parse_scene({  # Q1 hexes: too stiff in bending, but they buckle, cheaply
+        "name": "strip-q1", "specimen": {"shape": "block", "size": [10.0, 2.0, 1.0]},
+        "mesh": {"size": 0.5, "cell": "hex"}, "material": {"model": "neo-hookean", "E": 10.0, "nu": 0.3},
+        "test": {"kind": "uniaxial", "grips": "clamped", "stretch": 0.9, "steps": 4}, "measure": {"modulus_points": 0}})
+    data = write_run(run_scene(scene), tmp_path / "r", None, ReportOptions(vtu=False))
+    assert data["critical"]["kind"] == "buckling" and "buckling" in data["failure"]["reason"]
+    png = tmp_path / "r" / "critical_mode_neo-hookean.png"
+    assert png.stat().st_size > 10_000 and png.name in (tmp_path / "r" / "index.html").read_text()

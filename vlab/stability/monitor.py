@@ -178,7 +178,7 @@ class StabilityMonitor:
                     f"stability between grip strain {lo:.4g} and {hi:.4g} (stretch "
                     f"{_fmt(r.stretch)}: {r.negative_eigenvalues} negative eigenvalue(s); the mode moves "
                     f"whole cross-sections sideways, lateral fraction {c.lateral_fraction:.2f}); set "
-                    f"[test] imperfection to follow the post-buckled path")
+                    f"test.imperfection to follow the post-buckled path")
         what = (f"{r.negative_eigenvalues} negative eigenvalue(s)" if r.negative_eigenvalues
                 else f"{r.zero_eigenvalues} zero eigenvalue(s)")
         return (f"no admissible state beyond stretch {self._previous_stretch()}: loss of stability "
