@@ -27,6 +27,7 @@ import scipy.sparse.linalg as spla
 
 DENSE_LIMIT = 3000  # largest system whose inertia is counted densely when SuperLU pivoted
 ZERO_TOL = 1e-10
+DENSE_EIGEN_LIMIT = 100  # above this, Lanczos beats a dense O(n³) eigensolver
 
 
 @dataclass(frozen=True)
@@ -90,7 +91,7 @@ def lowest_eigenpair(K: sp.spmatrix, negative: int | None = None,
     """
     K = sp.csc_matrix(K)
     n = K.shape[0]
-    if n <= 400:
+    if n <= DENSE_EIGEN_LIMIT:
         w, v = np.linalg.eigh(K.toarray())
         return float(w[0]), v[:, 0]
     scale = float(np.max(np.abs(K.diagonal()), initial=1.0))

@@ -363,3 +363,23 @@ def dogbone_compression(context: CaseContext) -> Outcome:
     out = from_run(data, f"{c['kind']} at grip strain {lo:.4g}..{hi:.4g}", c["kind"] == "buckling"
                    and not data["converged"], critical=c)
     return dataclasses.replace(out, figures=[f for f in figures if f])
+
+
+@register("dogbone-compression-0.3-imperfection",
+          "with an imperfection of 0.05 t in its buckling mode the dumb-bell follows the post-buckled path "
+          "to 0.3: converged, K_ff positive definite, deflection growing (self-contact is not modelled)",
+          fast=False)
+def dogbone_post_buckling(context: CaseContext) -> Outcome:
+    scene = parse_scene(dict(dogbone(0.3, 20).source,
+                             test={"kind": "uniaxial", "stretch": 0.3, "steps": 20, "imperfection": 0.05}))
+    data = _run(scene)
+    w = np.array(data["lateral_deflection"])
+    perfect = (data.get("imperfection") or {}).get("perfect_critical") or {}
+    p_cr = abs((perfect.get("force_stable") or [np.nan])[0])
+    stable = all(s["negative_eigenvalues"] == 0 for s in data["stability"])
+    passed = data["converged"] and stable and bool(np.all(np.diff(w) > 0))
+    force = np.abs(data["curve"]["force"])
+    return from_run(data, f"converged to {data['curve']['stretch'][-1]:g}: deflection {w[-1]:.3g} mm, force "
+                    f"{force[-1]:.3g} N (perfect P_cr {p_cr:.3g} N)" if data["converged"]
+                    else f"stopped: {data['failure']['reason'][:80]}", passed,
+                    deflection=list(w), force=list(force), perfect_critical_force=p_cr)

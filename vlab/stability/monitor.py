@@ -102,7 +102,8 @@ class StabilityMonitor:
         limit_axis = (self._limit_axis(forces, self._path_stiffness(K, Kfp, found))
                       if self.options.limit_points else None)
         unstable = bool(found.negative) or bool(found.zero)
-        pair = lowest_eigenpair(Kff, found.negative, found.solve) if unstable or self.options.eigenvalues else None
+        solve = found.solve if not found.zero else None  # a singular K_ff: factorize K − σI instead
+        pair = lowest_eigenpair(Kff, found.negative, solve) if unstable or self.options.eigenvalues else None
         record = LevelStability(float(t), self.stretch_at(t), found.negative, found.zero,
                                 found.method, forces, limit_axis is not None,
                                 accepted=not unstable and limit_axis is None,
@@ -127,7 +128,8 @@ class StabilityMonitor:
         stable = self._accepted
         eig_stable = stable.lowest_eigenvalue if stable is not None else None
         if stable is not None and eig_stable is None and self._accepted_Kff is not None:
-            eig_stable = lowest_eigenpair(*self._accepted_Kff[:1], 0, self._accepted_Kff[1])[0]
+            Kff_stable, solve_stable = self._accepted_Kff
+            eig_stable = lowest_eigenpair(Kff_stable, 0, solve_stable)[0]
             self._accepted = stable = dataclass_replace(stable, lowest_eigenvalue=eig_stable)
         mode = np.zeros(self.body.space.n_dofs)
         mode[self.partition.free] = pair[1]
