@@ -138,3 +138,20 @@ def test_the_run_report_renders_the_buckling_mode(tmp_path):
     assert data["critical"]["kind"] == "buckling" and "buckling" in data["failure"]["reason"]
     png = tmp_path / "r" / "critical_mode_neo-hookean.png"
     assert png.stat().st_size > 10_000 and png.name in (tmp_path / "r" / "index.html").read_text()
+
+
+def test_an_imperfection_without_a_buckling_mode_runs_the_perfect_specimen_and_says_so():
+    scene = parse_scene({"name": "cube", "specimen": {"shape": "block", "size": [10.0, 10.0, 10.0]},
+                         "mesh": {"size": 10.0, "cell": "hex"}, "material": {"model": "neo-hookean", "E": 10.0, "nu": 0.3},
+                         "test": {"kind": "uniaxial", "grips": "clamped", "stretch": 0.9, "steps": 2, "imperfection": 0.1}})
+    data = result_to_dict(run_scene(scene))
+    assert data["converged"] and data["critical"] is None
+    assert any("no mode to seed" in w for w in data["warnings"])
+    assert data["scene"]["source"]["test"]["imperfection"] == 0.1
+
+
+def test_solver_eigenvalues_must_be_a_boolean():
+    with pytest.raises(SceneError, match="solver.eigenvalues must be true or false"):
+        parse_scene({"name": "b", "specimen": {"shape": "block", "size": [1.0, 1.0, 1.0]}, "mesh": {"size": 1.0},
+                     "material": {"model": "linear", "E": 1.0, "nu": 0.3},
+                     "test": {"kind": "uniaxial", "stretch": 1.1}, "solver": {"eigenvalues": "yes"}})
