@@ -320,3 +320,50 @@ def cost(scene: Path = typer.Argument(..., help="Scene TOML file."),
     console.print(f"{len(points)} runs ({outcome.cache_hits} cached, {outcome.computed} computed, "
                   f"{outcome.failed} failed or invalid); report: {index}", highlight=False, soft_wrap=True)
     raise typer.Exit(EXIT_OK)
+
+
+@app.command()
+def stability(fast: bool = typer.Option(False, "--fast", help="Only the fast subset (also run by the tests)."),
+              all_cases: bool = typer.Option(False, "--all", help="Every case (the default)."),
+              case: Optional[list[str]] = typer.Option(None, "--case", "-c", help="Run only this case (repeatable)."),
+              out: Path = typer.Option(Path("reports") / "stability", "--out", "-o", help="Report folder."),
+              render: bool = typer.Option(True, "--render/--no-render", help="Render the critical modes."),
+              quiet: bool = typer.Option(False, "--quiet", "-q", help="No per-case progress lines.")):
+    """Run the stability suite (limit points, refusals, inversion, meshes, buckling vs Euler, dogbone
+    extremes); print the table and write reports/stability/ (index.html, results.json, mode renders)."""
+    import tempfile
+    import time
+
+    from vlab.report.stability_report import write_stability_report
+    from vlab.stability.suite import CaseContext, run_suite, select
+
+    if fast and all_cases:
+        console.print("[red]invalid option[/red] --fast and --all exclude each other", highlight=False)
+        raise typer.Exit(EXIT_INVALID)
+    try:
+        cases = select(fast_only=fast, names=case)
+    except KeyError as exc:
+        console.print(f"[red]invalid option[/red] {exc.args[0]}", highlight=False)
+        raise typer.Exit(EXIT_INVALID)
+    mode = "selected" if case else "fast" if fast else "full"
+
+    def progress(result):
+        if not quiet:
+            mark = "[green]pass[/green]" if result.passed else "[red]FAIL[/red]"
+            console.print(f"  {mark} {result.name} ({result.seconds:.1f} s): {result.outcome.got}", highlight=False)
+
+    start = time.perf_counter()
+    with tempfile.TemporaryDirectory() as figures:
+        results = run_suite(cases, CaseContext(Path(figures), render), progress)
+        total = time.perf_counter() - start
+        data = write_stability_report(results, out, mode, total, Path(figures))
+    table = Table("case", "expected", "got", "converged", "iterations", "cutbacks", "neg. eig.", "time", "result",
+                  title=f"vlab stability ({mode}): {data['passed']} passed, {data['failed']} failed, {total:.1f} s")
+    for r in results:
+        o = r.outcome
+        table.add_row(r.name, r.expected, o.got, "yes" if o.converged else "no", str(o.iterations), str(o.cutbacks),
+                      "–" if o.negative_eigenvalues is None else str(o.negative_eigenvalues), f"{r.seconds:.1f} s",
+                      "[green]pass[/green]" if r.passed else "[red]FAIL[/red]")
+    Console(width=200).print(table)
+    console.print(f"report: {out / 'index.html'}", highlight=False, soft_wrap=True)
+    raise typer.Exit(EXIT_OK if data["failed"] == 0 else EXIT_FAILED)

@@ -39,6 +39,7 @@ class ModelOutcome:
     data: dict
     snapshot: Snapshot
     checks: dict
+    critical_mode: object = None  # eigenvector of the first loss of stability (full DOF vector), if any
 
 
 def scene_for_model(scene: Scene, model: str) -> Scene:
@@ -84,8 +85,9 @@ def outcome_of(result) -> ModelOutcome:
     from vlab.post.snapshot import take_snapshot
     from vlab.report.results import result_to_dict
 
+    critical = result.extra.get("critical_state")
     return ModelOutcome(result.scene.material.model, result_to_dict(result), take_snapshot(result),
-                        _model_checks(result))
+                        _model_checks(result), None if critical is None else critical.mode)
 
 
 _events = None  # the worker's end of the progress queue (set by the pool initializer)

@@ -6,6 +6,7 @@ they produced into a RunResult that the writers and reports consume.
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import time
 from dataclasses import dataclass, field
@@ -51,7 +52,9 @@ log = logging.getLogger(__name__)
 LOCKING_NU = 0.45  # above this, displacement-only elements lock on non-uniform fields
 from vlab.stability.admissibility import inadmissible_request
 from vlab.stability.constraints import under_constrained_message, unrestrained_modes
-from vlab.stability.monitor import StabilityMonitor
+from vlab.stability.buckling import lateral_deflection
+from vlab.stability.imperfection import imperfect_specimen
+from vlab.stability.monitor import MonitorOptions, StabilityMonitor
 
 
 @dataclass
@@ -150,6 +153,13 @@ def _run_scene(scene: Scene, on_level, specimen: Specimen | None) -> RunResult:
     clock = time.perf_counter
     timing: dict[str, float] = {}
     t0 = clock()
+    seeded = None
+    if scene.test.imperfection is not None:
+        seeded = _seeded_specimen(scene, specimen or build_specimen(scene))
+        if seeded.specimen is None:  # no buckling mode to seed: the first pass is the answer
+            seeded.first_pass.extra["warnings"].append(seeded.note)
+            return seeded.first_pass
+        specimen = seeded.specimen
     specimen = specimen or build_specimen(scene)
     quality = checked_quality(scene, specimen)
     space = DisplacementSpace.build(specimen.mesh, scene.mesh.order, specimen.sheet_thickness or 1.0)
@@ -169,11 +179,14 @@ def _run_scene(scene: Scene, on_level, specimen: Specimen | None) -> RunResult:
     measure_time = [0.0]
 
     monitor = StabilityMonitor(body, partition, loading.moving_dofs, scene.test.stretch,
-                               scene.material.model, loading.u_hat)
-    monitor.watch_limits = scene.test.protocol.name == "monotonic" and not scene.effects
+                               scene.material.model, loading.u_hat,
+                               MonitorOptions(eigenvalues=scene.solver.eigenvalues,
+                                              limit_points=_watch_limit_points(scene)))
+    deflection: list[float] = []
 
     def observe(level):
         monitor(level)
+        deflection.append(lateral_deflection(space.node_coordinates, level.evaluation.u))
         t = clock()
         recorder(level)
         if hasattr(body, "keep_cells"):
@@ -223,11 +236,63 @@ def _run_scene(scene: Scene, on_level, specimen: Specimen | None) -> RunResult:
         extra["homogeneity"] = _homogeneity_report(curve, homogeneity, scene.measure.modulus_window)
     timing["measure_s"] += clock() - t2
     timing["total_s"] = clock() - t0
-    extra |= {"body": body, "stability": [r.as_dict() for r in monitor.records], "warnings": _warnings(scene)}
+    extra |= {"body": body, "partition": partition, "stability": [r.as_dict() for r in monitor.records], "warnings": _warnings(scene)}
+    extra |= _buckling_extra(monitor, deflection, seeded)
     if scene.effects or scene.test.protocol.name != "monotonic":
         from vlab.effects.report import effects_summary
         extra["effects"] = effects_summary(scene, body, history.levels)
     return RunResult(scene, specimen, space, curve, constants, history, timing, reference, extra)
+
+
+@dataclass
+class _Seeded:
+    """The first (perfect) pass of an imperfect test and the specimen it seeds (None: no mode)."""
+
+    first_pass: "RunResult"
+    specimen: Specimen | None
+    note: str = ""
+
+
+def _seeded_specimen(scene: Scene, specimen: Specimen) -> _Seeded:
+    """Run the perfect specimen to its first loss of stability; seed its mode as imperfection."""
+    perfect = dataclasses.replace(scene, test=dataclasses.replace(scene.test, imperfection=None))
+    first = run_scene(perfect, specimen=specimen)
+    critical = first.extra.get("critical_state")
+    if critical is None or not critical.is_buckling:
+        return _Seeded(first, None, "test.imperfection: the perfect specimen did not buckle up to the "
+                                    "requested stretch, so there is no mode to seed; this is the perfect run")
+    space = first.space
+    moved = imperfect_specimen(specimen, space, critical.mode,
+                               scene.test.imperfection * specimen_thickness(scene))
+    return _Seeded(first, moved)
+
+
+def specimen_thickness(scene: Scene) -> float:
+    """The smallest cross-section dimension (mm), the scale of a buckling imperfection."""
+    spec = scene.specimen
+    if spec.shape == "block":
+        return float(min(spec.size[1], spec.size[2]))
+    return float(min(spec.dimensions.thickness, spec.dimensions.width))
+
+
+def _buckling_extra(monitor: StabilityMonitor, deflection: list[float], seeded: "_Seeded | None") -> dict:
+    """The critical state (results.json → critical), its mode (not serialized), the centre-line
+    deflection per level, and for an imperfect test the perfect pass's critical state."""
+    out: dict = {"lateral_deflection": deflection}
+    if monitor.critical is not None:
+        out |= {"critical": monitor.critical.as_dict(), "critical_state": monitor.critical}
+    if seeded is not None:
+        out["imperfection"] = {"perfect_critical": seeded.first_pass.extra.get("critical"),
+                               "mode": seeded.first_pass.extra["critical_state"].mode}
+    return out
+
+
+def _watch_limit_points(scene: Scene) -> bool:
+    """A falling force is a limit point only on a monotonic ramp of an elastic material, and not
+    on a deliberately imperfect (post-buckled) path: unloading, relaxing, creeping and a bent
+    strip's softening are the physics asked for."""
+    return (scene.test.protocol.name == "monotonic" and not scene.effects
+            and scene.test.imperfection is None)
 
 
 def _homogeneity_report(curve: Curve, rows: list[dict], window: tuple[float, float]) -> dict:

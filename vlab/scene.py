@@ -185,6 +185,7 @@ class TestSpec:
     stretch: tuple[float, ...]  # (s,) uniaxial, (sx, sy) biaxial
     steps: int
     protocol: ProtocolSpec = ProtocolSpec()  # vlab.loading.protocol: monotonic unless given
+    imperfection: float | None = None  # buckling-mode imperfection, amplitude / thickness
 
 
 @dataclass(frozen=True)
@@ -200,6 +201,7 @@ class SolverSpec:
     rtol: float
     max_iterations: int
     max_cutbacks: int
+    eigenvalues: bool = False  # lowest eigenvalue of K_ff at every converged state
 
 
 @dataclass(frozen=True)
@@ -553,7 +555,7 @@ def _stretch_value(field: str, v: Any) -> float:
 
 
 def _parse_test(raw: Any, shape: str = "block") -> TestSpec:
-    t = _Table("test", raw, ("kind", "grips", "stretch", "steps") + PROTOCOL_KEYS)
+    t = _Table("test", raw, ("kind", "grips", "stretch", "steps", "imperfection") + PROTOCOL_KEYS)
     kinds, grip_kinds = SPECIMEN_TESTS[shape]
     kind = t.choice("kind", ("uniaxial", "biaxial"))
     if kind not in kinds:
@@ -585,7 +587,8 @@ def _parse_test(raw: Any, shape: str = "block") -> TestSpec:
                          f"got {_show(v)}")
     return TestSpec(kind=kind, grips=grips, stretch=stretch,
                     steps=t.integer("steps", 1, 10000, default=10),
-                    protocol=_parse_protocol(t, protocol_name, stretch))
+                    protocol=_parse_protocol(t, protocol_name, stretch),
+                    imperfection=_imperfection(t, stretch))
 
 
 def _amplitudes(t: _Table, kind: str) -> tuple[float, ...]:
@@ -634,6 +637,18 @@ def _parse_protocol(t: _Table, name: str, stretch: tuple[float, ...]) -> Protoco
         hold_steps=t.integer("hold_steps", 1, 10000, default=20))
 
 
+def _imperfection(t: _Table, stretch: tuple[float, ...]) -> float | None:
+    """``[test] imperfection``: amplitude of the buckling-mode imperfection / specimen thickness,
+    0 < a <= 0.5, for uniaxial compression only (a tension test has no buckling mode)."""
+    if "imperfection" not in t.raw:
+        return None
+    value = t.number("imperfection", gt=0, le=0.5, note=" (amplitude / specimen thickness)")
+    if len(stretch) != 1 or stretch[0] >= 1.0:
+        raise SceneError(f"{t.field('imperfection')} applies to uniaxial compression (test.stretch < 1), "
+                         f"got test.stretch = {list(stretch)}")
+    return value
+
+
 def _parse_measure(raw: Any, specimen: Specimen) -> MeasureSpec:
     t = _Table("measure", raw, ("modulus_window", "gauge_length", "fit", "modulus_points"))
     field = t.field("modulus_window")
@@ -654,10 +669,13 @@ def _parse_measure(raw: Any, specimen: Specimen) -> MeasureSpec:
 
 
 def _parse_solver(raw: Any) -> SolverSpec:
-    t = _Table("solver", raw, ("rtol", "max_iterations", "max_cutbacks"))
+    t = _Table("solver", raw, ("rtol", "max_iterations", "max_cutbacks", "eigenvalues"))
+    eigenvalues = t.get("eigenvalues", False)
+    if not isinstance(eigenvalues, bool):
+        raise SceneError(f"{t.field('eigenvalues')} must be true or false, got {_show(eigenvalues)}")
     return SolverSpec(rtol=t.number("rtol", default=1e-8, ge=1e-14, le=1e-2),
                       max_iterations=t.integer("max_iterations", 1, 200, default=25),
-                      max_cutbacks=t.integer("max_cutbacks", 0, 30, default=8))
+                      max_cutbacks=t.integer("max_cutbacks", 0, 30, default=8), eigenvalues=eigenvalues)
 
 
 def _check_symmetry(mesh: MeshSpec, test: TestSpec, specimen: Specimen) -> None:

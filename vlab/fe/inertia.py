@@ -27,6 +27,7 @@ import scipy.sparse.linalg as spla
 
 DENSE_LIMIT = 3000  # largest system whose inertia is counted densely when SuperLU pivoted
 ZERO_TOL = 1e-10
+DENSE_EIGEN_LIMIT = 100  # above this, Lanczos beats a dense O(n³) eigensolver
 
 
 @dataclass(frozen=True)
@@ -74,18 +75,35 @@ def _count(values: np.ndarray, tol: float, method: str, solve=None) -> Inertia:
     return Inertia(negative, zero, len(values) - negative - zero, method, solve)
 
 
-def lowest_eigenpair(K: sp.spmatrix) -> tuple[float, np.ndarray]:
+def lowest_eigenpair(K: sp.spmatrix, negative: int | None = None,
+                     solve: Callable[[np.ndarray], np.ndarray] | None = None) -> tuple[float, np.ndarray]:
     """The algebraically smallest eigenvalue of K (N/mm) and its unit eigenvector.
 
-    Shift-invert Lanczos about σ = -|K|_diag,max (below the whole spectrum of a tangent whose
-    negative eigenvalues are small compared with its stiffest mode), so the eigenvalue nearest σ
-    is the lowest one. Small systems use a dense solve.
+    Shift-invert Lanczos (``eigsh`` with σ): the eigenvalues of (K − σI)⁻¹ largest in magnitude
+    belong to the eigenvalues of K nearest σ. With σ just below zero (−1e-8 |K|_diag,max, so that
+    a semi-definite K stays factorizable) the k = negative + 2 nearest eigenvalues converge in a
+    few Lanczos steps, and the smallest of them is λ_min when all ``negative`` eigenvalues (the
+    count from the inertia) are among them; if some are missing (a strongly indefinite K whose
+    negative eigenvalues lie further from zero than its lowest positive ones) σ moves below
+    −2 max|λ found| and the solve repeats. ``solve`` = K⁻¹ from a factorization already made (the
+    inertia's LDLᵀ) lets the first attempt use σ = 0 without factorizing again. Small systems
+    use a dense solve.
     """
     K = sp.csc_matrix(K)
     n = K.shape[0]
-    if n <= 400:
+    if n <= DENSE_EIGEN_LIMIT:
         w, v = np.linalg.eigh(K.toarray())
         return float(w[0]), v[:, 0]
-    sigma = -float(np.max(np.abs(K.diagonal()), initial=1.0))
-    w, v = spla.eigsh(K, k=1, sigma=sigma, which="LM")
-    return float(w[0]), v[:, 0]
+    scale = float(np.max(np.abs(K.diagonal()), initial=1.0))
+    expected = negative or 0
+    sigma = 0.0 if solve is not None else -1e-8 * scale
+    for _ in range(6):
+        k = min(n - 1, expected + 2)
+        inverse = (spla.LinearOperator(K.shape, matvec=solve, dtype=float)
+                   if solve is not None and sigma == 0.0 else None)
+        w, v = spla.eigsh(K, k=k, sigma=sigma, which="LM", OPinv=inverse)
+        if int(np.sum(w < 0.0)) >= expected:
+            break
+        sigma = -2.0 * float(np.max(np.abs(w)))
+    i = int(np.argmin(w))
+    return float(w[i]), v[:, i]

@@ -91,6 +91,11 @@ def result_to_dict(result: RunResult) -> dict:
         },
         "stability": result.extra.get("stability", []),
         "effects": result.extra.get("effects"),
+        "critical": result.extra.get("critical"),  # first loss of stability (buckling or not)
+        "lateral_deflection": result.extra.get("lateral_deflection", []),  # mm, per level
+        "imperfection": (None if "imperfection" not in result.extra else
+                         {"amplitude_over_thickness": scene.test.imperfection,
+                          "perfect_critical": result.extra["imperfection"]["perfect_critical"]}),
         "warnings": result.extra.get("warnings", []),
         "failure": None if history.failure is None else failure_dict(scene, history.failure),
         "accuracy_estimate": result.extra.get("accuracy_estimate"),  # vlab.study.estimate; None if off

@@ -161,10 +161,32 @@ def _renders(outcomes, tmp: Path, options: ReportOptions, figures: list) -> tupl
             gif = render_animation(snap, tmp / f"animation_{options.gif_model}.gif", ropts)
             figures.append(Figure(gif["file"], f"The {options.gif_model} test from unloaded to the last level."))
             renders["animation"] = gif
+        renders |= _critical_modes(outcomes, tmp, figures)
         return renders, []
     except RenderUnavailable as exc:
         log.warning("3D renders skipped: %s", exc)
         return {"skipped": str(exc)}, [f"3D renders skipped: {exc}"]
+
+
+def _critical_modes(outcomes, tmp: Path, figures: list) -> dict:
+    """A render of each model's critical mode (first loss of stability: buckling or not)."""
+    from vlab.render.mode import render_mode
+    from vlab.report.html import Figure
+
+    drawn = {}
+    for o in outcomes:
+        critical = o.data.get("critical")
+        if o.critical_mode is None or critical is None:
+            continue
+        lo, hi = critical["strain_bracket"]
+        name = f"critical_mode_{o.model}.png"
+        drawn[f"critical_mode_{o.model}"] = render_mode(
+            o.snapshot.mesh, o.snapshot.displacement[-1], o.critical_mode, tmp / name,
+            f"{o.model}: {critical['kind']}\ncritical grip strain {lo:.4g} .. {hi:.4g}")
+        figures.append(Figure(name, f"{o.model}: mode of the first loss of stability ({critical['kind']}), the "
+                              f"eigenvector of the lowest eigenvalue of K_ff, scaled for visibility and added "
+                              f"to the last stable state; grey: undeformed outline."))
+    return drawn
 
 
 def _provenance(scene, scene_text: str | None, outcomes) -> dict:

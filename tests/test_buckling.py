@@ -1,0 +1,157 @@
+"""Lowest eigenpair of K_ff, buckling of a clamped strip against Euler, post-buckling with an
+imperfection seeded in the buckling mode."""
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+from vlab.fe.inertia import inertia, lowest_eigenpair
+from vlab.report.results import result_to_dict
+from vlab.run import run_scene
+from vlab.scene import SceneError, parse_scene
+from vlab.stability.buckling import lateral_fraction
+from vlab.stability.euler import clamped_strip
+
+
+def strip_scene(slenderness: float = 10.0, stretch: float = 0.94, **test):
+    """Clamped strip, thickness 1 mm, width 2 mm, length slenderness × 1 mm, Q2 hexes h = t/2."""
+    return parse_scene({
+        "name": "strip", "specimen": {"shape": "block", "size": [slenderness, 2.0, 1.0]},
+        "mesh": {"size": 0.5, "cell": "hex", "order": 2},
+        "material": {"model": "neo-hookean", "E": 10.0, "nu": 0.3},
+        "test": {"kind": "uniaxial", "grips": "clamped", "stretch": stretch, "steps": 4} | test,
+        "measure": {"modulus_points": 0}, "solver": {"max_cutbacks": 12}})
+
+
+def test_sparse_lowest_eigenpair_matches_a_dense_solver_with_and_without_the_factorization():
+    n = 900
+    main = 2.0 + 2.05 * np.cos(np.arange(n) / 40.0)  # a band of negative diagonal entries
+    K = sp.diags([main, -0.3 * np.ones(n - 1), -0.3 * np.ones(n - 1)], [0, 1, -1]).tocsc()
+    dense = np.linalg.eigvalsh(K.toarray())
+    found = inertia(K)
+    assert found.negative == int(np.sum(dense < 0)) > 3
+    for solve in (None, found.solve):
+        value, vector = lowest_eigenpair(K, found.negative, solve)
+        assert value == pytest.approx(dense[0], rel=1e-8)
+        assert np.linalg.norm(K @ vector - value * vector) < 1e-6
+    spd = K + sp.identity(n) * (1.0 - dense[0])
+    assert lowest_eigenpair(spd, 0)[0] == pytest.approx(1.0, rel=1e-8)
+
+
+def test_lowest_eigenvalue_is_recorded_only_when_asked_and_equals_the_dense_one():
+    base = {"name": "b", "specimen": {"shape": "block", "size": [10.0, 10.0, 10.0]},
+            "mesh": {"size": 5.0, "cell": "hex"}, "material": {"model": "neo-hookean", "E": 10.0, "nu": 0.3},
+            "test": {"kind": "uniaxial", "stretch": 1.3, "steps": 2}, "measure": {"modulus_points": 0}}
+    plain = result_to_dict(run_scene(parse_scene(base)))
+    assert all(s["lowest_eigenvalue"] is None for s in plain["stability"])
+    result = run_scene(parse_scene(base | {"solver": {"eigenvalues": True}}))
+    records = result_to_dict(result)["stability"]
+    assert len(records) == 2 and all(s["lowest_eigenvalue"] > 0 for s in records)
+    body, level = result.extra["body"], result.history.levels[-1]
+    K = body.stiffness(level.evaluation).toarray()
+    free = result.extra["partition"].free
+    assert records[-1]["lowest_eigenvalue"] == pytest.approx(np.linalg.eigvalsh(K[np.ix_(free, free)])[0], rel=1e-6)
+
+
+def test_clamped_strip_buckles_near_the_shear_corrected_euler_strain():
+    result = run_scene(strip_scene(10.0))
+    data = result_to_dict(result)
+    assert not data["converged"] and "buckling" in data["failure"]["reason"]
+    critical = data["critical"]
+    assert critical["kind"] == "buckling" and critical["lateral_fraction"] > 0.9  # measured 0.985
+    assert critical["non_elliptic_fraction"] == 0.0
+    assert critical["eigenvalue_stable"] > 0.0 > critical["eigenvalue_unstable"]
+    lo, hi = critical["strain_bracket"]
+    assert 0 < hi - lo < 0.01 * lo  # bracketed to within 1 %
+    euler = clamped_strip(10.0, 2.0, 1.0, 10.0, 0.3)
+    fe = critical["critical_strain"]
+    # small-strain beam theory: FE 9.8 % above P_cr / (E A) (0.02984); with the pre-buckling
+    # geometry (shorter, thicker strip) 0.8 % above (0.03250)
+    assert 0.0 < fe / euler.critical_strain - 1.0 < 0.12
+    assert abs(fe / euler.current_geometry_strain - 1.0) < 0.02
+    mode = result.extra["critical_state"].mode
+    assert np.all(mode[result.extra["partition"].prescribed] == 0.0)
+    assert np.linalg.norm(mode) == pytest.approx(1.0)
+    # the last accepted level is below the critical strain; nothing beyond it is returned
+    assert max(abs(s - 1.0) for s in data["curve"]["stretch"]) <= lo + 1e-12
+
+
+def test_a_material_instability_is_not_called_buckling():
+    block = parse_scene({"name": "b", "specimen": {"shape": "block", "size": [10.0, 10.0, 10.0]},
+                         "mesh": {"size": 2.5, "cell": "hex"}, "material": {"model": "stvk", "E": 10.0, "nu": 0.3},
+                         "test": {"kind": "uniaxial", "grips": "clamped", "stretch": 0.5, "steps": 10}})
+    data = result_to_dict(run_scene(block))
+    critical = data["critical"]  # measured: unstable between stretch 0.655 and 0.652
+    assert critical["kind"].startswith("loss of ellipticity") and critical["non_elliptic_fraction"] > 0
+    assert critical["lateral_fraction"] < 0.5
+    assert "buckling" not in data["failure"]["reason"] and "loss of stability" in data["failure"]["reason"]
+
+
+def test_lateral_fraction_separates_sideways_sections_from_a_local_mode():
+    X = np.array([[x, y, z] for x in range(6) for y in (0.0, 1.0) for z in (0.0, 1.0)], dtype=float)
+    sideways = np.zeros_like(X)
+    sideways[:, 2] = np.sin(np.pi * X[:, 0] / 5)
+    local = np.zeros_like(X)
+    local[:, 2] = np.where(X[:, 1] > 0.5, 1.0, -1.0)  # opposite sides move apart: no section moves
+    assert lateral_fraction(X, sideways.ravel()) == pytest.approx(1.0)
+    assert lateral_fraction(X, local.ravel()) == pytest.approx(0.0)
+
+
+@pytest.mark.parametrize("value, fragment", [
+    (0.0, "test.imperfection must be > 0 and <= 0.5"), (0.8, "<= 0.5"), ("big", "must be a number"),
+])
+def test_imperfection_is_validated(value, fragment):
+    with pytest.raises(SceneError, match=fragment):
+        strip_scene(imperfection=value)
+
+
+def test_imperfection_needs_uniaxial_compression():
+    with pytest.raises(SceneError, match="applies to uniaxial compression"):
+        strip_scene(stretch=1.2, imperfection=0.05)
+
+
+def test_an_imperfection_in_the_buckling_mode_follows_the_post_buckled_path():
+    data = result_to_dict(run_scene(strip_scene(10.0, stretch=0.95, steps=4, imperfection=0.05)))
+    assert data["converged"] and data["failure"] is None
+    perfect = data["imperfection"]["perfect_critical"]
+    assert perfect["kind"] == "buckling"
+    force, deflection = np.abs(data["curve"]["force"]), np.array(data["lateral_deflection"])
+    strain = 1.0 - np.array(data["curve"]["stretch"])
+    # the force levels off below the perfect strip's critical load (measured 0.644 < 0.677 N) ...
+    assert force.max() < abs(perfect["force_stable"][0])
+    assert force[-1] > 0.9 * abs(perfect["force_stable"][0])
+    # ... while the centre-line deflection grows smoothly from the seeded 0.05 t to most of t
+    assert np.all(np.diff(deflection) > 0) and deflection[-1] > 0.6
+    assert deflection[strain < 0.5 * perfect["critical_strain"]].max() < 0.2
+    assert all(s["negative_eigenvalues"] == 0 for s in data["stability"])
+    assert sum(data["solver"]["cutbacks"]) == 0
+
+
+def test_the_run_report_renders_the_buckling_mode(tmp_path):
+    from vlab.report.writer import ReportOptions, write_run
+
+    scene = parse_scene({  # Q1 hexes: too stiff in bending, but they buckle, cheaply
+        "name": "strip-q1", "specimen": {"shape": "block", "size": [10.0, 2.0, 1.0]},
+        "mesh": {"size": 0.5, "cell": "hex"}, "material": {"model": "neo-hookean", "E": 10.0, "nu": 0.3},
+        "test": {"kind": "uniaxial", "grips": "clamped", "stretch": 0.9, "steps": 4}, "measure": {"modulus_points": 0}})
+    data = write_run(run_scene(scene), tmp_path / "r", None, ReportOptions(vtu=False))
+    assert data["critical"]["kind"] == "buckling" and "buckling" in data["failure"]["reason"]
+    png = tmp_path / "r" / "critical_mode_neo-hookean.png"
+    assert png.stat().st_size > 10_000 and png.name in (tmp_path / "r" / "index.html").read_text()
+
+
+def test_an_imperfection_without_a_buckling_mode_runs_the_perfect_specimen_and_says_so():
+    scene = parse_scene({"name": "cube", "specimen": {"shape": "block", "size": [10.0, 10.0, 10.0]},
+                         "mesh": {"size": 10.0, "cell": "hex"}, "material": {"model": "neo-hookean", "E": 10.0, "nu": 0.3},
+                         "test": {"kind": "uniaxial", "grips": "clamped", "stretch": 0.9, "steps": 2, "imperfection": 0.1}})
+    data = result_to_dict(run_scene(scene))
+    assert data["converged"] and data["critical"] is None
+    assert any("no mode to seed" in w for w in data["warnings"])
+    assert data["scene"]["source"]["test"]["imperfection"] == 0.1
+
+
+def test_solver_eigenvalues_must_be_a_boolean():
+    with pytest.raises(SceneError, match="solver.eigenvalues must be true or false"):
+        parse_scene({"name": "b", "specimen": {"shape": "block", "size": [1.0, 1.0, 1.0]}, "mesh": {"size": 1.0},
+                     "material": {"model": "linear", "E": 1.0, "nu": 0.3},
+                     "test": {"kind": "uniaxial", "stretch": 1.1}, "solver": {"eigenvalues": "yes"}})

@@ -1,0 +1,69 @@
+"""`vlab stability`: the registry of hard cases, the fast subset end to end, and the full suite (slow)."""
+
+import json
+
+import pytest
+from typer.testing import CliRunner
+
+from vlab.cli import app
+from vlab.stability import suite
+from vlab.stability.suite import CaseContext, Outcome, register, run_case, run_suite, select
+
+
+@pytest.fixture(scope="module")
+def fast_report(tmp_path_factory):
+    out = tmp_path_factory.mktemp("stability") / "report"
+    result = CliRunner().invoke(app, ["stability", "--fast", "--out", str(out), "--quiet"])
+    return result, out
+
+
+def test_the_fast_subset_passes_and_writes_table_json_and_html(fast_report):
+    result, out = fast_report
+    assert result.exit_code == 0, result.output
+    data = json.loads((out / "results.json").read_text())
+    names = {c["name"] for c in data["cases"]}
+    assert {"stvk-compression-limit-point", "stvk-tension-refused", "inversion-stop", "missing-grip-under-constrained",
+            "invalid-meshes-refused", "buckling-clamped-strip-L10"} <= names
+    assert data["failed"] == 0 and data["passed"] == len(data["cases"]) == len(select(fast_only=True))
+    assert all(c["fast"] for c in data["cases"])
+    for column in ("case", "expected", "got", "converged", "iterations", "cutbacks", "neg. eig.", "time", "result"):
+        assert column in result.output
+    page = (out / "index.html").read_text()
+    assert "Clamped strip buckling against Euler" in page and "FAIL" not in page
+    strip = next(c for c in data["cases"] if c["name"] == "buckling-clamped-strip-L10")
+    assert strip["negative_eigenvalues"] == 1 and 0 < strip["details"]["relative_difference"] < 0.12
+    for figure in strip["figures"]:
+        assert (out / figure).stat().st_size > 10_000
+
+
+def test_cases_register_once_and_a_raising_case_fails_with_its_message(monkeypatch):
+    monkeypatch.setattr(suite, "CASES", dict(suite.CASES))
+
+    @register("always-ok", "passes")
+    def ok(context):
+        return Outcome("fine", True, True, iterations=3)
+
+    @register("broken", "raises")
+    def broken(context):
+        raise ZeroDivisionError("a bug in the case")
+
+    with pytest.raises(ValueError, match="registered twice"):
+        register("always-ok", "again")(ok)
+    results = run_suite(select(names=["always-ok", "broken"]), CaseContext())
+    assert [r.passed for r in results] == [True, False]
+    assert "ZeroDivisionError: a bug in the case" in results[1].outcome.got and results[1].seconds >= 0
+    with pytest.raises(KeyError, match="unknown stability case"):
+        select(names=["no-such-case"])
+
+
+def test_cli_refuses_contradictory_or_unknown_selections(tmp_path):
+    runner = CliRunner()
+    assert runner.invoke(app, ["stability", "--fast", "--all", "--out", str(tmp_path)]).exit_code == 2
+    result = runner.invoke(app, ["stability", "--case", "nope", "--out", str(tmp_path)])
+    assert result.exit_code == 2 and "unknown stability case" in result.output
+
+
+@pytest.mark.slow
+def test_the_full_suite_passes(tmp_path):
+    results = run_suite(select(), CaseContext(tmp_path, render=False))
+    assert [r.name for r in results if not r.passed] == []
