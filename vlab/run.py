@@ -174,7 +174,10 @@ def run_scene(scene: Scene, on_level=None, specimen: Specimen | None = None) -> 
         newton=NewtonOptions(rtol=scene.solver.rtol, max_iterations=scene.solver.max_iterations),
         accept=monitor.accept,
     )
-    force_floor = 1e-12 * scene.material.moduli.mu * specimen.length_scale**2
+    # Newton's residual is relative to the grip reaction; at a stress-free state reached again
+    # (unloading to stretch 1) the reaction vanishes, so it is floored at the force of a 1e-6
+    # strain: absolute tolerance rtol·1e-6·μL², still far above the round-off of f_int (~1e-16·μL²)
+    force_floor = 1e-6 * scene.material.moduli.mu * specimen.length_scale**2
     t1 = clock()
     refusal = _refusal(ground, scene, space, loading.prescribed)
     if refusal is not None:
@@ -188,6 +191,10 @@ def run_scene(scene: Scene, on_level=None, specimen: Specimen | None = None) -> 
     t2 = clock()
     curve = recorder.curve
     constants = elastic_constants(curve, scene.measure.modulus_window, scene.measure.fit)
+    uncertainty = None
+    if scene.effect("noise") is not None:  # the instruments' readings replace the exact ones
+        from vlab.effects.noise import measure_with_noise
+        curve, constants, uncertainty = measure_with_noise(scene.effect("noise"), curve, specimen, scene.measure)
     reference = None
     if material is not None and specimen.shape in ("block", "sheet") and scene.test.grips == "roller":
         reference = homogeneous_curve(material, curve.stretch)
@@ -197,6 +204,8 @@ def run_scene(scene: Scene, on_level=None, specimen: Specimen | None = None) -> 
                 curve.column("stress", axis), reference[key])
     extra = {"mesh_quality": quality.as_dict(),
              "crosshead": crosshead_modulus(curve, scene.measure.modulus_window, scene.measure.fit)}
+    if uncertainty is not None:
+        extra["uncertainty"] = uncertainty
     if homogeneity:
         extra["homogeneity"] = _homogeneity_report(curve, homogeneity, scene.measure.modulus_window)
     timing["measure_s"] += clock() - t2

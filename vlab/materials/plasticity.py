@@ -149,6 +149,10 @@ class J2Plasticity(HistoryMaterial):
         return {"Cp_inv": np.where(keep, Cp_inv, state["Cp_inv"]),
                 "alpha": np.where(keep, state["alpha"] + r.dalpha, state["alpha"])}
 
+    def history_fields(self, state: State, F=None) -> dict[str, np.ndarray]:
+        """Scalar history per point for output: the accumulated plastic strain α (1)."""
+        return {"plastic_strain": np.asarray(state["alpha"], dtype=float)}
+
     # --- internals ------------------------------------------------------------------------------
     def _return(self, F, state: State) -> _Return:
         F, ok = admissible_part(as_tensor_field(F))
