@@ -32,7 +32,8 @@ from vlab.materials import make_material
 from vlab.materials.history import HistoryMaterial
 from vlab.materials.plane import plane_model
 from vlab.materials.split import SPLIT_LAWS, make_split_law
-from vlab.measure.elastic_constants import ElasticConstants, crosshead_modulus, elastic_constants
+from vlab.measure.elastic_constants import (ElasticConstants, crosshead_modulus, elastic_constants,
+                                            first_loading)
 from vlab.measure.homogeneity import HomogeneityProbe
 from vlab.measure.recorder import Curve, Recorder
 from vlab.measure.reference import homogeneous_curve, relative_error
@@ -170,6 +171,7 @@ def run_scene(scene: Scene, on_level=None, specimen: Specimen | None = None) -> 
     stepping = Stepping(
         schedule=levels.t, times=levels.time,
         force_held=levels.force_held if levels.force_held.any() else None,
+        force_targets=levels.force,
         max_cutbacks=scene.solver.max_cutbacks,
         newton=NewtonOptions(rtol=scene.solver.rtol, max_iterations=scene.solver.max_iterations),
         accept=monitor.accept,
@@ -190,7 +192,8 @@ def run_scene(scene: Scene, on_level=None, specimen: Specimen | None = None) -> 
 
     t2 = clock()
     curve = recorder.curve
-    constants = elastic_constants(curve, scene.measure.modulus_window, scene.measure.fit)
+    fitted = first_loading(curve) if scene.test.protocol.unloads else curve
+    constants = elastic_constants(fitted, scene.measure.modulus_window, scene.measure.fit)
     uncertainty = None
     if scene.effect("noise") is not None:  # the instruments' readings replace the exact ones
         from vlab.effects.noise import measure_with_noise
@@ -203,7 +206,8 @@ def run_scene(scene: Scene, on_level=None, specimen: Specimen | None = None) -> 
             reference[f"max_relative_error_{'xy'[axis]}"] = relative_error(
                 curve.column("stress", axis), reference[key])
     extra = {"mesh_quality": quality.as_dict(),
-             "crosshead": crosshead_modulus(curve, scene.measure.modulus_window, scene.measure.fit)}
+             "crosshead": crosshead_modulus(first_loading(curve) if scene.test.protocol.unloads else curve,
+                                            scene.measure.modulus_window, scene.measure.fit)}
     if uncertainty is not None:
         extra["uncertainty"] = uncertainty
     if homogeneity:

@@ -19,13 +19,10 @@ from __future__ import annotations
 
 from dataclasses import asdict
 
-import numpy as np
-
 from vlab.effects.registry import Effect
-from vlab.measure.elastic_constants import elastic_constants
+from vlab.measure.elastic_constants import elastic_constants, first_loading
 from vlab.measure.noise import (PARAM_KEYS, GaugeLengths, NoiseSpec, elastic_uncertainty, noisy_curve,
                                 parse_params)
-from vlab.measure.recorder import Curve
 
 
 def parse(t, material, test) -> NoiseSpec:
@@ -40,25 +37,13 @@ def build(spec: NoiseSpec) -> NoiseSpec:
     return spec
 
 
-def first_loading(curve: Curve) -> Curve:
-    """The rows of the first ramp (load parameter rising), where the modulus window lies."""
-    t = np.asarray(curve.t)
-    falling = np.flatnonzero(np.diff(t) <= 0.0)
-    n = len(t) if not len(falling) else int(falling[0]) + 1
-    return Curve(t=curve.t[:n], stretch={a: v[:n] for a, v in curve.stretch.items()},
-                 force={a: v[:n] for a, v in curve.force.items()},
-                 strain={a: v[:n] for a, v in curve.strain.items()},
-                 transverse_strain=curve.transverse_strain[:n], thickness_strain=curve.thickness_strain[:n],
-                 area0=dict(curve.area0), time=curve.time[:n])
-
-
 def measure_with_noise(spec: NoiseSpec, curve: Curve, specimen, measure) -> tuple[Curve, object, dict]:
     """(noisy curve, ElasticConstants measured from it, the ``measured.uncertainty`` dict)."""
     gauges = GaugeLengths.of(specimen)
     noisy = noisy_curve(curve, spec, gauges)
     window = measure.modulus_window
-    exact = elastic_constants(curve, window, measure.fit)
-    measured = elastic_constants(noisy, window, measure.fit)
+    exact = elastic_constants(first_loading(curve), window, measure.fit)
+    measured = elastic_constants(first_loading(noisy), window, measure.fit)
     u = elastic_uncertainty(first_loading(noisy), window, spec, gauges)
     report = {"E": u.E.as_dict() if u.E else None, "nu": u.nu.as_dict() if u.nu else None,
               "reliability": u.reliability, "note": u.note,

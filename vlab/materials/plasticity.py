@@ -134,8 +134,7 @@ class J2Plasticity(HistoryMaterial):
         A = None
         if with_tangent:
             c, g = self._moduli(r, state["alpha"])
-            Abar = principal_tangent(r.frame, tau, c, g)
-            A = np.einsum("iKkM...,JK...,LM...->iJkL...", Abar, r.L, r.L, optimize=True)
+            A = principal_tangent(r.frame, tau, c, g, right=r.L)  # Ā_iKkM L_JK L_LM
             A = np.where(r.ok, A, np.nan)
         return Response(energy=energy, stress=P, tangent=A)
 
