@@ -4,15 +4,20 @@ the elastic one), optionally also on a baseline revision from before the effects
 
     python benchmarks/effects_overhead.py [--repeat 3] [--baseline 821b6ca]
 
-Every run is a fresh subprocess (imports paid equally); the best of ``--repeat`` solve times
-counts. Prints a table with the ratios (inert effect / elastic; elastic / baseline elastic). The
-elastic path builds a HyperelasticBody exactly as before: no state, no extra assembly, no time.
+Every run is a fresh subprocess (imports paid equally). The variants of a scene run interleaved,
+round by round (the order rotating), so on a shared machine each round's runs see about the same
+load; the table gives the best solve time of each variant over ``--repeat`` rounds and the
+*median of the per-round ratios* (paired, so a load swing between rounds cancels), plus the load
+average before and after. The elastic path builds a HyperelasticBody exactly as before: no
+state, no extra assembly, no time.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import os
+import statistics
 import subprocess
 import sys
 import tarfile
@@ -45,9 +50,19 @@ def one(source: Path, scene: Path, variant: str) -> dict:
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
-def best(source: Path, scene: Path, variant: str, repeat: int) -> dict:
-    runs = [one(source, scene, variant) for _ in range(repeat)]
-    return min(runs, key=lambda r: r["solve_s"])
+def rounds(cells: dict[str, tuple[Path, str]], scene: Path, repeat: int) -> dict[str, list[dict]]:
+    """``repeat`` rounds, each running every cell (source, variant) once, the order rotating."""
+    names = list(cells)
+    runs: dict[str, list[dict]] = {n: [] for n in names}
+    for k in range(repeat):
+        for n in names[k % len(names):] + names[:k % len(names)]:
+            source, variant = cells[n]
+            runs[n].append(one(source, scene, variant))
+    return runs
+
+
+def _paired_ratio(a: list[dict], b: list[dict]) -> float:
+    return statistics.median(x["solve_s"] / y["solve_s"] for x, y in zip(a, b))
 
 
 def export(rev: str, folder: Path) -> Path:
@@ -64,19 +79,25 @@ def main() -> None:
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
         base = export(args.baseline, Path(tmp)) if args.baseline else None
-        print("| scene | elastic solve s | inert effect solve s | ratio inert/elastic |"
-              + (" baseline elastic s | ratio elastic/baseline |" if base else ""))
+        print(f"load average before: {os.getloadavg()[0]:.2f}; {args.repeat} interleaved rounds")
+        print("| scene | elastic best s | inert effect best s | median ratio inert/elastic |"
+              + (" baseline elastic best s | median ratio elastic/baseline |" if base else ""))
         print("|---|---|---|---|" + ("---|---|" if base else ""))
         for name, scene in SCENES.items():
-            elastic = best(ROOT, scene, "elastic", args.repeat)
-            inert = best(ROOT, scene, "inert", args.repeat)
-            assert elastic["body"] == "HyperelasticBody" and inert["body"] == "HistoryBody"
-            row = (f"| {name} | {elastic['solve_s']:.3f} | {inert['solve_s']:.3f} | "
-                   f"{inert['solve_s'] / elastic['solve_s']:.3f} |")
+            cells = {"elastic": (ROOT, "elastic"), "inert": (ROOT, "inert")}
             if base:
-                old = best(base, scene, "elastic", args.repeat)
-                row += f" {old['solve_s']:.3f} | {elastic['solve_s'] / old['solve_s']:.3f} |"
+                cells["baseline"] = (base, "elastic")
+            runs = rounds(cells, scene, args.repeat)
+            assert all(r["body"] == "HyperelasticBody" for r in runs["elastic"])
+            assert all(r["body"] == "HistoryBody" for r in runs["inert"])
+            fastest = {n: min(r["solve_s"] for r in v) for n, v in runs.items()}
+            row = (f"| {name} | {fastest['elastic']:.3f} | {fastest['inert']:.3f} | "
+                   f"{_paired_ratio(runs['inert'], runs['elastic']):.3f} |")
+            if base:
+                row += (f" {fastest['baseline']:.3f} | "
+                        f"{_paired_ratio(runs['elastic'], runs['baseline']):.3f} |")
             print(row, flush=True)
+        print(f"load average after: {os.getloadavg()[0]:.2f}")
 
 
 if __name__ == "__main__":

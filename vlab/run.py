@@ -37,7 +37,8 @@ from vlab.materials.history import HistoryMaterial
 from vlab.materials.plane import plane_model
 from vlab.materials.split import SPLIT_LAWS, make_split_law
 from vlab.measure.centre_stress import CentreStressProbe, centre_report
-from vlab.measure.elastic_constants import ElasticConstants, crosshead_modulus, elastic_constants
+from vlab.measure.elastic_constants import (ElasticConstants, crosshead_modulus, elastic_constants,
+                                            first_loading)
 from vlab.measure.homogeneity import HomogeneityProbe
 from vlab.measure.recorder import Curve, Recorder
 from vlab.measure.reference import homogeneous_curve, relative_error
@@ -202,11 +203,15 @@ def _run_scene(scene: Scene, on_level, specimen: Specimen | None) -> RunResult:
     stepping = Stepping(
         schedule=levels.t, times=levels.time,
         force_held=levels.force_held if levels.force_held.any() else None,
+        force_targets=levels.force,
         max_cutbacks=scene.solver.max_cutbacks,
         newton=NewtonOptions(rtol=scene.solver.rtol, max_iterations=scene.solver.max_iterations),
         accept=monitor.accept,
     )
-    force_floor = 1e-12 * scene.material.moduli.mu * specimen.length_scale**2
+    # Newton's residual is relative to the grip reaction; at a stress-free state reached again
+    # (unloading to stretch 1) the reaction vanishes, so it is floored at the force of a 1e-6
+    # strain: absolute tolerance rtol·1e-6·μL², still far above the round-off of f_int (~1e-16·μL²)
+    force_floor = 1e-6 * scene.material.moduli.mu * specimen.length_scale**2
     t1 = clock()
     refusal = _refusal(ground, scene, space, loading.prescribed)
     if refusal is not None:
@@ -219,7 +224,12 @@ def _run_scene(scene: Scene, on_level, specimen: Specimen | None) -> RunResult:
 
     t2 = clock()
     curve = recorder.curve
-    constants = elastic_constants(curve, scene.measure.modulus_window, scene.measure.fit)
+    fitted = first_loading(curve) if scene.test.protocol.unloads else curve
+    constants = elastic_constants(fitted, scene.measure.modulus_window, scene.measure.fit)
+    uncertainty = None
+    if scene.effect("noise") is not None:  # the instruments' readings replace the exact ones
+        from vlab.effects.noise import measure_with_noise
+        curve, constants, uncertainty = measure_with_noise(scene.effect("noise"), curve, specimen, scene.measure)
     reference = None
     if material is not None and specimen.shape in ("block", "sheet") and scene.test.grips == "roller":
         reference = homogeneous_curve(material, curve.stretch)
@@ -228,7 +238,10 @@ def _run_scene(scene: Scene, on_level, specimen: Specimen | None) -> RunResult:
             reference[f"max_relative_error_{'xy'[axis]}"] = relative_error(
                 curve.column("stress", axis), reference[key])
     extra = {"mesh_quality": quality.as_dict(),
-             "crosshead": crosshead_modulus(curve, scene.measure.modulus_window, scene.measure.fit)}
+             "crosshead": crosshead_modulus(first_loading(curve) if scene.test.protocol.unloads else curve,
+                                            scene.measure.modulus_window, scene.measure.fit)}
+    if uncertainty is not None:
+        extra["uncertainty"] = uncertainty
     centre = centre_report(curve, scene.measure.modulus_window, scene.measure.fit)
     if centre is not None:
         extra["cruciform"] = centre
@@ -290,9 +303,11 @@ def _buckling_extra(monitor: StabilityMonitor, deflection: list[float], seeded: 
 def _watch_limit_points(scene: Scene) -> bool:
     """A falling force is a limit point only on a monotonic ramp of an elastic material, and not
     on a deliberately imperfect (post-buckled) path: unloading, relaxing, creeping and a bent
-    strip's softening are the physics asked for."""
-    return (scene.test.protocol.name == "monotonic" and not scene.effects
-            and scene.test.imperfection is None)
+    strip's softening are the physics asked for. Instrument noise changes no physics."""
+    from vlab.effects import EFFECTS
+
+    physical = [e for e in scene.effects if EFFECTS[e.name].role != "measure"]
+    return scene.test.protocol.name == "monotonic" and not physical and scene.test.imperfection is None
 
 
 def _homogeneity_report(curve: Curve, rows: list[dict], window: tuple[float, float]) -> dict:

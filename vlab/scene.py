@@ -67,7 +67,7 @@ _NAME_RE = re.compile(r"[A-Za-z0-9._-]+")
 _REQUIRED = object()
 KG_PER_M3 = 1e-12  # t/mm³: the mass unit of the N, mm, s system is the tonne (1 N = 1 t·mm/s²)
 PROTOCOL_KEYS = ("protocol", "amplitudes", "min_stretch", "strain_rate", "ramp_time", "hold_time",
-                 "hold_steps")
+                 "hold_steps", "force")
 
 
 class SceneError(ValueError):
@@ -609,7 +609,7 @@ def _amplitudes(t: _Table, kind: str) -> tuple[float, ...]:
 def _parse_protocol(t: _Table, name: str, stretch: tuple[float, ...]) -> ProtocolSpec:
     """The [test] protocol keys: each allowed only for the protocols that use it."""
     uses = {"amplitudes": ("cyclic",), "min_stretch": ("cyclic",), "hold_time": HOLDS,
-            "hold_steps": HOLDS}
+            "hold_steps": HOLDS, "force": ("creep",)}
     for key, protocols in uses.items():
         if key in t.raw and name not in protocols:
             raise SceneError(f"{t.field(key)} applies to test.protocol = {' or '.join(map(repr, protocols))} "
@@ -634,7 +634,24 @@ def _parse_protocol(t: _Table, name: str, stretch: tuple[float, ...]) -> Protoco
         strain_rate=t.number("strain_rate", default=None, gt=0, le=1e4, note=" 1/s"),
         ramp_time=t.number("ramp_time", default=None, gt=0, le=1e9, note=" s"),
         hold_time=t.number("hold_time", gt=0, le=1e9, note=" s") if name in HOLDS else 0.0,
-        hold_steps=t.integer("hold_steps", 1, 10000, default=20))
+        hold_steps=t.integer("hold_steps", 1, 10000, default=20),
+        force=_creep_force(t, stretch) if name == "creep" else None)
+
+
+def _creep_force(t: _Table, stretch: tuple[float, ...]) -> float | None:
+    """test.force (N): the creep load, ramped under force control over test.ramp_time, then held.
+    Its sign follows test.stretch (which then only gives the direction and scale of the grip
+    travel): > 0 in tension (stretch > 1), < 0 in compression."""
+    if "force" not in t.raw:
+        return None
+    if "ramp_time" not in t.raw:
+        raise SceneError(f"{t.field('force')} is ramped under force control: give test.ramp_time (s), "
+                         "the time to reach it (test.strain_rate sets a grip speed, not a load rate)")
+    if len(stretch) != 1:
+        raise SceneError(f"{t.field('force')} needs test.kind = 'uniaxial'")
+    if stretch[0] > 1.0:
+        return t.number("force", gt=0, le=1e9, note=" N, tension as test.stretch > 1")
+    return t.number("force", ge=-1e9, lt=0, note=" N, compression as test.stretch < 1")
 
 
 def _imperfection(t: _Table, stretch: tuple[float, ...]) -> float | None:

@@ -69,7 +69,7 @@ class HistoryBody:
         self.state = self.material.update(evaluation.F, self.state, self.dt)
         fields = {"cauchy": cell_average(cauchy(P, evaluation.F), self.space.dx)}
         if hasattr(self.material, "history_fields"):
-            for name, values in self.material.history_fields(self.state).items():
+            for name, values in self.material.history_fields(self.state, evaluation.F).items():
                 fields[name] = cell_average(values, self.space.dx)
         self._last = (id(evaluation), fields)
 

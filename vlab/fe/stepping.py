@@ -21,7 +21,9 @@ the time step; a hold (t constant, time advancing) is a segment like any other. 
 history (``has_history``) is told the substep's time step before the solve and commits its state
 only after the substep converged and was accepted. Levels flagged in ``Stepping.force_held`` hold
 the moving grip's force instead of its position (creep; vlab.fe.force_control): t is then solved
-for. A body with a dead load (``f_ext``) is first brought to equilibrium under it at t = 0.
+for, at the force reached when the hold began or, with ``Stepping.force_targets`` (N), at a
+force moving linearly from the last level's to the level's target over the substeps. A body
+with a dead load (``f_ext``) is first brought to equilibrium under it at t = 0.
 """
 
 from __future__ import annotations
@@ -94,6 +96,7 @@ class Stepping:
     accept: Acceptance | None = None
     times: np.ndarray | None = None  # physical time (s) at each level; None = quasi-static
     force_held: np.ndarray | None = None  # True where a level holds the moving grip's force
+    force_targets: np.ndarray | None = None  # N, grip force reached at each force-held level
 
 
 def run_schedule(body: HyperelasticBody, partition: Partition, u_hat: np.ndarray,
@@ -105,6 +108,7 @@ def run_schedule(body: HyperelasticBody, partition: Partition, u_hat: np.ndarray
     u = np.zeros(body.space.n_dofs)
     current = body.evaluate(u)
     timed = bool(getattr(body, "has_history", False))
+    travel = float(u_hat[np.argmax(np.abs(u_hat))])  # û_m (signed), mm: Q = û_m × grip force
     try:
         if getattr(body, "f_ext", None) is not None:  # settle under a dead load (self-weight) first
             current = _settled(body, partition, current, stepping, scales, timed)
@@ -129,6 +133,9 @@ def run_schedule(body: HyperelasticBody, partition: Partition, u_hat: np.ndarray
         held = stepping.force_held is not None and bool(stepping.force_held[index - 1])
         if held and held_force is None:
             held_force = generalized_force(current, u_hat)  # the force reached when the hold starts
+        q0 = held_force
+        if held and stepping.force_targets is not None:  # Q* = û_m F*: a force-controlled ramp
+            q0, held_force = generalized_force(current, u_hat), travel * float(stepping.force_targets[index - 1])
         ds, s, cutbacks, records = 1.0, 0.0, 0, []  # substep = fraction [s, s + ds] of the segment
         smallest = 1.0 / 2.0**stepping.max_cutbacks
         while s < 1.0:
@@ -139,8 +146,8 @@ def run_schedule(body: HyperelasticBody, partition: Partition, u_hat: np.ndarray
             try:
                 if held:
                     candidate, t_try, record, new_tangent = solve_force_controlled(  # from the
-                        body, partition, body.evaluate(current.u), t, u_hat, held_force,  # new increment
-                        scales, stepping.newton)
+                        body, partition, body.evaluate(current.u), t, u_hat,  # new increment
+                        q0 + s_try * (held_force - q0), scales, stepping.newton)
                 else:
                     candidate, record, new_tangent = _substep(body, partition, current, tangent,
                                                               u_hat, t, t_try, stepping, scales)

@@ -12,7 +12,9 @@ moving grip is held by displacement or by force there.
 - ``relaxation``   1 → stretch, then the stretch held for ``hold_time`` s
 - ``creep``        1 → stretch under displacement control, then the force reached there held
                    for ``hold_time`` s (force control: the crosshead position is an unknown
-                   whose conjugate load is the held force; see vlab.fe.force_control)
+                   whose conjugate load is the held force; see vlab.fe.force_control);
+                   with ``force`` (N) the ramp itself is force-controlled, 0 → force linearly
+                   over ``ramp_time`` s in ``steps`` levels, and that force is held
 
 Time: ``strain_rate`` (s⁻¹) is the grip strain rate |dλ/dt| of every ramp; or ``ramp_time`` (s)
 is the duration of the first ramp 1 → stretch (the same rate then applies to every ramp).
@@ -44,6 +46,7 @@ class ProtocolSpec:
     ramp_time: float | None = None  # s, duration of the first ramp 1 -> stretch
     hold_time: float = 0.0  # s (relaxation, creep)
     hold_steps: int = 20  # levels over the hold
+    force: float | None = None  # N, creep: the load ramped to under force control and held
 
     @property
     def timed(self) -> bool:
@@ -61,11 +64,13 @@ class ProtocolSpec:
 @dataclass(frozen=True)
 class Levels:
     """Load parameter t_k, physical time τ_k in s (None if the test is quasi-static) and, per
-    level, True where the moving grip is force-controlled (the creep hold)."""
+    level, True where the moving grip is force-controlled (the creep hold); ``force`` the
+    grip force (N) each force-controlled level reaches (None: hold the force reached)."""
 
     t: np.ndarray
     time: np.ndarray | None
     force_held: np.ndarray
+    force: np.ndarray | None = None
 
     def __len__(self) -> int:
         return len(self.t)
@@ -75,6 +80,8 @@ def protocol_levels(protocol: ProtocolSpec, stretch: tuple[float, ...], steps: i
                     window: tuple[float, float], modulus_points: int) -> Levels:
     """The levels of a protocol; ``steps`` is the number of increments of a ramp over the full
     range 1 → stretch (shorter ramps get proportionally fewer, at least one)."""
+    if protocol.force is not None:
+        return _force_ramp_levels(protocol, steps)
     targets = _turning_points(protocol, stretch)
     peak = targets[0]
     peak_stretch = tuple(1.0 + peak * (s - 1.0) for s in stretch)
@@ -92,6 +99,18 @@ def protocol_levels(protocol: ProtocolSpec, stretch: tuple[float, ...], steps: i
     if protocol.name == "creep":
         held[n_ramp:] = True
     return Levels(t_arr, _times(protocol, stretch, t_arr, n_ramp), held)
+
+
+def _force_ramp_levels(protocol: ProtocolSpec, steps: int) -> Levels:
+    """Creep with a given force: ``steps`` levels of a linear force ramp over ``ramp_time``,
+    then the hold; every level force-controlled. t holds the force fraction (for the times);
+    the grip position is solved for."""
+    fraction = np.arange(1, steps + 1) / steps
+    n = len(fraction) + protocol.hold_steps
+    t = np.concatenate([fraction, np.ones(protocol.hold_steps)])
+    ramp = ProtocolSpec(name=protocol.name, ramp_time=protocol.ramp_time, hold_time=protocol.hold_time,
+                        hold_steps=protocol.hold_steps)
+    return Levels(t, _times(ramp, (2.0,), t, len(fraction)), np.ones(n, dtype=bool), protocol.force * t)
 
 
 def _turning_points(protocol: ProtocolSpec, stretch: tuple[float, ...]) -> list[float]:

@@ -97,6 +97,16 @@ class OgdenRoxburgh(HistoryMaterial):
         W_max = np.asarray(state["W_max"], dtype=float)
         return {"W_max": np.where(np.isfinite(psi0), np.maximum(W_max, psi0), W_max)}
 
+    def history_fields(self, state: State, F=None) -> dict[str, np.ndarray]:
+        """Scalar history per point for output: W_max (MPa) and, at deformation F, the softening
+        η (1 on the primary curve; 1 at the virgin state when F is None)."""
+        W_max = np.asarray(state["W_max"], dtype=float)
+        if F is None:
+            return {"max_energy": W_max, "softening": np.ones_like(W_max)}
+        psi0 = self.elastic.energy(as_tensor_field(F))
+        eta = self.softening(np.where(np.isfinite(psi0), psi0, W_max), W_max)
+        return {"max_energy": W_max, "softening": eta}
+
     def _z(self, psi0, W_max):
         return np.maximum(0.0, (W_max - psi0) / self.scale(W_max))
 

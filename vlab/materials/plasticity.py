@@ -134,8 +134,7 @@ class J2Plasticity(HistoryMaterial):
         A = None
         if with_tangent:
             c, g = self._moduli(r, state["alpha"])
-            Abar = principal_tangent(r.frame, tau, c, g)
-            A = np.einsum("iKkM...,JK...,LM...->iJkL...", Abar, r.L, r.L, optimize=True)
+            A = principal_tangent(r.frame, tau, c, g, right=r.L)  # Ā_iKkM L_JK L_LM
             A = np.where(r.ok, A, np.nan)
         return Response(energy=energy, stress=P, tangent=A)
 
@@ -148,6 +147,10 @@ class J2Plasticity(HistoryMaterial):
         keep = r.ok  # an inadmissible point (never accepted by the solver) keeps its state
         return {"Cp_inv": np.where(keep, Cp_inv, state["Cp_inv"]),
                 "alpha": np.where(keep, state["alpha"] + r.dalpha, state["alpha"])}
+
+    def history_fields(self, state: State, F=None) -> dict[str, np.ndarray]:
+        """Scalar history per point for output: the accumulated plastic strain α (1)."""
+        return {"plastic_strain": np.asarray(state["alpha"], dtype=float)}
 
     # --- internals ------------------------------------------------------------------------------
     def _return(self, F, state: State) -> _Return:

@@ -22,6 +22,13 @@ The difference quotient a is evaluated through g and ℓ (ℓ by log1p with its 
 λ_A = λ_B), so equal or nearly equal stretches lose no digits. n_A, N_A and λ_A come from
 the symmetric eigenproblem of C = FᵀF (``numpy.linalg.eigh``), n_A = F N_A/λ_A; within a
 repeated eigenvalue any orthonormal basis gives the same P and A.
+
+Assembly (why it is fast): the nine dyads M_AB = n_A ⊗ N_B are an orthonormal basis of 3×3
+tensors, in which A is the sparse 9×9 matrix D with D[AA,BB] = w_AB, D[AB,AB] = t1_AB and
+D[AB,BA] = t2_AB. With Q[(iJ),(AB)] = n_iA N_JB (per point, 9×9), A = Q D Qᵀ: two batched
+9×9 matrix products (``numpy.matmul``) instead of 21 outer products into (3,3,3,3,*batch).
+A right factor R (``principal_tangent(..., right=R)``) gives A_iJkL = Ā_iKkM R_JK R_LM, the
+tangent of P = P̄ Rᵀ at fixed R (J2 plasticity's change of frame), by replacing N with R N.
 """
 
 from __future__ import annotations
@@ -70,21 +77,30 @@ def _log_quotient(lam: np.ndarray) -> np.ndarray:
     return quotient / lb
 
 
-def principal_tangent(frame: PrincipalFrame, tau: np.ndarray, c: np.ndarray, g: np.ndarray) -> np.ndarray:
-    """A = ∂P/∂F (3,3,3,3,*batch) from τ (3,*b), c (3,3,*b) and g (3,3,*b) (module docstring)."""
+def principal_tangent(frame: PrincipalFrame, tau: np.ndarray, c: np.ndarray, g: np.ndarray,
+                      right: np.ndarray | None = None) -> np.ndarray:
+    """A = ∂P/∂F (3,3,3,3,*batch) from τ (3,*b), c (3,3,*b) and g (3,3,*b) (module docstring);
+    with ``right`` R (3,3,*b): A_iJkL = Ā_iKkM R_JK R_LM."""
     lam, n, N = frame.lam, frame.n, frame.N
+    batch = tau.shape[1:]
     lalb = lam[:, None] * lam[None, :]
-    w = (c - np.eye(3).reshape((3, 3) + (1,) * tau[0].ndim) * tau[:, None]) / lalb
+    w = (c - np.eye(3).reshape((3, 3) + (1,) * len(batch)) * tau[:, None]) / lalb
     a = g * _log_quotient(lam) / lam[:, None] - tau[None, :] / lalb
     wA = tau / lam
     b = (wA[:, None] + wA[None, :]) / (lam[:, None] + lam[None, :])
     t1, t2 = 0.5 * (a + b), 0.5 * (a - b)
-    M = [[n[:, A][:, None] * N[:, B][None, :] for B in range(3)] for A in range(3)]  # n_A ⊗ N_B
-    out = np.zeros((3, 3, 3, 3) + tau.shape[1:])
+    size = int(np.prod(batch, dtype=int))
+    D = np.zeros((size, 3, 3, 3, 3))  # D[p, A, B, C, D] over the basis M_AB ⊗ M_CD
     for A in range(3):
         for B in range(3):
-            dyad(w[A, B] * M[A][A], M[B][B], out=out)
+            D[:, A, A, B, B] = w[A, B].reshape(size)
             if A != B:
-                dyad(t1[A, B] * M[A][B], M[A][B], out=out)
-                dyad(t2[A, B] * M[A][B], M[B][A], out=out)
-    return out
+                D[:, A, B, A, B] = t1[A, B].reshape(size)
+                D[:, A, B, B, A] = t2[A, B].reshape(size)
+    if right is not None:
+        N = np.einsum("JK...,KB...->JB...", right, N)
+    n_p = np.moveaxis(n.reshape(3, 3, size), -1, 0)  # (p, i, A)
+    N_p = np.moveaxis(N.reshape(3, 3, size), -1, 0)  # (p, J, B)
+    Q = (n_p[:, :, None, :, None] * N_p[:, None, :, None, :]).reshape(size, 9, 9)  # [(iJ), (AB)]
+    A9 = np.matmul(np.matmul(Q, D.reshape(size, 9, 9)), np.swapaxes(Q, 1, 2))
+    return np.ascontiguousarray(np.moveaxis(A9.reshape(size, 3, 3, 3, 3), 0, -1)).reshape((3, 3, 3, 3) + batch)

@@ -111,7 +111,7 @@ class PronyViscoelastic(HistoryMaterial):
         H_i = xi.reshape(shape) * (xi.reshape(shape) * state["Q"] - beta.reshape(shape) * state["S_iso"])
         return {"Q": H_i + (beta * xi).reshape(shape) * S_iso, "S_iso": S_iso}
 
-    def history_fields(self, state: State) -> dict[str, np.ndarray]:
+    def history_fields(self, state: State, F=None) -> dict[str, np.ndarray]:
         """Scalar history per point for output: ‖Σ Q_i‖ (MPa), the non-equilibrium stress."""
         Q = state["Q"].sum(axis=0)
         return {"viscous_stress": np.sqrt(np.einsum("ij...,ij...->...", Q, Q))}

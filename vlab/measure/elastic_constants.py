@@ -43,6 +43,20 @@ class ElasticConstants:
     note: str = ""
 
 
+def first_loading(curve: Curve) -> Curve:
+    """The rows of the first ramp (load parameter rising), where the modulus window lies: E and
+    ν are the material's virgin small-strain constants, so the unloading and later cycles of a
+    load-unload or cyclic test (softened, plastically set or viscous) are not fitted."""
+    t = np.asarray(curve.t)
+    falling = np.flatnonzero(np.diff(t) <= 0.0)
+    n = len(t) if not len(falling) else int(falling[0]) + 1
+    return Curve(t=curve.t[:n], stretch={a: v[:n] for a, v in curve.stretch.items()},
+                 force={a: v[:n] for a, v in curve.force.items()},
+                 strain={a: v[:n] for a, v in curve.strain.items()},
+                 transverse_strain=curve.transverse_strain[:n], thickness_strain=curve.thickness_strain[:n],
+                 area0=dict(curve.area0), time=curve.time[:n])
+
+
 def elastic_constants(curve: Curve, window: tuple[float, float], method: str) -> ElasticConstants:
     if not curve.t:
         return ElasticConstants(None, None, None, None, [], "not measured: no level was recorded")

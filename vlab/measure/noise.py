@@ -56,6 +56,7 @@ class NoiseSpec:
     extensometer_resolution: float = 0.0  # mm
     seed: int = 0
     confidence: float = 0.95
+    name: str = "noise"  # the effect's name in a scene's [effects]
 
     def strain_std(self, gauge_length: float) -> float:
         """Standard deviation of a strain reading over ``gauge_length`` mm (noise + rounding)."""
@@ -103,6 +104,7 @@ def noisy_curve(curve: Curve, spec: NoiseSpec, gauges: GaugeLengths) -> Curve:
         transverse_strain=strain(curve.transverse_strain, gauges.transverse),
         thickness_strain=strain(curve.thickness_strain, gauges.thickness),
         area0=dict(curve.area0),
+        time=list(curve.time),
     )
 
 

@@ -33,6 +33,13 @@ def summary_rows(data: dict) -> list[tuple[str, str]]:
     if m.get("E_fit"):
         rows.append(("E fit", f"{m['E_fit']['method']} over |strain| {m['E_fit']['window']}, "
                               f"{m['E_fit']['n_points']} points, R² = {m['E_fit']['r2']:.6f}"))
+    unc = m.get("uncertainty") or {}
+    for key, unit in (("E", " [MPa]"), ("nu", "")):
+        iv = unc.get(key)
+        if iv:  # effects.noise: the interval and the value the exact instruments would read
+            rows.append((f"{'ν' if key == 'nu' else 'E'} {100 * iv['confidence']:g} % interval{unit}",
+                         f"[{_fmt(iv['low'])}, {_fmt(iv['high'])}] from {iv['n_points']} noisy points; "
+                         f"noiseless {_fmt(unc['noiseless'][key])}"))
     stab = data.get("stability") or []
     if stab:
         unstable = [r for r in stab if not r["accepted"]]
@@ -164,6 +171,12 @@ def comparison_rows(page: ReportPage) -> list[tuple[str, list[str]]]:
     if any(d.get("accuracy_estimate") for d in page.models):
         rows.append(("accuracy estimate (coarser companion solve)", per(_estimate)))
     rows += _per_model_cruciform_rows(page.models)
+    for key, name in (("E", "E [MPa]"), ("nu", "ν")):  # effects.noise: intervals of the noisy instruments
+        cells = [(d["measured"].get("uncertainty") or {}).get(key) for d in page.models]
+        if any(cells):
+            conf = next(c for c in cells if c)["confidence"]
+            rows.append((f"{name} {100 * conf:g} % interval (noisy instruments)",
+                         [f"[{_fmt(c['low'])}, {_fmt(c['high'])}]" if c else "—" for c in cells]))
     taylor = [page.checks.get(d["input"]["model"], {}).get("taylor") for d in page.models]
     if any(taylor):
         rows.append(("Taylor test order: energy / force (2 = consistent)",

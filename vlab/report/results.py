@@ -60,6 +60,7 @@ def result_to_dict(result: RunResult) -> dict:
             "E_crosshead": (result.extra.get("crosshead") or {}).get("E"),
             "E_crosshead_fit": (result.extra.get("crosshead") or {}).get("fit"),
             "window": list(scene.measure.modulus_window),  # |extensometer strain| of the E, nu fits
+            "uncertainty": result.extra.get("uncertainty"),  # effects.noise: intervals, noiseless E, nu
             "units": {"E": "MPa", "nu": "1"},
         },
         "input": {"model": scene.material.model, **scene.material.moduli.as_dict()},
