@@ -141,6 +141,7 @@ def run_scene(scene: Scene, on_level=None, specimen: Specimen | None = None) -> 
         max_cutbacks=scene.solver.max_cutbacks,
         newton=NewtonOptions(rtol=scene.solver.rtol, max_iterations=scene.solver.max_iterations),
         accept=monitor.accept,
+        tangents=monitor.tangents,  # the stability check's factorization feeds the next predictor
     )
     force_floor = 1e-12 * scene.material.moduli.mu * specimen.length_scale**2
     t1 = clock()

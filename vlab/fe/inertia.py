@@ -68,6 +68,26 @@ def inertia(K: sp.spmatrix, zero_tol: float = ZERO_TOL) -> Inertia:
     return Inertia(None, None, None, "unknown (SuperLU pivoted, system too large for dense)")
 
 
+def factorized_inertia(factor, K: sp.spmatrix, zero_tol: float = ZERO_TOL) -> Inertia:
+    """The inertia of K from the Newton solver's own factorization of K (no second one) when
+    that factorization is conclusive, else ``inertia(K)``:
+
+    - a PARDISO Cholesky (LLᵀ) exists only for a positive definite K: no negative eigenvalue.
+      A (numerically) zero one shows as κ(K) > 1e14 in the solve, which raises SingularSystem;
+      the caller then counts again with ``inertia``.
+    - SuperLU in symmetric mode without pivoting: the signs of diag U as in ``inertia``.
+    Everything else (PARDISO's LDLᵀ with perturbed pivots, pivoted LU) is counted anew."""
+    backend = getattr(factor, "backend", "")
+    if backend == "pardiso" and getattr(factor, "cholesky", False):
+        n = K.shape[0]
+        return Inertia(0, 0, n, "Cholesky (PARDISO, all pivots positive)", factor.solve)
+    pivots = getattr(factor, "pivots", None)
+    if backend == "superlu" and pivots is not None and np.all(np.isfinite(pivots)):
+        scale = float(np.max(np.abs(K.diagonal()), initial=0.0)) or 1.0
+        return _count(pivots, zero_tol * scale, "LDLt (SuperLU symmetric mode)", factor.solve)
+    return inertia(K, zero_tol)
+
+
 def _count(values: np.ndarray, tol: float, method: str, solve=None) -> Inertia:
     zero = int(np.sum(np.abs(values) <= tol))
     negative = int(np.sum(values < -tol))

@@ -5,7 +5,9 @@ scheduled level is reached in one or more substeps. A substep starts from the li
 of the last factorized tangent,
     Δu_f = -K_ff⁻¹ K_fp Δu_p,
 which for the linear model is already the exact solution (so it runs no Newton iteration and
-reuses one factorization for the whole test). A substep that fails (no convergence, inverted
+reuses one factorization for the whole test). When the tangent at the converged state itself is
+already factorized (the stability check needs it: ``Stepping.tangents``), the predictor and the
+first Newton correction use it, so that factorization is not wasted. A substep that fails (no convergence, inverted
 element, singular tangent) is retried from the last converged state with half the increment; easy
 substeps let the increment grow back. A level may be cut back at most ``max_cutbacks`` times in
 all (not only in a row: near a limit point halving and regrowing would otherwise creep towards
@@ -25,8 +27,8 @@ import numpy as np
 
 from vlab.fe.assembly import Partition
 from vlab.fe.linsolve import SingularSystem
-from vlab.fe.newton import (NewtonFailure, NewtonOptions, NewtonRecord, Tangent,
-                            solve_equilibrium, tangent_at)
+from vlab.fe.newton import (NewtonFailure, NewtonOptions, NewtonRecord, Tangent, TangentCache,
+                            solve_equilibrium)
 from vlab.fe.problem import Evaluation, HyperelasticBody
 
 EASY_ITERATIONS = 4
@@ -75,12 +77,15 @@ Acceptance = Callable[[Evaluation, float], "str | None"]
 
 @dataclass(frozen=True)
 class Stepping:
-    """``accept`` vets every converged substep; a rejection is handled like a failed substep."""
+    """``accept`` vets every converged substep; a rejection is handled like a failed substep.
+
+    ``tangents``: the tangent cache shared with ``accept`` (None: a private one)."""
 
     schedule: np.ndarray
     max_cutbacks: int = 8
     newton: NewtonOptions = NewtonOptions()
     accept: Acceptance | None = None
+    tangents: TangentCache | None = None
 
 
 def run_schedule(body: HyperelasticBody, partition: Partition, u_hat: np.ndarray,
@@ -91,40 +96,42 @@ def run_schedule(body: HyperelasticBody, partition: Partition, u_hat: np.ndarray
     history = SolveHistory()
     u = np.zeros(body.space.n_dofs)
     current = body.evaluate(u)
+    cache = stepping.tangents or TangentCache(body, partition)
     try:
-        tangent = tangent_at(body, partition, current)
+        tangent = cache.at(current)
     except SingularSystem as exc:
         history.failure = Failure(0, float(stepping.schedule[0]), 0.0, 0.0,
                                   f"the unloaded tangent is singular: the grips leave the specimen "
                                   f"free to move ({exc})", [])
-        history.seconds = time.perf_counter() - start
-        return history
-    history.factorizations += 1
+        return _finish(history, start, cache, 0)
+    newton_factorizations = 0
     t = 0.0
     for index, target in enumerate(stepping.schedule, start=1):
         dt, cutbacks, records = target - t, 0, []
         smallest = abs(dt) / 2.0**stepping.max_cutbacks
         while t != target:
             t_try = target if abs(target - t) <= abs(dt) * (1 + 1e-12) else t + dt
+            converged_tangent = cache.holds(current)
             try:
-                candidate, record, new_tangent = _substep(body, partition, current, tangent,
-                                                          u_hat, t, t_try, stepping, scales)
+                candidate, record, new_tangent = _substep(body, partition, current,
+                                                          converged_tangent or tangent, u_hat, t,
+                                                          t_try, stepping, scales,
+                                                          converged_tangent)
                 objection = stepping.accept and stepping.accept(candidate, float(t_try))
                 if objection:
                     raise NewtonFailure(objection, record, None)
                 current = candidate
             except NewtonFailure as failure:
                 records.append(failure.record)
+                newton_factorizations += failure.record.iterations - failure.record.reused
                 cutbacks, dt = cutbacks + 1, dt / 2
                 if cutbacks > stepping.max_cutbacks or abs(dt) < smallest * (1 - 1e-12):
                     history.failure = _diagnose(index, target, t_try, t, failure)
-                    history.seconds = time.perf_counter() - start
-                    return history
+                    return _finish(history, start, cache, newton_factorizations)
                 continue
             records.append(record)
-            if new_tangent is not None:
-                tangent = new_tangent
-                history.factorizations += record.iterations
+            newton_factorizations += record.iterations - record.reused
+            tangent = cache.holds(current) or new_tangent or tangent
             t = t_try
             if record.iterations <= EASY_ITERATIONS:
                 dt *= 2.0
@@ -132,12 +139,17 @@ def run_schedule(body: HyperelasticBody, partition: Partition, u_hat: np.ndarray
         history.levels.append(level)
         if on_level is not None:
             on_level(level)
+    return _finish(history, start, cache, newton_factorizations)
+
+
+def _finish(history: SolveHistory, start: float, cache: TangentCache, newton_factorizations: int):
+    history.factorizations = cache.factorizations + newton_factorizations
     history.seconds = time.perf_counter() - start
     return history
 
 
 def _substep(body, partition, current: Evaluation, tangent: Tangent, u_hat, t0, t1,
-             stepping: Stepping, scales):
+             stepping: Stepping, scales, converged_tangent: Tangent | None = None):
     """Move the grips from t0 to t1, predict the free DOFs, then iterate to equilibrium.
 
     If the full tangent prediction inverts an element (large increments near a limit point), it
@@ -152,7 +164,7 @@ def _substep(body, partition, current: Evaluation, tangent: Tangent, u_hat, t0, 
         start = body.evaluate(u)
         if start.admissible:
             break
-    return solve_equilibrium(body, partition, start, scales, stepping.newton)
+    return solve_equilibrium(body, partition, start, scales, stepping.newton, converged_tangent)
 
 
 def _diagnose(index: int, target: float, attempted: float, converged: float,
