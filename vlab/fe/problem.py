@@ -63,5 +63,10 @@ class HyperelasticBody:
         return Evaluation(u, F, W, f_int, min_J, (int(worst[0]), int(worst[1])))
 
     def stiffness(self, evaluation: Evaluation) -> sp.csr_matrix:
-        """Tangent stiffness K = ∂f_int/∂u at an admissible state, N/mm."""
-        return self.pattern.matrix(element_stiffness(self.space, self.material.tangent(evaluation.F)))
+        """Tangent stiffness K = ∂f_int/∂u at an admissible state, N/mm.
+
+        A model that states its tangent as a sum of outer products (``tangent_terms``) is pulled
+        back term by term, without the full (3,3,3,3,e,q) tangent."""
+        terms = getattr(self.material, "tangent_terms", None)
+        A = terms(evaluation.F) if terms is not None else self.material.tangent(evaluation.F)
+        return self.pattern.matrix(element_stiffness(self.space, A))
