@@ -14,6 +14,8 @@ import numpy as np
 
 from vlab import __version__
 from vlab.fe.assembly import Partition
+from vlab.fe.iterative import choose as choose_linear
+from vlab.fe.linsolve import solver_in_use
 from vlab.fe.newton import NewtonOptions
 from vlab.fe.problem import HyperelasticBody
 from vlab.fe.space import DisplacementSpace
@@ -135,11 +137,13 @@ def run_scene(scene: Scene, on_level=None, specimen: Specimen | None = None) -> 
         if on_level is not None:
             on_level(level)
 
+    linear_solver = choose_linear(scene.solver.linear, len(partition.free), solver_in_use())
     stepping = Stepping(
         schedule=monotonic_schedule(scene.test.stretch, scene.test.steps, scene.measure.modulus_window,
                                     scene.measure.modulus_points),
         max_cutbacks=scene.solver.max_cutbacks,
-        newton=NewtonOptions(rtol=scene.solver.rtol, max_iterations=scene.solver.max_iterations),
+        newton=NewtonOptions(rtol=scene.solver.rtol, max_iterations=scene.solver.max_iterations,
+                             linear=linear_solver),
         accept=monitor.accept,
         tangents=monitor.tangents,  # the stability check's factorization feeds the next predictor
     )
@@ -170,6 +174,8 @@ def run_scene(scene: Scene, on_level=None, specimen: Specimen | None = None) -> 
         extra["homogeneity"] = _homogeneity_report(curve, homogeneity, scene.measure.modulus_window)
     timing["measure_s"] += clock() - t2
     timing["total_s"] = clock() - t0
+    extra["linear_solver"] = {"requested": scene.solver.linear, "newton": linear_solver,
+                              "direct": solver_in_use()}
     extra |= {"body": body, "stability": [r.as_dict() for r in monitor.records], "warnings": _warnings(scene)}
     return RunResult(scene, specimen, space, curve, constants, history, timing, reference, extra)
 

@@ -121,6 +121,7 @@ class SolverSpec:
     rtol: float
     max_iterations: int
     max_cutbacks: int
+    linear: str = "auto"  # Newton corrections: "auto" | "direct" | "cg-amg" (vlab.fe.iterative)
 
 
 @dataclass(frozen=True)
@@ -359,10 +360,11 @@ def _parse_measure(raw: Any, specimen: Specimen) -> MeasureSpec:
 
 
 def _parse_solver(raw: Any) -> SolverSpec:
-    t = _Table("solver", raw, ("rtol", "max_iterations", "max_cutbacks"))
+    t = _Table("solver", raw, ("rtol", "max_iterations", "max_cutbacks", "linear"))
     return SolverSpec(rtol=t.number("rtol", default=1e-8, ge=1e-14, le=1e-2),
                       max_iterations=t.integer("max_iterations", 1, 200, default=25),
-                      max_cutbacks=t.integer("max_cutbacks", 0, 30, default=8))
+                      max_cutbacks=t.integer("max_cutbacks", 0, 30, default=8),
+                      linear=t.choice("linear", ("auto", "direct", "cg-amg"), default="auto"))
 
 
 def _parse(data: Mapping[str, Any]) -> Scene:

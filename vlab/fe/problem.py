@@ -17,6 +17,7 @@ import scipy.sparse as sp
 
 from vlab.fe.assembly import SparsityPattern, element_forces, element_stiffness, scatter_vector
 from vlab.fe.space import DisplacementSpace
+from vlab.tensor import det
 
 J_COLLAPSE = 1e-4  # smallest admissible volume ratio det F
 
@@ -51,7 +52,7 @@ class HyperelasticBody:
 
     def evaluate(self, u: np.ndarray) -> Evaluation:
         F = self.space.deformation_gradient(u)
-        J = np.linalg.det(np.moveaxis(F, (0, 1), (-2, -1)))
+        J = det(F)  # closed form: LAPACK's batched det of 3×3 matrices is ~10× slower
         worst = np.unravel_index(int(np.argmin(J)), J.shape)
         min_J = float(J[worst])
         if not min_J > J_COLLAPSE:
