@@ -42,11 +42,14 @@ def available() -> str | None:
     return f"pyamg {pyamg.__version__}"
 
 
-# Free DOFs from which CG + AMG beats the direct solver, measured with
-# benchmarks/linear_solvers.py on Neo-Hookean hexahedral blocks (2 cores, shared machine):
-# PARDISO 0.36 s vs CG+AMG ~2 s at 13.6k free DOFs, 4.0 vs 5.0 s at 44k, 8.8 vs 7.3 s at 103k;
-# SuperLU 3.3 s at 13.6k and 56 s at 44k.
-CROSSOVER = {"pardiso": 80_000, "superlu": 10_000}
+# Free DOFs from which CG + AMG beats the direct solver on one Newton system, measured with
+# benchmarks/linear_solvers.py (Neo-Hookean hexahedral blocks at stretch 1.3, 2 shared cores,
+# load average 4.5; setup + solve to 1e-8, seconds):
+#   free DOFs   1,863  5,915  13,583  44,375  103,455
+#   PARDISO      0.02   0.13    0.43    2.40    15.2
+#   SuperLU      0.05   0.81    2.48   27.9       -
+#   CG + AMG     0.08   0.27    0.89    2.71     5.58
+CROSSOVER = {"pardiso": 50_000, "superlu": 5_000}
 
 
 def choose(requested: str, n_free: int, direct_backend: str) -> str:
