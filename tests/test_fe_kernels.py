@@ -41,6 +41,23 @@ def test_fast_stiffness_equals_textbook_contraction(cell, order):
         np.testing.assert_allclose(Ke, textbook, rtol=0, atol=1e-12 * np.abs(textbook).max())
 
 
+@pytest.mark.parametrize("model", ["neo-hookean", "stvk", "linear"])
+@pytest.mark.parametrize("cell,order", CASES)
+def test_tangent_terms_pulled_back_equal_the_full_tangent_kernel(cell, order, model):
+    space = _space(cell, order)
+    material = make_material(model, 5.0, 2.0)
+    F = space.deformation_gradient(0.02 * np.random.default_rng(3).standard_normal(space.n_dofs))
+    terms = material.tangent_terms(F)
+    np.testing.assert_allclose(terms.full(), material.tangent(F), rtol=0, atol=1e-13)
+    textbook = np.einsum("eqaJ,iJkLeq,eqbL,eq->ikeab", space.dN, material.tangent(F), space.dN,
+                         space.dx)
+    Ke = assembly.element_stiffness(space, terms)
+    np.testing.assert_allclose(Ke, textbook, rtol=0, atol=1e-12 * np.abs(textbook).max())
+    pattern = assembly.SparsityPattern.build(space.element_nodes)  # any memory layout scatters alike
+    K_fast, K_copy = pattern.matrix(Ke), pattern.matrix(np.ascontiguousarray(Ke))
+    assert abs(K_fast - K_copy).max() <= 1e-14 * abs(K_copy).max()
+
+
 @pytest.mark.parametrize("cell,order", [("hex", 1), ("tet", 2)])
 def test_stiffness_is_the_derivative_of_the_internal_force(cell, order):
     space = _space(cell, order)

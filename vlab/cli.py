@@ -144,7 +144,17 @@ def info():
     found = available_solvers()
     for name, version in found.items():
         Console().print(f"  linear solver {name:8s} {version or 'not installed'}", highlight=False)
+    from vlab.fe.iterative import CROSSOVER
+    from vlab.fe.iterative import available as amg_available
+
+    amg = amg_available()
+    Console().print(f"  iterative     cg-amg   {amg or 'not installed (pip install vlab[amg])'}",
+                    highlight=False)
     Console().print(f"linear solver in use: {solver_in_use()}", highlight=False)
+    if amg:
+        Console().print(f"  \\[solver] linear = 'auto': CG + AMG for Newton corrections from "
+                        f"{CROSSOVER.get(solver_in_use(), CROSSOVER['superlu']):,} free DOFs on "
+                        f"(stability checks always factorize directly)", highlight=False)
 
 
 def _report_options(true: bool, field: str, single_file: bool, gif_model, render: bool):

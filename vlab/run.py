@@ -15,6 +15,8 @@ import numpy as np
 
 from vlab import __version__
 from vlab.fe.assembly import Partition
+from vlab.fe.iterative import choose as choose_linear
+from vlab.fe.linsolve import solver_in_use
 from vlab.fe.newton import NewtonOptions
 from vlab.fe.mixed import MixedHyperelasticBody
 from vlab.fe.problem import HyperelasticBody
@@ -200,13 +202,16 @@ def _run_scene(scene: Scene, on_level, specimen: Specimen | None) -> RunResult:
 
     levels = protocol_levels(scene.test.protocol, scene.test.stretch, scene.test.steps,
                              scene.measure.modulus_window, scene.measure.modulus_points)
+    linear_solver = choose_linear(scene.solver.linear, len(partition.free), solver_in_use())
     stepping = Stepping(
         schedule=levels.t, times=levels.time,
         force_held=levels.force_held if levels.force_held.any() else None,
         force_targets=levels.force,
         max_cutbacks=scene.solver.max_cutbacks,
-        newton=NewtonOptions(rtol=scene.solver.rtol, max_iterations=scene.solver.max_iterations),
+        newton=NewtonOptions(rtol=scene.solver.rtol, max_iterations=scene.solver.max_iterations,
+                             linear=linear_solver),
         accept=monitor.accept,
+        tangents=monitor.tangents,  # the stability check's factorization feeds the next predictor
     )
     # Newton's residual is relative to the grip reaction; at a stress-free state reached again
     # (unloading to stretch 1) the reaction vanishes, so it is floored at the force of a 1e-6
@@ -249,6 +254,8 @@ def _run_scene(scene: Scene, on_level, specimen: Specimen | None) -> RunResult:
         extra["homogeneity"] = _homogeneity_report(curve, homogeneity, scene.measure.modulus_window)
     timing["measure_s"] += clock() - t2
     timing["total_s"] = clock() - t0
+    extra["linear_solver"] = {"requested": scene.solver.linear, "newton": linear_solver,
+                              "direct": solver_in_use()}
     extra |= {"body": body, "partition": partition, "stability": [r.as_dict() for r in monitor.records], "warnings": _warnings(scene)}
     extra |= _buckling_extra(monitor, deflection, seeded)
     if scene.effects or scene.test.protocol.name != "monotonic":

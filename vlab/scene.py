@@ -202,6 +202,7 @@ class SolverSpec:
     max_iterations: int
     max_cutbacks: int
     eigenvalues: bool = False  # lowest eigenvalue of K_ff at every converged state
+    linear: str = "auto"  # Newton corrections: "auto" | "direct" | "cg-amg" (vlab.fe.iterative)
 
 
 @dataclass(frozen=True)
@@ -686,13 +687,14 @@ def _parse_measure(raw: Any, specimen: Specimen) -> MeasureSpec:
 
 
 def _parse_solver(raw: Any) -> SolverSpec:
-    t = _Table("solver", raw, ("rtol", "max_iterations", "max_cutbacks", "eigenvalues"))
+    t = _Table("solver", raw, ("rtol", "max_iterations", "max_cutbacks", "eigenvalues", "linear"))
     eigenvalues = t.get("eigenvalues", False)
     if not isinstance(eigenvalues, bool):
         raise SceneError(f"{t.field('eigenvalues')} must be true or false, got {_show(eigenvalues)}")
     return SolverSpec(rtol=t.number("rtol", default=1e-8, ge=1e-14, le=1e-2),
                       max_iterations=t.integer("max_iterations", 1, 200, default=25),
-                      max_cutbacks=t.integer("max_cutbacks", 0, 30, default=8), eigenvalues=eigenvalues)
+                      max_cutbacks=t.integer("max_cutbacks", 0, 30, default=8), eigenvalues=eigenvalues,
+                      linear=t.choice("linear", ("auto", "direct", "cg-amg"), default="auto"))
 
 
 def _check_symmetry(mesh: MeshSpec, test: TestSpec, specimen: Specimen) -> None:

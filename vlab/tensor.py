@@ -102,7 +102,10 @@ def cofactor(F: np.ndarray) -> np.ndarray:
 
 
 def det(F: np.ndarray, cof: np.ndarray | None = None) -> np.ndarray:
-    """Determinant J = det F per batch point, shape (*batch). Pass ``cof`` to reuse it."""
+    """Determinant J = det F per batch point, shape (*batch). Pass ``cof`` to reuse it.
+    A (2,2,*batch) F (the in-plane part of a sheet's) gives F₁₁F₂₂ − F₁₂F₂₁."""
+    if F.shape[0] == 2:
+        return F[0, 0] * F[1, 1] - F[0, 1] * F[1, 0]
     if cof is None:
         return (
             F[0, 0] * (F[1, 1] * F[2, 2] - F[1, 2] * F[2, 1])

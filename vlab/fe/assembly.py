@@ -33,6 +33,7 @@ class SparsityPattern:
     indptr: np.ndarray
     indices: np.ndarray
     slot: np.ndarray  # (d² · n_elements · n_local²,) CSR data index of every element entry
+    element_shape: tuple[int, int] = (0, 0)  # (n_elements, n_local)
 
     @classmethod
     def build(cls, element_nodes: np.ndarray, dim: int = 3) -> "SparsityPattern":
@@ -45,11 +46,25 @@ class SparsityPattern:
         keys, slot = np.unique(rows.astype(np.int64).ravel() * n + cols.ravel(), return_inverse=True)
         indptr = np.zeros(n + 1, dtype=np.int64)
         np.cumsum(np.bincount(keys // n, minlength=n), out=indptr[1:])
-        return cls(n, indptr, (keys % n).astype(np.int32), slot.astype(np.intp))
+        return cls(n, indptr, (keys % n).astype(np.int32), slot.astype(np.intp), (n_el, n_loc))
 
     def matrix(self, element_matrices: np.ndarray) -> sp.csr_matrix:
-        data = np.bincount(self.slot, weights=element_matrices.ravel(), minlength=len(self.indices))
+        """K from element matrices (d,d,e,a,b) in any memory layout (read in memory order)."""
+        order = tuple(np.argsort([-s for s in element_matrices.strides], kind="stable"))
+        slot = self.slot if order == tuple(range(5)) else self._slot_in(order)
+        values = np.transpose(element_matrices, order)
+        data = np.bincount(slot, weights=values.ravel(), minlength=len(self.indices))
         return sp.csr_matrix((data, self.indices, self.indptr), shape=(self.n, self.n))
+
+    def _slot_in(self, order: tuple[int, ...]) -> np.ndarray:
+        """``slot`` permuted to the block layout with axes ``order`` (computed once per layout)."""
+        cache = self.__dict__.setdefault("_slots", {})
+        if order not in cache:
+            n_el, n_loc = self.element_shape
+            d = int(round((self.slot.size / (n_el * n_loc * n_loc)) ** 0.5))  # 3, or 2 for a sheet
+            blocks = self.slot.reshape(d, d, n_el, n_loc, n_loc)
+            cache[order] = np.ascontiguousarray(np.transpose(blocks, order)).ravel()
+        return cache[order]
 
 
 @dataclass(frozen=True)
@@ -111,10 +126,15 @@ def element_stiffness(space: DisplacementSpace, A: np.ndarray) -> np.ndarray:
         K^e_{ik}[a,b] = Σ_(q,m,n) Â_ik[e,(q,m,n)] · dN̂_qam dN̂_qbn
     is one dense matrix product (elements × 9 n_qp) @ (9 n_qp × n_local²) per (i, k): BLAS
     speed instead of millions of 3×3 products. Otherwise the generic contraction is used.
+
+    A may also be a ``TangentTerms`` (vlab.materials.structure): then Â is formed term by term
+    from a few 3×3 fields per point and the full A is never built.
     """
     if space.reference_dN is None:
-        return _element_stiffness_generic(space, A)
-    n_el, n_qp, n_loc, _ = space.dN.shape
+        return _element_stiffness_generic(space, A if isinstance(A, np.ndarray) else A.full())
+    if not isinstance(A, np.ndarray):
+        R = np.ascontiguousarray(np.swapaxes(space.inverse_jacobian, 2, 3))  # (m, J, q, e)
+        return _reference_gemm_batch_last(space, A.pulled_back(R, np.ascontiguousarray(space.dx.T)))
     R = space.inverse_jacobian                     # (m, J, e, q)
     Rw = R * space.dx                              # dx folded into the first pull-back
     X = np.empty_like(A)                           # X_imkL = Σ_J Rw_mJ A_iJkL
@@ -127,12 +147,30 @@ def element_stiffness(space: DisplacementSpace, A: np.ndarray) -> np.ndarray:
         np.multiply(X[:, :, :, 0], R[n, 0], out=Z[:, :, :, n])
         Z[:, :, :, n] += X[:, :, :, 1] * R[n, 1]
         Z[:, :, :, n] += X[:, :, :, 2] * R[n, 2]
-    Y = np.ascontiguousarray(Z.transpose(0, 2, 4, 5, 1, 3))  # (i, k, e, q, m, n)
+    return _reference_gemm(space, np.ascontiguousarray(Z.transpose(0, 2, 4, 5, 1, 3)))
+
+
+def _reference_gemm(space: DisplacementSpace, Y: np.ndarray) -> np.ndarray:
+    """K^e_{ik}[a,b] = Σ_(q,m,n) Y[i,k,e,q,m,n] dN̂_qam dN̂_qbn as one GEMM per (i, k)."""
+    n_el, n_qp, n_loc, _ = space.dN.shape
     G = space.reference_dN                         # (q, a, m)
     M = np.einsum("qam,qbn->qmnab", G, G).reshape(9 * n_qp, n_loc * n_loc)
     with single_threaded_blas():
         Ke = Y.reshape(9, n_el, 9 * n_qp) @ M
     return Ke.reshape(3, 3, n_el, n_loc, n_loc)
+
+
+def _reference_gemm_batch_last(space: DisplacementSpace, Y: np.ndarray) -> np.ndarray:
+    """As ``_reference_gemm`` with Y in the layout (i, k, q, m, n, e): (K^e_ik)ᵀ = Mᵀ Y_ik.
+
+    Returns a (3,3,e,a,b) view of a contiguous (i, k, a, b, e) array (SparsityPattern.matrix
+    reads it in memory order, no copy)."""
+    n_el, n_qp, n_loc, _ = space.dN.shape
+    G = space.reference_dN                         # (q, a, m)
+    MT = np.einsum("qam,qbn->abqmn", G, G).reshape(n_loc * n_loc, 9 * n_qp)
+    with single_threaded_blas():
+        Ke = np.matmul(MT, Y.reshape(9, 9 * n_qp, n_el))
+    return Ke.reshape(3, 3, n_loc, n_loc, n_el).transpose(0, 1, 4, 2, 3)
 
 
 _BLAS: list = []

@@ -69,6 +69,44 @@ def inertia(K: sp.spmatrix, zero_tol: float = ZERO_TOL) -> Inertia:
     return Inertia(None, None, None, "unknown (SuperLU pivoted, system too large for dense)")
 
 
+def factorized_inertia(factor, K: sp.spmatrix, zero_tol: float = ZERO_TOL) -> Inertia:
+    """The inertia of K from the Newton solver's own factorization of K (no second one) when
+    that factorization is conclusive, else ``inertia(K)``:
+
+    - a PARDISO Cholesky (LLᵀ) exists only for a positive definite K: no negative eigenvalue.
+      A numerically zero eigenvalue (a rigid-body mode the grips leave free) can still slip
+      through with a tiny round-off pivot, so two steps of inverse iteration with the factor
+      (two solves, no factorization) bound λ_min from above by a Rayleigh quotient: when
+      λ_min ≈ 0 the very first step lands on its eigenvector (the gap to λ₂ is ~1e10), so
+      a quotient ≤ zero_tol · max|K_ii| means a zero eigenvalue and the count is done anew.
+    - SuperLU in symmetric mode without pivoting: the signs of diag U as in ``inertia``.
+    Everything else (PARDISO's LDLᵀ with perturbed pivots, pivoted LU) is counted anew."""
+    backend = getattr(factor, "backend", "")
+    if backend == "pardiso" and getattr(factor, "cholesky", False):
+        n = K.shape[0]
+        scale = float(np.max(np.abs(K.diagonal()), initial=0.0)) or 1.0
+        if n == 0 or _rayleigh_after_inverse_iteration(factor.solve, K) > zero_tol * scale:
+            return Inertia(0, 0, n, "Cholesky (PARDISO, all pivots positive)", factor.solve)
+        return inertia(K, zero_tol)
+    pivots = getattr(factor, "pivots", None)
+    if backend == "superlu" and pivots is not None and np.all(np.isfinite(pivots)):
+        scale = float(np.max(np.abs(K.diagonal()), initial=0.0)) or 1.0
+        return _count(pivots, zero_tol * scale, "LDLt (SuperLU symmetric mode)", factor.solve)
+    return inertia(K, zero_tol)
+
+
+def _rayleigh_after_inverse_iteration(solve, K: sp.spmatrix, steps: int = 2) -> float:
+    """xᵀKx / xᵀx after ``steps`` of x ← K⁻¹x from a fixed pseudo-random start (≥ λ_min)."""
+    x = np.random.default_rng(0).standard_normal(K.shape[0])
+    for _ in range(steps):
+        x = solve(x)
+        norm = float(np.linalg.norm(x))
+        if not np.isfinite(norm) or norm == 0.0:
+            return 0.0
+        x /= norm
+    return float(x @ (K @ x))
+
+
 def _count(values: np.ndarray, tol: float, method: str, solve=None) -> Inertia:
     zero = int(np.sum(np.abs(values) <= tol))
     negative = int(np.sum(values < -tol))

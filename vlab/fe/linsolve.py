@@ -123,6 +123,13 @@ class SuperLUFactorization(Factorization):
         symmetric = np.array_equal(self._lu.perm_r, self._lu.perm_c)
         self.negative_pivots = int(np.sum(self._lu.U.diagonal() < 0.0)) if symmetric else None
 
+    @property
+    def pivots(self) -> np.ndarray | None:
+        """diag D of P K Pᵀ = L D Lᵀ (symmetric mode, no pivoting), else None."""
+        if self._pivoting or not np.array_equal(self._lu.perm_r, self._lu.perm_c):
+            return None
+        return self._lu.U.diagonal()
+
     def _pivoted(self) -> None:
         """Refactorize with threshold partial pivoting (stable for indefinite matrices)."""
         try:
@@ -163,12 +170,18 @@ class PardisoFactorization(Factorization):
         self.norm_inf = _norm_inf(K)
         self._slot = self._factor()
 
+    @property
+    def cholesky(self) -> bool:
+        """True if this factor is a Cholesky LLᵀ (so K_ff is positive definite)."""
+        return self._mtype == pardiso.SPD
+
     def _factor(self) -> int:
         try:
             slot = self._pattern.factor_into_slot(self, self._values)
         except pardiso.PardisoError as exc:
             raise SingularSystem(f"sparse factorization failed: {exc}") from exc
         self.negative_pivots = self._pattern.negative_pivots
+        self._mtype = self._pattern.handle.mtype
         return slot
 
     @timed(LINEAR_SOLVE)

@@ -14,18 +14,34 @@ and the repair is counted.
 
 Converged means ‖r_f‖ <= rtol · (force scale) and the last update ‖Δu‖∞ <= utol · (length scale);
 both histories are recorded.
+
+Factorization reuse (chord steps: one solve with a positive definite tangent factorized earlier,
+instead of an assembly and a factorization), counted in ``NewtonRecord.reused``:
+- the first correction of a load step uses the tangent already factorized at the last converged
+  state (for the stability check and the predictor), if one is handed in;
+- once ‖r_f‖ meets rtol but the last update still exceeds utol (the update criterion lags one
+  step behind the residual), the confirming correction reuses the last factorization.
+Every other iteration is exact Newton, so quadratic convergence stays visible in the residual
+history down to rtol; a chord step that contracts poorly costs one solve and one residual
+evaluation, and the next iteration refactorizes.
 """
 
 from __future__ import annotations
 
+import logging
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
 
 from vlab.fe.assembly import Partition
+from vlab.fe.iterative import (AMGConjugateGradient, IterativeSolveFailed, forcing_term,
+                               rigid_body_modes)
 from vlab.fe.linsolve import Factorization, SingularSystem, factorize
 from vlab.fe.problem import Evaluation, HyperelasticBody
+
+log = logging.getLogger(__name__)
 
 
 @dataclass(frozen=True)
@@ -35,6 +51,9 @@ class NewtonOptions:
     max_iterations: int = 25
     max_backtracks: int = 30
     sufficient_decrease: float = 1e-4
+    reuse_first_tangent: bool = True
+    reuse_last_tangent: bool = True
+    linear: str = "direct"  # or "cg-amg": exact corrections by CG + AMG (vlab.fe.iterative)
 
 
 @dataclass
@@ -45,6 +64,7 @@ class NewtonRecord:
     updates: list[float] = field(default_factory=list)
     step_lengths: list[float] = field(default_factory=list)
     repairs: int = 0
+    reused: int = 0  # corrections solved with a tangent factorized before this solve (chord)
     converged: bool = False
     reason: str = ""
 
@@ -59,6 +79,38 @@ class Tangent:
 
     factor: Factorization
     Kfp: sp.csr_matrix
+    K: sp.csr_matrix | None = None  # the full tangent (free and prescribed), if kept
+
+
+class TangentCache:
+    """The tangent of the last state asked for, so that one assembly + factorization at a
+    converged state serves the stability check, the next predictor and the first correction.
+
+    A model whose tangent is constant (``material.is_linear``) is factorized once for the whole
+    test. ``factorizations`` counts the factorizations made here."""
+
+    def __init__(self, body: HyperelasticBody, partition: Partition):
+        self.body, self.partition = body, partition
+        self.factorizations = 0
+        self._state: Evaluation | None = None
+        self._tangent: Tangent | None = None
+        self._constant = bool(getattr(getattr(body, "material", None), "is_linear", False))
+
+    def at(self, evaluation: Evaluation) -> Tangent:
+        """K, K_ff factorized and K_fp at ``evaluation`` (raises SingularSystem)."""
+        if self._tangent is None or not (self._constant or evaluation is self._state):
+            K = self.body.stiffness(evaluation)
+            Kff, Kfp = self.partition.blocks(K)
+            self._tangent = Tangent(factorize(Kff), Kfp, K)
+            self._state = evaluation
+            self.factorizations += 1
+        return self._tangent
+
+    def holds(self, evaluation: Evaluation) -> Tangent | None:
+        """The cached tangent if it belongs to ``evaluation`` (no new work), else None."""
+        if self._tangent is not None and (self._constant or evaluation is self._state):
+            return self._tangent
+        return None
 
 
 class NewtonFailure(RuntimeError):
@@ -76,12 +128,15 @@ def tangent_at(body: HyperelasticBody, partition: Partition, evaluation: Evaluat
 
 def solve_equilibrium(body: HyperelasticBody, partition: Partition, start: Evaluation,
                       scales: tuple[float, float], options: NewtonOptions,
+                      first: Tangent | None = None,
                       ) -> tuple[Evaluation, NewtonRecord, Tangent | None]:
     """Newton iterations from the evaluated state ``start`` (prescribed DOFs at their targets).
 
-    ``scales`` = (force scale floor in N, length scale in mm). Returns the converged evaluation,
-    its record and the last tangent factorized (None if no iteration was needed). Raises
-    NewtonFailure with the record on divergence, inadmissible states or singular tangents.
+    ``scales`` = (force scale floor in N, length scale in mm). ``first``: a positive definite
+    factorized tangent near ``start`` for the first correction (chord step; see the module
+    docstring), or None. Returns the converged evaluation, its record and the last tangent
+    factorized (None if no iteration was needed). Raises NewtonFailure with the record on
+    divergence, inadmissible states or singular tangents.
     """
     record = NewtonRecord()
     force_floor, length = scales
@@ -91,24 +146,37 @@ def solve_equilibrium(body: HyperelasticBody, partition: Partition, start: Evalu
         record.reason = (f"moving the grips alone leaves an element inverted or collapsed "
                          f"(min J = {ev.min_J:.3g} at element {ev.worst[0]})")
         raise NewtonFailure(record.reason, record, ev)
-    tangent = None
+    tangent = last = None
     for k in range(options.max_iterations + 1):
         r = ev.f_int[free]
-        scale = max(force_floor, float(np.linalg.norm(ev.f_int[partition.prescribed])))
-        record.residuals.append(float(np.linalg.norm(r)) / scale)
+        scale = max(force_floor, _norm(ev.f_int[partition.prescribed]))
+        record.residuals.append(_norm(r) / scale)
         if record.residuals[-1] <= options.rtol and (k == 0 or record.updates[-1] <= options.utol):
             record.converged = True
             return ev, record, tangent
         if k == options.max_iterations:
             break
+        if k == 0 and options.reuse_first_tangent:
+            reusable = first
+        elif k > 0 and options.reuse_last_tangent and record.residuals[-1] <= options.rtol:
+            reusable = last
+        else:
+            reusable = None
+        chord = reusable is not None and (reusable.factor.negative_pivots == 0
+                                          or reusable.factor.backend == "cg-amg")
+        eta = forcing_term(record.residuals[-1], options.rtol)
         try:
-            Kff, Kfp = partition.blocks(body.stiffness(ev))
-            tangent = Tangent(factorize(Kff), Kfp)
-            du = tangent.factor.solve(-r)
+            if chord:
+                du = _solve(reusable.factor, -r, eta)
+                record.reused += 1
+            else:
+                Kff, Kfp = partition.blocks(body.stiffness(ev))
+                tangent, du = _exact_correction(body, partition, Kff, Kfp, r, eta, options)
+            last = reusable if chord else tangent
         except SingularSystem as exc:
             record.reason = f"singular tangent: {exc}"
             raise NewtonFailure(record.reason, record, ev) from exc
-        if not float(r @ du) < 0.0:
+        if not chord and not _dot(r, du) < 0.0:
             du = _repaired_direction(Kff, r)
             record.repairs += 1
         ev, alpha = _line_search(body, free, ev, du, options)
@@ -121,6 +189,37 @@ def solve_equilibrium(body: HyperelasticBody, partition: Partition, start: Evalu
     raise NewtonFailure(record.reason, record, ev)
 
 
+def _solve(factor: Factorization, rhs: np.ndarray, eta: float) -> np.ndarray:
+    """A direct solve, or an iterative one to the relative residual η (inexact Newton)."""
+    if factor.backend == "cg-amg":
+        return factor.solve(rhs, eta)
+    return factor.solve(rhs)
+
+
+def _exact_correction(body, partition: Partition, Kff, Kfp, r: np.ndarray, eta: float,
+                      options: NewtonOptions) -> tuple[Tangent, np.ndarray]:
+    """K_ff Δu = -r with the configured solver; CG + AMG falls back to a direct factorization
+    when it meets an indefinite K_ff or does not converge."""
+    if options.linear == "cg-amg":
+        try:
+            solver = AMGConjugateGradient(Kff, rigid_body_modes(body.space.node_coordinates)[partition.free])
+            return Tangent(solver, Kfp), solver.solve(-r, eta)
+        except IterativeSolveFailed as exc:
+            log.info("CG + AMG failed (%s); direct factorization instead", exc)
+    tangent = Tangent(factorize(Kff), Kfp)
+    return tangent, tangent.factor.solve(-r)
+
+
+def _dot(a: np.ndarray, b: np.ndarray) -> float:
+    """aᵀb without BLAS: a BLAS level-1 call wakes its thread pool, which on a loaded machine
+    cost ~10 ms per call (measured), more than the whole residual evaluation of a small mesh."""
+    return float(np.einsum("i,i->", a, b))
+
+
+def _norm(a: np.ndarray) -> float:
+    return math.sqrt(_dot(a, a))
+
+
 def _repaired_direction(Kff: sp.csr_matrix, r: np.ndarray) -> np.ndarray:
     """A descent direction from a shifted tangent K_ff + τ diag|K_ff|, else a scaled gradient."""
     d = np.abs(Kff.diagonal())
@@ -130,7 +229,7 @@ def _repaired_direction(Kff: sp.csr_matrix, r: np.ndarray) -> np.ndarray:
             du = factorize(Kff + sp.diags(tau * d)).solve(-r)
         except SingularSystem:
             continue
-        if float(r @ du) < 0.0:
+        if _dot(r, du) < 0.0:
             return du
     return -r / d
 
@@ -138,8 +237,8 @@ def _repaired_direction(Kff: sp.csr_matrix, r: np.ndarray) -> np.ndarray:
 def _line_search(body: HyperelasticBody, free: np.ndarray, ev: Evaluation, du: np.ndarray,
                  options: NewtonOptions):
     """Backtracking on W; returns (accepted evaluation, α) or (None, last inadmissible trial)."""
-    slope = float(ev.f_int[free] @ du)
-    r0 = float(np.linalg.norm(ev.f_int[free]))
+    slope = _dot(ev.f_int[free], du)
+    r0 = _norm(ev.f_int[free])
     alpha, last = 1.0, None
     for _ in range(options.max_backtracks):
         u = ev.u.copy()
@@ -147,7 +246,7 @@ def _line_search(body: HyperelasticBody, free: np.ndarray, ev: Evaluation, du: n
         trial = body.evaluate(u)
         if trial.admissible:
             decrease = trial.W <= ev.W + options.sufficient_decrease * alpha * slope
-            rn = float(np.linalg.norm(trial.f_int[free]))
+            rn = _norm(trial.f_int[free])
             if decrease or rn <= (1.0 - options.sufficient_decrease * alpha) * r0:
                 return trial, alpha
         last = trial

@@ -110,7 +110,10 @@ class _Handle:
         ip = self.iparm
         ip[0] = 1     # iparm(1): use the values below, not the defaults
         ip[1] = 2     # iparm(2): METIS nested-dissection ordering
-        ip[7] = 2     # iparm(8): at most two steps of iterative refinement
+        # iparm(8): iterative refinement. A Cholesky solve is backward stable without it
+        # (relative residual 2e-15 measured on the 16³ block) and 2–2.7× faster; the indefinite
+        # LDLᵀ keeps up to two steps, which pivot perturbation needs.
+        ip[7] = 0 if self.mtype == SPD else 2
         ip[9] = 8     # iparm(10): pivot perturbation 1e-8 (symmetric matrices)
         ip[10] = 0    # iparm(11): no scaling (symmetric)
         ip[12] = 0    # iparm(13): no weighted matching (symmetric)

@@ -5,7 +5,9 @@ scheduled level is reached in one or more substeps. A substep starts from the li
 of the last factorized tangent,
     Δu_f = -K_ff⁻¹ K_fp Δu_p,
 which for the linear model is already the exact solution (so it runs no Newton iteration and
-reuses one factorization for the whole test). A substep that fails (no convergence, inverted
+reuses one factorization for the whole test). When the tangent at the converged state itself is
+already factorized (the stability check needs it: ``Stepping.tangents``), the predictor and the
+first Newton correction use it, so that factorization is not wasted. A substep that fails (no convergence, inverted
 element, singular tangent) is retried from the last converged state with half the increment; easy
 substeps let the increment grow back. A level may be cut back at most ``max_cutbacks`` times in
 all (not only in a row: near a limit point halving and regrowing would otherwise creep towards
@@ -36,9 +38,10 @@ import numpy as np
 
 from vlab.fe.assembly import Partition
 from vlab.fe.force_control import generalized_force, solve_force_controlled
+from vlab.fe.inertia import factorized_inertia
 from vlab.fe.linsolve import SingularSystem
-from vlab.fe.newton import (NewtonFailure, NewtonOptions, NewtonRecord, Tangent,
-                            solve_equilibrium, tangent_at)
+from vlab.fe.newton import (NewtonFailure, NewtonOptions, NewtonRecord, Tangent, TangentCache,
+                            solve_equilibrium)
 from vlab.fe.problem import Evaluation, HyperelasticBody
 
 EASY_ITERATIONS = 4
@@ -97,6 +100,7 @@ class Stepping:
     times: np.ndarray | None = None  # physical time (s) at each level; None = quasi-static
     force_held: np.ndarray | None = None  # True where a level holds the moving grip's force
     force_targets: np.ndarray | None = None  # N, grip force reached at each force-held level
+    tangents: TangentCache | None = None  # shared with the stability monitor
 
 
 def run_schedule(body: HyperelasticBody, partition: Partition, u_hat: np.ndarray,
@@ -109,23 +113,23 @@ def run_schedule(body: HyperelasticBody, partition: Partition, u_hat: np.ndarray
     current = body.evaluate(u)
     timed = bool(getattr(body, "has_history", False))
     travel = float(u_hat[np.argmax(np.abs(u_hat))])  # û_m (signed), mm: Q = û_m × grip force
+    cache = stepping.tangents or TangentCache(body, partition)
     try:
         if getattr(body, "f_ext", None) is not None:  # settle under a dead load (self-weight) first
             current = _settled(body, partition, current, stepping, scales, timed)
-        tangent = tangent_at(body, partition, current)
+        tangent = cache.at(current)
+        _check_restrained(tangent, partition)
     except NewtonFailure as exc:
         history.failure = Failure(0, float(stepping.schedule[0]), 0.0, 0.0,
                                   f"no equilibrium under the specimen's own weight: {exc.reason}",
                                   list(exc.record.residuals))
-        history.seconds = time.perf_counter() - start
-        return history
+        return _finish(history, start, cache, 0)
     except SingularSystem as exc:
         history.failure = Failure(0, float(stepping.schedule[0]), 0.0, 0.0,
                                   f"the unloaded tangent is singular: the grips leave the specimen "
                                   f"free to move ({exc})", [])
-        history.seconds = time.perf_counter() - start
-        return history
-    history.factorizations += 1
+        return _finish(history, start, cache, 0)
+    newton_factorizations = 0
     t, clock, held_force = 0.0, 0.0, None
     for index, target in enumerate(stepping.schedule, start=1):
         t0, clock0 = t, clock
@@ -149,26 +153,27 @@ def run_schedule(body: HyperelasticBody, partition: Partition, u_hat: np.ndarray
                         body, partition, body.evaluate(current.u), t, u_hat,  # new increment
                         q0 + s_try * (held_force - q0), scales, stepping.newton)
                 else:
-                    candidate, record, new_tangent = _substep(body, partition, current, tangent,
-                                                              u_hat, t, t_try, stepping, scales)
+                    converged_tangent = cache.holds(current)
+                    candidate, record, new_tangent = _substep(body, partition, current,
+                                                              converged_tangent or tangent, u_hat, t,
+                                                              t_try, stepping, scales, converged_tangent)
                 objection = stepping.accept and stepping.accept(candidate, float(t_try))
                 if objection:
                     raise NewtonFailure(objection, record, None)
                 current = candidate
             except NewtonFailure as failure:
                 records.append(failure.record)
+                newton_factorizations += failure.record.iterations - failure.record.reused
                 cutbacks, ds = cutbacks + 1, ds / 2
                 if cutbacks > stepping.max_cutbacks or ds < smallest * (1 - 1e-12):
                     history.failure = _diagnose(index, target, t_try, t, failure)
-                    history.seconds = time.perf_counter() - start
-                    return history
+                    return _finish(history, start, cache, newton_factorizations)
                 continue
             if timed:
                 body.commit(current)
             records.append(record)
-            if new_tangent is not None:
-                tangent = new_tangent
-                history.factorizations += record.iterations
+            newton_factorizations += record.iterations - record.reused
+            tangent = cache.holds(current) or new_tangent or tangent
             t, s = t_try, s_try
             clock = clock0 + s * span
             if record.iterations <= EASY_ITERATIONS:
@@ -178,12 +183,29 @@ def run_schedule(body: HyperelasticBody, partition: Partition, u_hat: np.ndarray
         history.levels.append(level)
         if on_level is not None:
             on_level(level)
+    return _finish(history, start, cache, newton_factorizations)
+
+
+def _check_restrained(tangent: Tangent, partition: Partition) -> None:
+    """Raise SingularSystem if the unloaded K_ff has (numerically) zero eigenvalues: rigid-body
+    modes the grips leave free. A factorization may still "succeed" on such a K_ff with round-off
+    pivots, and the load, orthogonal to the free modes, would then drive Newton astray with no
+    word of the cause. The count reuses the factor (SuperLU's pivots, or two PARDISO solves)."""
+    if tangent.K is None or len(partition.free) == 0:
+        return
+    found = factorized_inertia(tangent.factor, partition.blocks(tangent.K)[0])
+    if found.zero:
+        raise SingularSystem(f"{found.zero} zero eigenvalue(s) of K_ff at rest ({found.method})")
+
+
+def _finish(history: SolveHistory, start: float, cache: TangentCache, newton_factorizations: int):
+    history.factorizations = cache.factorizations + newton_factorizations
     history.seconds = time.perf_counter() - start
     return history
 
 
 def _substep(body, partition, current: Evaluation, tangent: Tangent, u_hat, t0, t1,
-             stepping: Stepping, scales):
+             stepping: Stepping, scales, converged_tangent: Tangent | None = None):
     """Move the grips from t0 to t1, predict the free DOFs, then iterate to equilibrium.
 
     If the full tangent prediction inverts an element (large increments near a limit point), it
@@ -198,7 +220,7 @@ def _substep(body, partition, current: Evaluation, tangent: Tangent, u_hat, t0, 
         start = body.evaluate(u)
         if start.admissible:
             break
-    return solve_equilibrium(body, partition, start, scales, stepping.newton)
+    return solve_equilibrium(body, partition, start, scales, stepping.newton, converged_tangent)
 
 
 def _settled(body, partition, current: Evaluation, stepping: Stepping, scales, timed: bool) -> Evaluation:

@@ -12,7 +12,8 @@ from typing import ClassVar
 import numpy as np
 
 from vlab.materials.base import Material
-from vlab.tensor import as_tensor_field, trace
+from vlab.materials.structure import TangentTerms
+from vlab.tensor import as_tensor_field, identity_like, trace
 
 __all__ = ["LinearElastic"]
 
@@ -71,3 +72,10 @@ class LinearElastic(Material):
         C = self.lmbda * _II + self.mu * _SYM
         batch = F.shape[2:]
         return np.broadcast_to(C.reshape(C.shape + (1,) * len(batch)), C.shape + batch).copy()
+
+    def tangent_terms(self, F) -> TangentTerms:
+        """kron μ(δ, δ) + dyad (λI, I) + cross (μI, I)."""
+        identity = identity_like(as_tensor_field(F))
+        return TangentTerms(identity.shape[2:], kron=[(self.mu, 1.0)],
+                            dyad=[(self.lmbda * identity, identity)],
+                            cross=[(self.mu * identity, identity)])

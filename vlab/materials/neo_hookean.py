@@ -8,7 +8,8 @@ from typing import ClassVar
 import numpy as np
 
 from vlab.materials.base import Material
-from vlab.tensor import as_tensor_field, det, dyad, dyad_il, inv_transpose, transpose
+from vlab.materials.structure import TangentTerms
+from vlab.tensor import as_tensor_field, det, inv_transpose
 
 __all__ = ["NeoHookean"]
 
@@ -53,12 +54,14 @@ class NeoHookean(Material):
 
     def tangent(self, F) -> np.ndarray:
         """A = μ δ_ik δ_JL + (μ − λ ln J) F⁻ᵀ_iL F⁻ᵀ_kJ + λ F⁻ᵀ_iJ F⁻ᵀ_kL, MPa."""
+        with np.errstate(all="ignore"):
+            return self.tangent_terms(F).full()
+
+    def tangent_terms(self, F) -> TangentTerms:
+        """The tangent as kron μ(δ, δ) + dyad (λG, G) + cross ((μ − λ ln J)G, G), G = F⁻ᵀ."""
         F = as_tensor_field(F)
         with np.errstate(all="ignore"):
             G, J = inv_transpose(F)
-            A = dyad(self.lmbda * G, G)                              # λ G_iJ G_kL
-            dyad_il((self.mu - self.lmbda * np.log(J)) * G, transpose(G), out=A)
-            for i in range(3):
-                for j in range(3):
-                    A[i, j, i, j] += self.mu                         # μ δ_ik δ_JL
-        return A
+            c = self.mu - self.lmbda * np.log(J)
+        return TangentTerms(F.shape[2:], kron=[(self.mu, 1.0)], dyad=[(self.lmbda * G, G)],
+                            cross=[(c * G, G)])

@@ -8,7 +8,8 @@ from typing import ClassVar
 import numpy as np
 
 from vlab.materials.base import Material
-from vlab.tensor import as_tensor_field, dot, dyad, dyad_il, green_strain, trace, transpose
+from vlab.materials.structure import TangentTerms
+from vlab.tensor import as_tensor_field, dot, green_strain, trace, transpose
 
 __all__ = ["StVenantKirchhoff"]
 
@@ -52,13 +53,13 @@ class StVenantKirchhoff(Material):
 
     def tangent(self, F) -> np.ndarray:
         """A_iJkL = δ_ik S_JL + λ F_iJ F_kL + μ b_ik δ_JL + μ F_iL F_kJ (b = FFᵀ), MPa."""
+        return self.tangent_terms(F).full()
+
+    def tangent_terms(self, F) -> TangentTerms:
+        """kron (δ, S) + kron (μb, δ) + dyad (λF, F) + cross (μF, F)."""
         F = as_tensor_field(F)
         S = self._pk2(green_strain(F))
         b = dot(F, transpose(F))
         b *= self.mu
-        A = dyad(self.lmbda * F, F)                       # λ F_iJ F_kL
-        dyad_il(self.mu * F, transpose(F), out=A)         # μ F_iL F_kJ
-        for i in range(3):
-            A[i, :, i, :] += S                            # δ_ik S_JL
-            A[:, i, :, i] += b                            # μ b_ik δ_JL
-        return A
+        return TangentTerms(F.shape[2:], kron=[(1.0, S), (b, 1.0)], dyad=[(self.lmbda * F, F)],
+                            cross=[(self.mu * F, F)])

@@ -80,6 +80,7 @@ def result_to_dict(result: RunResult) -> dict:
             "residual_history": residuals,
             "observed_order": [observed_order(r.residuals) for lv in levels for r in lv.newton[-1:]],
             "factorizations": history.factorizations,
+            "linear": result.extra.get("linear_solver"),
             "rtol": scene.solver.rtol,
         },
         "timing": result.timing,

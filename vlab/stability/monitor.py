@@ -40,7 +40,9 @@ from dataclasses import replace as dataclass_replace
 import numpy as np
 
 from vlab.fe.assembly import Partition
-from vlab.fe.inertia import inertia, lowest_eigenpair
+from vlab.fe.inertia import factorized_inertia, inertia, lowest_eigenpair
+from vlab.fe.linsolve import SingularSystem
+from vlab.fe.newton import TangentCache
 from vlab.fe.problem import Evaluation, HyperelasticBody
 from vlab.fe.stepping import Level
 from vlab.stability.buckling import CriticalState, lateral_fraction
@@ -81,8 +83,10 @@ class StabilityMonitor:
 
     def __init__(self, body: HyperelasticBody, partition: Partition, moving_dofs: dict[int, np.ndarray],
                  target_stretch: tuple[float, ...], model: str, u_hat: np.ndarray,
-                 options: MonitorOptions = MonitorOptions()):
+                 options: MonitorOptions = MonitorOptions(), tangents: TangentCache | None = None):
         self.body, self.partition, self.u_hat, self.options = body, partition, u_hat, options
+        # shared with the stepper: the tangent factorized here serves its next predictor
+        self.tangents = tangents or TangentCache(body, partition)
         self.moving = {a: np.asarray(d) for a, d in moving_dofs.items()}
         self.target = target_stretch
         self.model = model
@@ -95,12 +99,16 @@ class StabilityMonitor:
         return [1.0 + t * (s - 1.0) for s in self.target]
 
     def accept(self, ev: Evaluation, t: float) -> str | None:
-        K = self.body.stiffness(ev)
-        Kff, Kfp = self.partition.blocks(K)
-        found = inertia(Kff)
+        K, Kff, Kfp, found = self._inertia(ev)
+        slopes = None
+        if self.options.limit_points:
+            try:
+                slopes = self._path_stiffness(K, Kfp, found)
+            except SingularSystem:  # a Cholesky that succeeded on a numerically singular K_ff
+                found = inertia(Kff)
+                slopes = self._path_stiffness(K, Kfp, found)
         forces = [float(ev.f_int[self.moving[a]].sum()) for a in range(len(self.target))]
-        limit_axis = (self._limit_axis(forces, self._path_stiffness(K, Kfp, found))
-                      if self.options.limit_points else None)
+        limit_axis = self._limit_axis(forces, slopes) if self.options.limit_points else None
         unstable = bool(found.negative) or bool(found.zero)
         solve = found.solve if not found.zero else None  # a singular K_ff: factorize K − σI instead
         pair = lowest_eigenpair(Kff, found.negative, solve) if unstable or self.options.eigenvalues else None
@@ -121,6 +129,18 @@ class StabilityMonitor:
         """Record the (already vetted) state of a scheduled level."""
         if self._accepted is not None and self._accepted.t == level.t:
             self.records.append(self._accepted)
+
+    def _inertia(self, ev: Evaluation):
+        """K, K_ff, K_fp and the inertia of K_ff, from the Newton solver's factorization when it
+        is conclusive (a Cholesky, or SuperLU's symmetric LDLᵀ), else from a separate count."""
+        try:
+            tangent = self.tangents.at(ev)
+        except SingularSystem:
+            K = self.body.stiffness(ev)
+            Kff, Kfp = self.partition.blocks(K)
+            return K, Kff, Kfp, inertia(Kff)
+        Kff = self.partition.blocks(tangent.K)[0]
+        return tangent.K, Kff, tangent.Kfp, factorized_inertia(tangent.factor, Kff)
 
     def _critical_state(self, r: LevelStability, pair, ev: Evaluation) -> CriticalState:
         """The bracket [last stable, this unstable state] with both lowest eigenvalues and the

@@ -1,0 +1,138 @@
+"""Isotropic tangents as a short sum of outer products of 3×3 fields.
+
+The tangents of the isotropic models here are sums of three kinds of terms (shapes (3,3,*batch);
+a Python float s in a ``kron`` slot stands for s·δ):
+
+    kron  (B, C):  A_iJkL += B_ik C_JL          e.g. μ δ_ik δ_JL,  δ_ik S_JL,  μ b_ik δ_JL
+    dyad  (P, Q):  A_iJkL += P_iJ Q_kL          e.g. λ F⁻ᵀ ⊗ F⁻ᵀ
+    cross (P, Q):  A_iJkL += P_iL Q_kJ          e.g. (μ − λ ln J) F⁻ᵀ_iL F⁻ᵀ_kJ
+
+Stored this way a tangent costs a few 3×3 fields per point instead of 81 numbers, and its pull
+back to the reference cell (what the stiffness kernel needs),
+
+    Â_imkn = dx Σ_JL R_mJ A_iJkL R_nL,       R = ∂ξ/∂X,
+
+follows term by term with H = P Rᵀ, H' = Q Rᵀ (3×3 per point):
+
+    kron:  B_ik (R C Rᵀ)_mn dx      dyad:  H_im H'_kn dx      cross:  H_in H'_km dx
+
+so the full (3,3,3,3,e,q) array is never formed. ``full()`` builds it (for the Taylor tests and
+any kernel without a reference map): both paths come from the same terms.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+Field = np.ndarray | float
+
+
+@dataclass
+class TangentTerms:
+    """A_iJkL = Σ kron B_ik C_JL + Σ dyad P_iJ Q_kL + Σ cross P_iL Q_kJ (MPa)."""
+
+    batch: tuple[int, ...]
+    kron: list[tuple[Field, Field]] = field(default_factory=list)
+    dyad: list[tuple[np.ndarray, np.ndarray]] = field(default_factory=list)
+    cross: list[tuple[np.ndarray, np.ndarray]] = field(default_factory=list)
+
+    def full(self) -> np.ndarray:
+        """The tangent A, shape (3,3,3,3,*batch), MPa (a new array)."""
+        A = np.zeros((3, 3, 3, 3) + self.batch)
+        for P, Q in self.dyad:
+            for i in range(3):
+                for J in range(3):
+                    A[i, J] += P[i, J] * Q
+        for P, Q in self.cross:
+            for i in range(3):
+                for L in range(3):
+                    A[i, :, :, L] += P[i, L] * Q.swapaxes(0, 1)
+        identity = np.eye(3).reshape((3, 3) + (1,) * len(self.batch))
+        for B, C in self.kron:
+            C = C * identity if np.isscalar(C) else C
+            for i in range(3):
+                for k in range(3):
+                    if np.isscalar(B):
+                        if i == k:
+                            A[i, :, k, :] += B * C
+                    else:
+                        A[i, :, k, :] += B[i, k] * C
+        return A
+
+    def pulled_back(self, R: np.ndarray, dx: np.ndarray) -> np.ndarray:
+        """Â in the layout (i, k, q, m, n, e), C-contiguous, with dx folded in (N/mm · mm).
+
+        R = ∂ξ_m/∂X_J with shape (m, J, q, e) and dx with shape (q, e), element index last so
+        that every operation runs over long contiguous rows; the batch of the terms must be
+        (e, q). All terms are summed slice by slice (i, k, m, n), so each output slice is written
+        once while its inputs are in cache; the major symmetry Â_imkn = Â_knim fills i > k."""
+        n_qp, n_el = dx.shape
+        dyads = [(_pull(P, R, dx), _pull(Q, R)) for P, Q in self.dyad]      # (i, q, m, e)
+        crosses = [(_pull(P, R, dx), _pull(Q, R)) for P, Q in self.cross]
+        krons = [(B if np.isscalar(B) else _batch_last(B), _pull_both(C, R, dx))  # (q, m, n, e)
+                 for B, C in self.kron]
+        Y = np.empty((3, 3, n_qp, 3, 3, n_el))
+        scratch = np.empty((n_qp, n_el))
+        for i in range(3):
+            for k in range(i, 3):
+                for m in range(3):
+                    for n in range(3):
+                        y = Y[i, k, :, m, n]
+                        y.fill(0.0)
+                        for H, H2 in dyads:                 # H_im H'_kn
+                            y += np.multiply(H[i, :, m], H2[k, :, n], out=scratch)
+                        for H, H2 in crosses:               # H_in H'_km
+                            y += np.multiply(H[i, :, n], H2[k, :, m], out=scratch)
+                        for B, RCR in krons:                # B_ik (R C Rᵀ)_mn
+                            if not np.isscalar(B):
+                                y += np.multiply(B[i, k], RCR[:, m, n], out=scratch)
+                            elif i == k:
+                                y += B * RCR[:, m, n]
+                if i != k:
+                    Y[k, i] = Y[i, k].transpose(0, 2, 1, 3)
+        return Y
+
+
+def _batch_last(P: np.ndarray) -> np.ndarray:
+    """(3,3,e,q) -> (3,3,q,e) contiguous."""
+    return np.ascontiguousarray(np.swapaxes(P, 2, 3))
+
+
+def _pull(P: np.ndarray, R: np.ndarray, dx: np.ndarray | None = None) -> np.ndarray:
+    """H_im = Σ_J P_iJ R_mJ (· dx) per point: P (3,3,e,q), R (m,J,q,e) -> H (i,q,m,e)."""
+    P = _batch_last(P)
+    H = np.empty((3, R.shape[2], 3, R.shape[3]))
+    for i in range(3):
+        for m in range(3):
+            h = H[i, :, m]
+            np.multiply(P[i, 0], R[m, 0], out=h)
+            h += P[i, 1] * R[m, 1]
+            h += P[i, 2] * R[m, 2]
+            if dx is not None:
+                h *= dx
+    return H
+
+
+def _pull_both(C, R: np.ndarray, dx: np.ndarray) -> np.ndarray:
+    """(R C Rᵀ)_mn dx per point, C a (3,3,e,q) field or a scalar times δ -> (q, m, n, e)."""
+    n_qp, n_el = dx.shape
+    out = np.empty((n_qp, 3, 3, n_el))
+    CR = R if np.isscalar(C) else None
+    if CR is None:                                          # (C Rᵀ)_Jn = Σ_L C_JL R_nL
+        C = _batch_last(C)
+        CR = np.empty((3, 3, n_qp, n_el))                   # indexed (n, J)
+        for n in range(3):
+            for J in range(3):
+                np.multiply(C[J, 0], R[n, 0], out=CR[n, J])
+                CR[n, J] += C[J, 1] * R[n, 1]
+                CR[n, J] += C[J, 2] * R[n, 2]
+    for m in range(3):
+        for n in range(3):
+            o = out[:, m, n]
+            np.multiply(R[m, 0], CR[n, 0], out=o)
+            o += R[m, 1] * CR[n, 1]
+            o += R[m, 2] * CR[n, 2]
+            o *= dx if not np.isscalar(C) else C * dx
+    return out
