@@ -164,6 +164,39 @@ def test_cost_study_on_the_roller_block_says_round_off(tmp_path, cluster):
     assert "round-off" in index.read_text()
 
 
+def test_cost_cli_on_the_roller_block_with_a_subset_of_orders_and_cells(tmp_path, cluster):
+    import json
+
+    from typer.testing import CliRunner
+
+    from vlab.cli import EXIT_INVALID, app
+
+    scene = tmp_path / "block.toml"
+    scene.write_text('name = "cost-cli"\n[specimen]\nshape = "block"\nsize = [10.0, 8.0, 6.0]\n'
+                     '[mesh]\nsize = 5.0\norder = 1\ncell = "hex"\n'
+                     '[material]\nmodel = "neo-hookean"\nE = 10.0\nnu = 0.3\n'
+                     '[test]\nkind = "uniaxial"\ngrips = "roller"\nstretch = 1.2\nsteps = 4\n')
+    runner = CliRunner()
+    common = [str(scene), "--cache", str(tmp_path / "cache"), "--quiet", "--out", str(tmp_path / "out")]
+    for option, bad in (("--orders", "1,3"), ("--orders", "one"), ("--cells", "hex,quad"), ("--cells", "")):
+        res = runner.invoke(app, ["cost", *common, option, bad])
+        assert res.exit_code == EXIT_INVALID and option in res.output, res.output
+    assert not (tmp_path / "out").exists()
+
+    res = runner.invoke(app, ["cost", *common, "--orders", "1", "--cells", "hex", "--levels", "3", "--ratio", "2",
+                              "--scheduler", cluster.scheduler])
+    assert res.exit_code == 0, res.output
+    assert "round-off" in res.output
+    data = json.loads((tmp_path / "out" / "cost.json").read_text())
+    assert data["meta"]["orders"] == [1] and data["meta"]["cells"] == ["hex"]
+    mesh = [(r, e) for r, e in zip(data["runs"], data["errors"]) if r["label"]["knob"].startswith("mesh size")]
+    assert {r["label"]["knob"] for r, _ in mesh} == {"mesh size (order 1, hex)"}
+    assert sorted(r["mesh"]["size"] for r, _ in mesh) == [2.5, 5.0, 10.0]
+    assert data["reference_kind"] == "analytic" and data["round_off"]
+    assert all(e["max"] < 1e-9 for _, e in mesh)  # P1 is exact on the homogeneous block
+    assert all(order is None for order in data["observed_order"].values())  # no invented trend
+
+
 def test_richardson_recovers_order_and_limit_and_refuses_noise():
     h = [0.5, 0.707, 1.0, 1.414]
     ex = extrapolate(h, [2.0 + 0.3 * x**2 for x in h])
@@ -171,6 +204,53 @@ def test_richardson_recovers_order_and_limit_and_refuses_noise():
     assert not extrapolate(h, [2.0, 2.1, 2.0, 2.1]).valid
     flat = extrapolate(h, [2.0, 2.0 + 1e-15, 2.0, 2.0])
     assert not flat.valid and "round-off" in flat.reason
+
+
+def _mesh_run(order: int, size: float, elements: int, value: float) -> dict:
+    """A synthetic summary of one run of a mesh family (volume 1259 mm³, the ISO 37-2 dumb-bell)."""
+    h_eff = (1259.0 / elements) ** (1.0 / 3.0)
+    return {"label": {"knob": f"mesh size (order {order}, hex)", "value": size}, "status": "ok",
+            "model": "neo-hookean", "analytic": None, "timing": {"total_s": elements * order**3 / 100.0},
+            "mesh": {"order": order, "cell": "hex", "size": size, "elements": elements, "h_eff": h_eff},
+            "measured": {"E": 3.0 * (1 + 0.01 * h_eff**order), "nu": 0.45 * (1 - 0.01 * h_eff**order),
+                         "final_force": value, "final_stress": value / 8.0}}
+
+
+def test_cost_reference_uses_effective_sizes_and_the_most_converged_family():
+    """The dumb-bell mesher rounds element counts (mesh.size 6, 3, 1.5, 0.75 → 72, 120, 448, 2496
+    hexahedra): Richardson on the nominal sizes put the force reference 4 % below the limit with an
+    observed order 0.69 instead of 1.5, and the slow order-1 family set the reference for order 2
+    too, so every run, however fine, showed an error of several per cent (the reported 13 %)."""
+    sizes, elements = (6.0, 3.0, 1.5, 0.75), (72, 120, 448, 2496)
+    runs = []
+    for order, (c, p) in {1: (0.05, 1.5), 2: (0.01, 3.0)}.items():
+        for size, n in zip(sizes, elements):
+            h = (1259.0 / n) ** (1.0 / 3.0)
+            runs.append(_mesh_run(order, size, n, 1.44 * (1 + c * h**p)))
+    scene = parse_scene(scene_dict(material={"model": "neo-hookean"}))
+    analysis = analyse(scene, runs, CostOptions(orders=(1, 2), cells=("hex",)))
+    assert analysis.reference_kind == "richardson" and not analysis.round_off
+    assert abs(analysis.reference["final_force"] - 1.44) < 1e-9
+    assert abs(analysis.reference["final_stress"] - 0.18) < 1e-10
+    fits = {f["family"]: f for f in analysis.fits["final_force"]}
+    assert abs(fits["mesh size (order 1, hex)"]["order"] - 1.5) < 1e-6
+    assert abs(fits["mesh size (order 2, hex)"]["order"] - 3.0) < 1e-6
+    assert analysis.orders["final_force"] == pytest.approx(3.0)  # order 2 is closer to its limit
+    finest2 = analysis.errors[-1]["final_force"]
+    assert finest2 == pytest.approx(0.01 * (1259.0 / 2496) ** 1.0, rel=1e-6)  # its true error, 0.5 %
+    assert "h_eff = 0.796, 1.41, 2.19 mm" in analysis.notes["final_force"]
+
+
+def test_cost_reference_without_a_valid_extrapolation_claims_no_exact_run():
+    """Non-monotone levels: the reference falls back to the most resolved run, whose own error is
+    unknown (None), not zero by construction."""
+    runs = [_mesh_run(1, s, n, v) for s, n, v in ((6.0, 72, 1.50), (3.0, 120, 1.46), (1.5, 448, 1.48))]
+    scene = parse_scene(scene_dict(material={"model": "neo-hookean"}))
+    analysis = analyse(scene, runs, CostOptions(orders=(1,), cells=("hex",)))
+    assert analysis.reference["final_force"] == 1.48 and analysis.orders["final_force"] is None
+    assert "non-monotone" in analysis.notes["final_force"]
+    assert analysis.errors[2]["final_force"] is None and analysis.errors[2]["max"] is not None
+    assert analysis.errors[1]["final_force"] == pytest.approx(0.02 / 1.48)
 
 
 def test_pareto_front_keeps_only_non_dominated_points():
@@ -194,26 +274,44 @@ def test_estimate_is_exact_by_construction_on_the_roller_block_only():
 
 @pytest.mark.slow
 def test_dogbone_error_in_E_falls_with_mesh_size_at_an_observed_order(tmp_path):
-    """Coarse ISO 37 type 2 dumb-bell, order 1 hex, 4 sizes (ratio 2: with ratio √2 the mapper's rounded
-    element counts make the sequence non-monotone), small stretch. Measured once (shared machine):
-    E error 2.0e-2, 1.3e-3, 8.9e-4, 6.0e-4 at h = 6, 3, 1.5, 0.75; observed order of E 0.58."""
+    """ISO 37 type 2 dumb-bell, stretch 1.05, hex order 1 and 2, mesh.size 6, 3, 1.5, 0.75 (ratio 2;
+    h_eff 2.60, 2.19, 1.41, 0.795 mm: the mesher rounds element counts, 72 → 120 → 448 → 2496).
+    Measured once (shared 2-core machine, 2 workers), reference = order-2 Richardson:
+    observed order of E 2.41 (order 1) and 4.23 (order 2), of the final force 3.04 and 3.39 — on h_eff
+    of pre-asymptotic meshes (one to three elements across the 4 mm gauge width), not the
+    asymptotic rates; largest error (the final force) order 1: 8.2 %, 3.8 %, 1.2 %, 0.48 % in 0.41,
+    0.66, 2.96, 12.2 s; order 2: 3.0 %, 0.92 %, 0.21 %, 0.03 % (its own correction) in 3.5, 7.4, 32,
+    180 s. 1 %: order 2 first (h = 3, 4575 DOFs, 7.4 s vs 12.2 s); 0.5 %: order 1 (h = 0.75, 11025
+    DOFs, 12.2 s vs 32 s). Times are printed, never asserted; the DOFs to reach 1 % are."""
     from vlab.study.cost import mesh_family, time_to_target
 
     scene = parse_scene(tomllib.loads((ROOT / "specimens" / "dogbone-iso37-2.toml").read_text())
                         | {"mesh": {"size": 3.0, "order": 1, "cell": "hex"},
                            "test": {"kind": "uniaxial", "stretch": 1.05, "steps": 4}})
-    options = CostOptions(levels=4, ratio=2.0, orders=(1,), cells=("hex",))
+    options = CostOptions(levels=4, ratio=2.0, orders=(1, 2), cells=("hex",))
     points = [p for p in knob_points(scene, options) if p.label["knob"].startswith("mesh size")]
     outcome = run_sweep(points, RunKnobs(), SummaryCache(tmp_path / "cache"), Execution(workers=2))
     analysis = analyse(scene, outcome.summaries, options)
     assert analysis.reference_kind == "richardson" and not analysis.round_off
-    p_E = analysis.orders["E"]
-    print(f"\nreference E = {analysis.reference['E']:.8g} MPa, observed order of E: {p_E}; notes: {analysis.notes}")
+    for q, note in analysis.notes.items():
+        print(f"\n{q}: reference {analysis.reference[q]:.8g}; {note}")
     for s, e in zip(outcome.summaries, analysis.errors):
-        print(f"  {s['label']['knob']:26s} h = {s['label']['value']:<8g} DOFs {s['mesh']['dofs']:6d} "
-              f"t = {s['timing']['total_s']:6.2f} s  err E = {e['E']:.3e}  err max = {e['max']:.3e}")
-    for target in (1e-2, 3e-3, 1e-3):
-        print(f"  time to reach {target:g}: {time_to_target(outcome.summaries, analysis, mesh_family(1, 'hex'), target)} s")
-    assert p_E is not None and 0.5 < p_E < 6
-    order1 = [e["E"] for s, e in zip(outcome.summaries, analysis.errors) if s["label"]["knob"] == mesh_family(1, "hex")]
-    assert all(a > b for a, b in zip(order1, order1[1:]))  # falls monotonically with h
+        print(f"  {s['label']['knob']:26s} h = {s['label']['value']:<5g} h_eff {s['mesh']['h_eff']:.3f} "
+              f"DOFs {s['mesh']['dofs']:6d} t = {s['timing']['total_s']:6.2f} s  err E = {e['E']:.2e}  "
+              f"err force = {e['final_force']:.2e}  err max = {e['max']:.2e}")
+    families = {o: mesh_family(o, "hex") for o in (1, 2)}
+    for target in (1e-2, 5e-3):
+        print(f"  time to reach {target:g}: " + ", ".join(
+            f"order {o} {time_to_target(outcome.summaries, analysis, f, target)} s" for o, f in families.items()))
+    fits = {f["family"]: f for f in analysis.fits["E"]}
+    assert all(fits[f]["valid"] and 1.0 < fits[f]["order"] < 6.0 for f in families.values())
+    order1 = [e for s, e in zip(outcome.summaries, analysis.errors) if s["label"]["knob"] == families[1]]
+    assert all(a["E"] > b["E"] for a, b in zip(order1, order1[1:]))  # falls monotonically with h
+    assert all(a["max"] > b["max"] for a, b in zip(order1, order1[1:]))
+    assert max(e["max"] for e in order1[-2:]) < 0.02  # the fine meshes are not several per cent off
+
+    def dofs_to(order, target):
+        return min((s["mesh"]["dofs"] for s, e in zip(outcome.summaries, analysis.errors)
+                    if s["label"]["knob"] == families[order] and e["max"] is not None and e["max"] <= target),
+                   default=None)
+    assert dofs_to(2, 0.01) is not None and dofs_to(1, 0.01) is not None and dofs_to(2, 0.01) < dofs_to(1, 0.01)

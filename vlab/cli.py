@@ -297,10 +297,28 @@ def _fraction(text: str) -> float:
     return value
 
 
+def _choices(option: str, text: str, allowed: tuple, convert=str) -> tuple:
+    """'1,2' -> (1, 2), each in ``allowed``; otherwise a clear error naming the option."""
+    items = [t.strip() for t in text.split(",")]
+    try:
+        values = tuple(dict.fromkeys(convert(t) for t in items))
+    except ValueError:
+        values = ()
+    if not values or any(v not in allowed for v in values) or "" in items:
+        console.print(f"[red]invalid option[/red] {option} {text!r}: a comma-separated subset of "
+                      f"{','.join(map(str, allowed))}", highlight=False)
+        raise typer.Exit(EXIT_INVALID)
+    return values
+
+
 @app.command()
 def cost(scene: Path = typer.Argument(..., help="Scene TOML file."),
          target: str = typer.Option("1%", "--target", help="Requested relative accuracy, e.g. 1% or 0.001."),
-         levels: int = typer.Option(4, "--levels", min=3, help="Mesh sizes per order and cell (ratio √2)."),
+         levels: int = typer.Option(4, "--levels", min=3, help="Mesh sizes per order and cell."),
+         ratio: float = typer.Option(2 ** 0.5, "--ratio", min=1.1, max=4.0,
+                                     help="Between successive mesh sizes (the sizes are h0·ratio, h0, h0/ratio, …)."),
+         orders: str = typer.Option("1,2", "--orders", help="Element orders of the mesh study, e.g. 1 or 1,2."),
+         cells: str = typer.Option("tet,hex", "--cells", help="Cell types of the mesh study, e.g. hex or tet,hex."),
          out: Optional[Path] = typer.Option(None, "--out", "-o", help="Output folder (default reports/<name>-cost)."),
          cache: Path = typer.Option(Path("reports") / ".cache", "--cache", help="Cache folder of run summaries."),
          workers: int = typer.Option(2, "--workers", "-j", min=1, help="Worker processes of the local Dask cluster."),
@@ -313,13 +331,16 @@ def cost(scene: Path = typer.Argument(..., help="Scene TOML file."),
     from vlab.study.summary import RunKnobs
 
     parsed, _ = _load(scene)
-    options = CostOptions(levels=levels, target=_fraction(target))
+    options = CostOptions(levels=levels, ratio=ratio, target=_fraction(target),
+                          orders=_choices("--orders", orders, (1, 2), int),
+                          cells=_choices("--cells", cells, ("tet", "hex")))
     points = knob_points(parsed, options)
     outcome = _sweep_with_progress(points, RunKnobs(time_report=True, render=render), cache,
                                    _execution(workers, scheduler), quiet, "cost")
     analysis = analyse(parsed, outcome.summaries, options)
     memory = next((s["memory"]["method"] for s in outcome.summaries if s.get("memory")), "")
-    meta = {"scene": str(scene), "target": options.target, "levels": levels, "cache_hits": outcome.cache_hits,
+    meta = {"scene": str(scene), "target": options.target, "levels": levels, "ratio": ratio,
+            "orders": list(options.orders), "cells": list(options.cells), "cache_hits": outcome.cache_hits,
             "computed": outcome.computed, "seconds": outcome.seconds, "render": render, "memory_method": memory}
     folder = out or Path("reports") / f"{parsed.name}-cost"
     index = write_cost_report(folder, f"{parsed.name}: what accuracy costs", outcome.summaries, analysis,

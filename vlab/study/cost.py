@@ -11,8 +11,10 @@ element order and cell type the shape allows):
 Reference (error = |q − q_ref| / |q_ref| for q = E, ν, final force, final stress):
     analytic     uniaxial block with roller grips: the homogeneous solution of the scene's model
                  at the recorded stretches, fitted over the same window (vlab.measure.reference);
-    Richardson   otherwise: extrapolated from the three finest sizes of the scene's own order and
-                 cell (vlab.study.richardson), with the observed order per quantity.
+    Richardson   otherwise: each mesh family (order, cell) extrapolated on its effective element
+                 size h_eff from its three finest levels; the reference of a quantity is the family
+                 closest to its own limit (vlab.study.reference), the observed order of every
+                 family is stated with the sizes it came from.
 The error of a run is the largest of the four relative errors; its time is the run's compute time
 (mesh + solve + measure; the report's time is tabulated separately).
 """
@@ -25,7 +27,7 @@ from dataclasses import dataclass, field
 from vlab.scene import Scene, apply_overrides
 from vlab.study.grid import GridPoint
 from vlab.study.pareto import pareto_front
-from vlab.study.richardson import ROUND_OFF, extrapolate
+from vlab.study.reference import richardson_reference
 from vlab.study.summary import QUANTITIES
 
 RTOLS = (1e-4, 1e-6, 1e-8, 1e-10)
@@ -83,6 +85,7 @@ class CostAnalysis:
     front: list[int] = field(default_factory=list)  # Pareto-optimal runs (indices)
     recommendation: str = ""
     best: int | None = None  # index of the recommended run
+    fits: dict[str, list[dict]] = field(default_factory=dict)  # Richardson: per quantity, per family
 
 
 def run_seconds(summary: dict) -> float:
@@ -93,13 +96,13 @@ def run_seconds(summary: dict) -> float:
 
 def analyse(scene: Scene, summaries: list[dict], options: CostOptions) -> CostAnalysis:
     ok = [s.get("status") == "ok" for s in summaries]
-    base_family = mesh_family(scene.mesh.order, scene.mesh.cell)
     own = [s.get("analytic") for s, good in zip(summaries, ok)
            if good and s.get("model") == scene.material.model]
     if own and all(a is not None and a.get("E") is not None for a in own):
         kind, analysis = "analytic", _analytic(scene, summaries, ok)
     else:
-        kind, analysis = "richardson", _richardson(summaries, ok, base_family)
+        families = [mesh_family(o, c) for o in options.orders for c in options.cells]
+        kind, analysis = "richardson", _richardson(summaries, ok, families)
     analysis.reference_kind = kind
     times = [(run_seconds(s), _floor(e["max"])) if e else None for s, e in zip(summaries, analysis.errors)]
     valid = [i for i, p in enumerate(times) if p is not None and math.isfinite(p[1])]
@@ -144,18 +147,22 @@ def _analytic(scene: Scene, summaries: list[dict], ok: list[bool]) -> CostAnalys
     return CostAnalysis("analytic", scene_reference, {q: None for q in QUANTITIES}, notes, round_off, errors)
 
 
-def _richardson(summaries: list[dict], ok: list[bool], family: str) -> CostAnalysis:
-    runs = [s for s, good in zip(summaries, ok) if good and s["label"]["knob"] == family]
-    h = [float(s["label"]["value"]) for s in runs]
-    reference, orders, notes = {}, {}, {}
-    for q in QUANTITIES:
-        ex = extrapolate(h, [s["measured"].get(q) for s in runs])
-        reference[q], orders[q] = ex.value, ex.order
-        notes[q] = (f"Richardson from the 3 finest sizes of {family}, observed order {ex.order:.2f}"
-                    if ex.valid else f"{family}: {ex.reason}; reference = finest run")
-    round_off = all("round-off" in n for n in notes.values())
-    errors = [_errors(s, reference) if good else None for s, good in zip(summaries, ok)]
-    return CostAnalysis("richardson", reference, orders, notes, round_off, errors)
+def _richardson(summaries: list[dict], ok: list[bool], families: list[str]) -> CostAnalysis:
+    ref = richardson_reference(summaries, ok, families)
+    round_off = all(fits and all("round-off" in fit.reason for fit in fits) for fits in ref.fits.values())
+    errors = []
+    for i, (s, good) in enumerate(zip(summaries, ok)):
+        e = _errors(s, ref.values) if good else None
+        if e is not None:  # the fallback reference run: its own error is unknown, not zero
+            unknown = [q for q in QUANTITIES if ref.fallback_run[q] == i and not round_off]
+            if unknown:
+                e = e | {q: None for q in unknown}
+                known = [e[q] for q in QUANTITIES if e[q] is not None]
+                e["max"] = max(known) if known else None
+        errors.append(e)
+    analysis = CostAnalysis("richardson", ref.values, ref.orders, ref.notes, round_off, errors)
+    analysis.fits = {q: [fit.as_dict() for fit in fits] for q, fits in ref.fits.items()}
+    return analysis
 
 
 def describe(summary: dict) -> str:

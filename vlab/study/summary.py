@@ -40,7 +40,7 @@ class RunKnobs:
     render: bool = False  # include the 3D renders in that report
 
     def as_dict(self) -> dict:
-        return asdict(self) | {"summary_format": 1}
+        return asdict(self) | {"summary_format": 2}  # 2: mesh.h_eff, mesh.measure
 
 
 def summarize(source: dict, knobs: RunKnobs = RunKnobs(), label: dict | None = None) -> dict:
@@ -80,7 +80,8 @@ def _run(scene, knobs: RunKnobs) -> dict:
         "measured": measured_quantities(data),
         "timing": timing,
         "memory": memory.as_dict(),
-        "mesh": {k: data["mesh"][k] for k in ("cell", "order", "size", "elements", "nodes", "dofs")},
+        "mesh": {k: data["mesh"][k] for k in ("cell", "order", "size", "elements", "nodes", "dofs")}
+        | effective_size(result),
         "solver": {"newton_iterations": int(sum(data["solver"]["newton_iterations"])),
                    "factorizations": data["solver"]["factorizations"],
                    "cutbacks": int(sum(data["solver"]["cutbacks"])), "rtol": data["solver"]["rtol"],
@@ -99,6 +100,22 @@ def measured_quantities(data: dict) -> dict:
     last = (lambda key: curve[key][-1] if curve.get(key) else None)
     return {"E": data["measured"]["E"], "nu": data["measured"]["nu"], "final_force": last("force"),
             "final_stress": last("stress"), "final_stretch": last("stretch")}
+
+
+def effective_size(result) -> dict:
+    """The mesh's effective element size h_eff = (Ω / n_elements)^(1/d) (mm), Ω the reference volume
+    (d = 3) or area (d = 2, a sheet: dx carries the thickness, divided out here), and Ω itself.
+
+    The nominal mesh.size is only an upper bound on the element edge: a structured mesher rounds
+    element counts up per segment (a dogbone keeps one element across its 2 mm half-thickness from
+    mesh.size 1 to 12), so halving mesh.size may multiply the element count by far less than 2^d.
+    Richardson extrapolation needs the size that actually changed; h_eff is it (the same for every
+    element order; the DOFs grow with the order at fixed h_eff)."""
+    space = result.space
+    dim = int(space.basis.mesh.dim())
+    thickness = (result.specimen.sheet_thickness or 1.0) if dim == 2 else 1.0
+    measure = float(np.sum(space.dx)) / thickness
+    return {"measure": measure, "h_eff": (measure / int(space.basis.nelems)) ** (1.0 / dim)}
 
 
 def analytic_quantities(result) -> dict | None:
