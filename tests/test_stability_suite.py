@@ -23,7 +23,8 @@ def test_the_fast_subset_passes_and_writes_table_json_and_html(fast_report):
     data = json.loads((out / "results.json").read_text())
     names = {c["name"] for c in data["cases"]}
     assert {"stvk-compression-limit-point", "stvk-tension-refused", "inversion-stop", "missing-grip-under-constrained",
-            "invalid-meshes-refused", "buckling-clamped-strip-L10"} <= names
+            "invalid-meshes-refused", "buckling-clamped-strip-L10", "cook-membrane-0.4999-coarse",
+            "nu-0.5-refused", "dogbone-1ba-nu-0.499-mixed"} <= names
     assert data["failed"] == 0 and data["passed"] == len(data["cases"]) == len(select(fast_only=True))
     assert all(c["fast"] for c in data["cases"])
     for column in ("case", "expected", "got", "converged", "iterations", "cutbacks", "neg. eig.", "time", "result"):
@@ -34,6 +35,18 @@ def test_the_fast_subset_passes_and_writes_table_json_and_html(fast_report):
     assert strip["negative_eigenvalues"] == 1 and 0 < strip["details"]["relative_difference"] < 0.12
     for figure in strip["figures"]:
         assert (out / figure).stat().st_size > 10_000
+
+
+def test_the_fast_subset_shows_locking_its_cure_and_the_nu_half_refusal(fast_report):
+    _, out = fast_report
+    cases = {c["name"]: c for c in json.loads((out / "results.json").read_text())["cases"]}
+    runs = cases["cook-membrane-0.4999-coarse"]["details"]["runs"]
+    ratio = {(r["element"], r["divisions"]): r["ratio_to_reference"] for r in runs}
+    assert ratio[("Q1", 4)] < 0.45 < 0.8 < ratio[("Q1/P0", 4)] and abs(ratio[("Q2/P1dc", 2)] - 1) < 0.02
+    messages = cases["nu-0.5-refused"]["details"]["messages"]
+    assert len(messages) == 3 and all("0.4999" in m and "mixed" in m for m in messages)
+    errors = cases["dogbone-1ba-nu-0.499-mixed"]["details"]["relative_errors"]
+    assert abs(errors["mixed"]["nu"]) < 0.01 < errors["displacement"]["nu"]
 
 
 def test_cases_register_once_and_a_raising_case_fails_with_its_message(monkeypatch):

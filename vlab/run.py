@@ -182,7 +182,7 @@ def _run_scene(scene: Scene, on_level, specimen: Specimen | None) -> RunResult:
     measure_time = [0.0]
 
     monitor = StabilityMonitor(body, partition, loading.moving_dofs, scene.test.stretch,
-                               scene.material.model, loading.u_hat,
+                               _law_label(scene), loading.u_hat,
                                MonitorOptions(eigenvalues=scene.solver.eigenvalues,
                                               limit_points=_watch_limit_points(scene)))
     deflection: list[float] = []
@@ -315,6 +315,14 @@ def _watch_limit_points(scene: Scene) -> bool:
 
     physical = [e for e in scene.effects if EFFECTS[e.name].role != "measure"]
     return scene.test.protocol.name == "monotonic" and not physical and scene.test.imperfection is None
+
+
+def _law_label(scene: Scene) -> str:
+    """The law a stability diagnosis names: the model, or the history law wrapping it."""
+    from vlab.effects import EFFECTS
+
+    law = next((e.name for e in scene.effects if EFFECTS[e.name].role == "material"), None)
+    return scene.material.model if law is None else f"{scene.material.model} with effects.{law}"
 
 
 def _homogeneity_report(curve: Curve, rows: list[dict], window: tuple[float, float]) -> dict:

@@ -93,6 +93,7 @@ def register(name: str, expected: str, fast: bool = True):
 def select(fast_only: bool = False, names: list[str] | None = None) -> list[Case]:
     """The registered cases (built-ins loaded), the fast subset or those named."""
     import vlab.stability.cases  # noqa: F401  (registers the built-in cases)
+    import vlab.stability.incompressible  # noqa: F401  (locking, ν = ½, the ν = 0.499 dogbone)
 
     if names:
         unknown = [n for n in names if n not in CASES]

@@ -48,6 +48,8 @@ THICKNESS = 1.0                  # mm
 GALLERY_TIP_NU_03 = {1: {1: 5.15, 2: 8.72, 4: 12.02, 8: 13.61, 16: 14.13, 32: 14.28, 64: 14.32},
                      2: {1: 12.19, 2: 13.83, 4: 14.22, 8: 14.30, 16: 14.32, 32: 14.33, 64: 14.33}}
 TIP = (48.0, 60.0)               # mm
+# plane strain, ν = 0.4999: this study's finest Q2/P1dc run (16 × 16), tip u_y in mm (run_study())
+REFERENCE_TIP_NU_4999 = 11.48
 
 
 @dataclass(frozen=True)
