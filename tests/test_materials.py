@@ -7,6 +7,7 @@ import warnings
 import numpy as np
 import pytest
 
+from helpers_history import random_rotation
 from vlab import tensor
 from vlab.materials import MODELS, Material, make_material
 
@@ -22,14 +23,6 @@ def material(name: str) -> Material:
 def apply(A: np.ndarray, dF: np.ndarray) -> np.ndarray:
     """A : dF for a single (unbatched) tangent."""
     return np.einsum("ijkl,kl->ij", A, dF)
-
-
-def random_rotation(rng: np.random.Generator) -> np.ndarray:
-    Q, R = np.linalg.qr(rng.standard_normal((3, 3)))
-    Q = Q * np.sign(np.diag(R))
-    if np.linalg.det(Q) < 0:
-        Q[:, 0] *= -1.0
-    return Q
 
 
 def deformation(kind: str, rng: np.random.Generator) -> np.ndarray:

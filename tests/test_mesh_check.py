@@ -8,6 +8,7 @@ import skfem
 
 from helpers_scenes import block_scene
 from vlab.geometry.block import block_mesh
+from vlab.geometry.perturb import perturbed
 from vlab.geometry.mesh_check import MeshError, check_mesh, element_quality
 from vlab.report.results import result_to_dict
 from vlab.run import MeshQualityError, build_specimen, run_scene
@@ -63,18 +64,6 @@ def test_a_bad_mesh_stops_the_run_before_solving():
     p[:, inner[0]] = [0.0 + 12.0, 5.0, 5.0]  # drag an interior node outside: elements invert
     with pytest.raises(MeshQualityError, match="invalid mesh: .*invert"):
         run_scene(scene, specimen=dataclasses.replace(spec, mesh=type(spec.mesh)(p, spec.mesh.t)))
-
-
-def perturbed(spec, fraction: float, seed: int):
-    """Move every node by up to ``fraction`` of the cell size along each axis on which it does
-    not lie on a boundary plane (faces stay planar, so the grips still see whole faces)."""
-    p = spec.mesh.p.copy()
-    rng = np.random.default_rng(seed)
-    lo, hi = p.min(axis=1, keepdims=True), p.max(axis=1, keepdims=True)
-    h = np.array([np.min(np.diff(np.unique(np.round(row, 9)))) for row in p])[:, None]
-    interior = (p > lo + 1e-9) & (p < hi - 1e-9)
-    p += interior * rng.uniform(-fraction, fraction, p.shape) * h
-    return dataclasses.replace(spec, mesh=type(spec.mesh)(p, spec.mesh.t))
 
 
 @pytest.mark.parametrize("cell", ["hex", "tet"])

@@ -75,17 +75,22 @@ class SceneError(ValueError):
 
 
 @dataclass(frozen=True)
-class BlockSpecimen:
-    shape: str
-    size: tuple[float, float, float]  # mm: length (x, loading axis), width (y), thickness (z)
+class _Sized:
+    """A specimen given by ``size`` (mm), loaded along its first dimension (x)."""
 
     @property
     def length(self) -> float:
-        return self.size[0]
+        return self.size[0]  # type: ignore[attr-defined]
 
     @property
     def max_dimension(self) -> float:
-        return max(self.size)
+        return max(self.size)  # type: ignore[attr-defined]
+
+
+@dataclass(frozen=True)
+class BlockSpecimen(_Sized):
+    shape: str
+    size: tuple[float, float, float]  # mm: length (x, loading axis), width (y), thickness (z)
 
 
 @dataclass(frozen=True)
@@ -103,7 +108,7 @@ class DogboneSpecimen:
 
 
 @dataclass(frozen=True)
-class SheetSpecimen:
+class SheetSpecimen(_Sized):
     """A thin sheet in the x-y plane, meshed in 2D (cells tri | quad) and solved in plane stress
     (P₃₃ = 0, the thickness follows the material) or plane strain (thickness held)."""
 
@@ -112,14 +117,6 @@ class SheetSpecimen:
     thickness: float  # mm, through z
     plane: str = "stress"  # "stress" | "strain"
     cells = ("tri", "quad")  # 2D cells; the first is the default mesh.cell
-
-    @property
-    def length(self) -> float:
-        return self.size[0]
-
-    @property
-    def max_dimension(self) -> float:
-        return max(self.size)
 
 
 @dataclass(frozen=True)

@@ -16,6 +16,7 @@ from vlab.fe.problem import HyperelasticBody
 from vlab.fe.space import DisplacementSpace
 from vlab.fe.stepping import Stepping, run_schedule
 from vlab.geometry.block import block_mesh
+from vlab.geometry.perturb import perturbed
 from vlab.geometry.mesh_check import MeshError, check_mesh
 from vlab.loading.grips import grip_loading
 from vlab.materials import make_material
@@ -153,17 +154,6 @@ def missing_grip(context: CaseContext) -> Outcome:
 
 
 # --- meshes --------------------------------------------------------------------------------------
-
-def perturbed(spec, fraction: float, seed: int):
-    """Interior-plane node moves of up to ``fraction`` of the cell size (faces stay planar)."""
-    p = spec.mesh.p.copy()
-    rng = np.random.default_rng(seed)
-    lo, hi = p.min(axis=1, keepdims=True), p.max(axis=1, keepdims=True)
-    h = np.array([np.min(np.diff(np.unique(np.round(row, 9)))) for row in p])[:, None]
-    interior = (p > lo + 1e-9) & (p < hi - 1e-9)
-    p += interior * rng.uniform(-fraction, fraction, p.shape) * h
-    return dataclasses.replace(spec, mesh=type(spec.mesh)(p, spec.mesh.t))
-
 
 @register("perturbed-mesh-patch-test",
           "20 % randomly distorted hex mesh, roller grips to 1.6: stress within 1e-6 of the analytic curve")
