@@ -148,7 +148,7 @@ def info():
     from vlab.fe.iterative import available as amg_available
 
     amg = amg_available()
-    Console().print(f"  iterative     cg-amg   {amg or 'not installed (pip install vlab[amg])'}",
+    Console().print(f"  iterative     cg-amg   {amg or 'not installed (pip install pyamg)'}",
                     highlight=False)
     Console().print(f"linear solver in use: {solver_in_use()}", highlight=False)
     if amg:

@@ -13,7 +13,7 @@ indefinite tangent; that (and non-convergence) raises ``IterativeSolveFailed`` s
 back to a direct factorization (which also gives the inertia that stability detection needs;
 CG cannot count negative eigenvalues, so ``negative_pivots`` is None here).
 
-pyamg is an optional dependency (extra ``vlab[amg]``); ``available()`` says whether it is there.
+pyamg is a dependency of vlab; ``available()`` still checks, for installs without it.
 """
 
 from __future__ import annotations
@@ -58,7 +58,7 @@ def choose(requested: str, n_free: int, direct_backend: str) -> str:
     auto: CG + AMG from the measured crossover of the installed direct solver on, if pyamg is
     installed. An explicit "cg-amg" without pyamg raises ValueError naming the setting."""
     if requested == "cg-amg" and available() is None:
-        raise ValueError("solver.linear = 'cg-amg' needs pyamg (pip install 'vlab[amg]')")
+        raise ValueError("solver.linear = 'cg-amg' needs pyamg (pip install pyamg)")
     if requested != "auto":
         return requested
     threshold = CROSSOVER.get(direct_backend, CROSSOVER["superlu"])
