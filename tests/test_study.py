@@ -318,3 +318,16 @@ def test_dogbone_error_in_E_falls_with_mesh_size_at_an_observed_order(tmp_path):
                     if s["label"]["knob"] == families[order] and e["max"] is not None and e["max"] <= target),
                    default=None)
     assert dofs_to(2, 0.01) is not None and dofs_to(1, 0.01) is not None and dofs_to(2, 0.01) < dofs_to(1, 0.01)
+
+
+def test_final_quantities_are_read_at_the_peak_stretch_of_a_cyclic_test():
+    from vlab.study.summary import measured_quantities
+
+    cyclic = {"measured": {"E": 5.0, "nu": 0.45},
+              "curve": {"stretch": [1.0, 1.5, 1.0, 2.0, 1.0], "force": [0.0, 9.0, 0.0, 20.0, 1e-13],
+                        "stress": [0.0, 0.09, 0.0, 0.2, 1e-15]}}
+    q = measured_quantities(cyclic)
+    assert (q["final_stretch"], q["final_force"], q["final_stress"]) == (2.0, 20.0, 0.2)
+    monotonic = {"measured": {"E": 5.0, "nu": 0.45},
+                 "curve": {"stretch": [1.0, 1.2, 1.5], "force": [0.0, 4.0, 9.0], "stress": [0.0, 0.04, 0.09]}}
+    assert measured_quantities(monotonic)["final_force"] == 9.0

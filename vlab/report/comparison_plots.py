@@ -55,7 +55,9 @@ def _window(datas: list[dict]) -> tuple[float, float, float] | None:
     for d in datas:
         window = d["measured"].get("window") or (d["measured"].get("E_fit") or {}).get("window")
         if window and None not in window and d["measured"].get("E") is not None:
-            sign = -1.0 if d["curve"]["strain"] and d["curve"]["strain"][-1] < 0 else 1.0
+            strain = np.asarray(d["curve"]["strain"], dtype=float)
+            # the side of the largest reading: a cyclic test ends near zero strain
+            sign = -1.0 if strain.size and strain[np.argmax(np.abs(strain))] < 0 else 1.0
             return window[0], window[1], sign
     return None
 
@@ -141,6 +143,12 @@ def _legend_handles(datas, departures, window):
     return handles
 
 
+def _first_loading(x: np.ndarray) -> int:
+    """Length of the first loading ramp: readings up to the first fall of |strain|."""
+    falls = np.flatnonzero(np.diff(np.abs(x)) < 0)
+    return int(falls[0]) + 1 if falls.size else len(x)
+
+
 def _inset(ax, datas, true, xs, sign):
     """Zoom on the fit window (it spans a few tenths of a percent of strain)."""
     inset = ax.inset_axes([0.07, 0.55, 0.36, 0.36] if sign > 0 else [0.57, 0.08, 0.36, 0.36])
@@ -148,6 +156,7 @@ def _inset(ax, datas, true, xs, sign):
     y_hi = 0.0
     for d in datas:
         x, y = measured_curve(d, true)
+        x, y = x[:_first_loading(x)], y[:_first_loading(x)]  # where E is fitted (unloading excluded)
         inside = (x >= min(x_lo, x_hi)) & (x <= max(x_lo, x_hi))
         inset.plot(x[inside], y[inside], "-o", ms=2.5, lw=1.0, color=colour(d["input"]["model"]))
         if inside.any():

@@ -6,6 +6,8 @@ import html
 import json
 from pathlib import Path
 
+import numpy as np
+
 
 def _fmt(value, digits: int = 5) -> str:
     if value is None:
@@ -139,8 +141,11 @@ def comparison_rows(page: ReportPage) -> list[tuple[str, list[str]]]:
         return [fn(d) for d in page.models]
 
     def force(d):
-        forces = d["curve"]["force"]
-        return f"{_fmt(forces[-1])} at grip stretch {_fmt(d['curve']['stretch'][-1], 4)}" if forces else "—"
+        forces, stretch = d["curve"]["force"], d["curve"]["stretch"]
+        if not forces:
+            return "—"
+        peak = int(np.argmax(np.abs(np.asarray(stretch, dtype=float) - 1.0)))  # cyclic tests end at 1
+        return f"{_fmt(forces[peak])} at grip stretch {_fmt(stretch[peak], 4)}"
 
     def error(d):
         ref = d.get("reference") or {}

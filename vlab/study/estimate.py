@@ -17,6 +17,8 @@ from __future__ import annotations
 import logging
 import time
 
+import numpy as np
+
 from vlab.scene import Scene, SceneError, apply_overrides, parse_scene
 
 log = logging.getLogger(__name__)
@@ -35,9 +37,13 @@ def companion_scene(scene: Scene, factor: float = COARSENING) -> Scene:
 
 
 def _values(result) -> dict:
+    """E, ν and the stress at the peak grip stretch (the last reading of a monotonic test; a
+    cyclic or load–unload test ends unloaded, where a relative error means nothing)."""
     stress = result.curve.column("stress", 0) if result.curve.t else []
-    return {"E": result.constants.E, "nu": result.constants.nu,
-            "final_stress": float(stress[-1]) if len(stress) else None}
+    if not len(stress):
+        return {"E": result.constants.E, "nu": result.constants.nu, "final_stress": None}
+    peak = int(np.argmax(np.abs(np.asarray(result.curve.stretch[0]) - 1.0)))
+    return {"E": result.constants.E, "nu": result.constants.nu, "final_stress": float(stress[peak])}
 
 
 def accuracy_estimate(result) -> dict:

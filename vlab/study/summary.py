@@ -95,9 +95,12 @@ def _run(scene, knobs: RunKnobs) -> dict:
 
 
 def measured_quantities(data: dict) -> dict:
-    """E, ν and the final force/stress/stretch of a results.json dict (None where not measured)."""
+    """E, ν and the force/stress/stretch at the peak grip stretch (the last reading of a monotonic
+    test; cyclic and load–unload tests end unloaded) of a results.json dict (None if not measured)."""
     curve = data["curve"]
-    last = (lambda key: curve[key][-1] if curve.get(key) else None)
+    stretch = curve.get("stretch") or []
+    peak = int(np.argmax(np.abs(np.asarray(stretch, dtype=float) - 1.0))) if stretch else -1
+    last = (lambda key: curve[key][peak] if curve.get(key) else None)
     return {"E": data["measured"]["E"], "nu": data["measured"]["nu"], "final_force": last("force"),
             "final_stress": last("stress"), "final_stretch": last("stretch")}
 
