@@ -92,3 +92,38 @@ def test_sparsity_pattern_covers_every_element_coupling():
     # each diagonal entry counts the elements sharing that node
     shared = np.bincount(space.element_nodes.ravel(), minlength=space.n_nodes)
     np.testing.assert_array_equal(K.diagonal(), np.repeat(shared, 3))
+
+
+@pytest.mark.parametrize("model", ["neo-hookean", "stvk", "linear"])
+@pytest.mark.parametrize("cell,order", CASES)
+def test_symmetric_assembly_of_six_blocks_equals_the_full_scatter(cell, order, model):
+    """The body's stiffness (blocks i ≤ k scattered, i > k mirrored) is the textbook K."""
+    space = _space(cell, order)
+    material = make_material(model, 5.0, 2.0)
+    body = HyperelasticBody(space, material)
+    ev = body.evaluate(0.02 * np.random.default_rng(4).standard_normal(space.n_dofs))
+    textbook = np.einsum("eqaJ,iJkLeq,eqbL,eq->ikeab", space.dN, material.tangent(ev.F), space.dN,
+                         space.dx)
+    K_full = body.pattern.matrix(np.ascontiguousarray(textbook))
+    K = body.stiffness(ev)
+    assert K.has_sorted_indices and np.array_equal(K.indptr, K_full.indptr)
+    assert abs(K - K_full).max() <= 1e-12 * abs(K_full).max()
+
+
+@pytest.mark.parametrize("dim", [3, 2])
+def test_sparsity_pattern_from_node_pairs_equals_the_dof_pattern(dim):
+    """The CSR built from node pairs is the sorted, duplicate-free DOF pattern of the elements,
+    and ``slot`` sends every element entry (i, k, e, a, b) to the CSR index of its DOF pair."""
+    rng = np.random.default_rng(5)
+    nodes = np.array([rng.choice(40, size=6, replace=False) for _ in range(30)])
+    nodes[0, 0] = 39  # the largest node is used
+    pattern = assembly.SparsityPattern.build(nodes, dim)
+    comp = np.arange(dim)
+    rows = dim * nodes[None, None, :, :, None] + comp[:, None, None, None, None]
+    cols = dim * nodes[None, None, :, None, :] + comp[None, :, None, None, None]
+    rows, cols = (a.ravel() for a in np.broadcast_arrays(rows, cols))
+    expected = sorted(set(zip(rows.tolist(), cols.tolist())))
+    csr_rows = np.repeat(np.arange(pattern.n), np.diff(pattern.indptr))
+    assert list(zip(csr_rows.tolist(), pattern.indices.tolist())) == expected
+    np.testing.assert_array_equal(csr_rows[pattern.slot], rows)
+    np.testing.assert_array_equal(pattern.indices[pattern.slot], cols)

@@ -4,4 +4,14 @@ Data flow: scene (TOML) -> geometry (mesh with named regions) -> fe (Newton on t
 energy) -> measure (load cell, extensometers, E and nu) -> report (CSV, JSON, PNG, HTML).
 """
 
+import os as _os
+import sys as _sys
+
+# numpy's OpenBLAS threads busy-wait after each threaded call and then take a core from the
+# sparse factorization (MKL PARDISO runs ~1.7x slower on 2 cores, measured); vlab's dense
+# products are short, so numpy's BLAS runs serial. Only effective before numpy loads; later,
+# vlab.fe.blas.serial_openblas limits it at run time when PARDISO is loaded.
+if "numpy" not in _sys.modules:
+    _os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
 __version__ = "0.1.0"

@@ -11,58 +11,121 @@ scattered into a sparsity pattern that is computed once per mesh (and once per s
 
 from __future__ import annotations
 
-import contextlib
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 import scipy.sparse as sp
 
+from vlab.fe.blas import single_threaded_blas
 from vlab.fe.space import DisplacementSpace
+from vlab.materials.structure import UPPER_PAIRS
 
 
 @dataclass(frozen=True)
 class SparsityPattern:
     """CSR pattern of the global stiffness and the map from element entries to CSR slots.
 
-    Element matrices come in the block layout (i, k, e, a, b) of ``element_stiffness``: the
-    entry couples global DOF d·node[e,a] + i to d·node[e,b] + k (d = dim, 3 or 2). ``slot`` gives the CSR data
-    index of every such entry, so assembly is one weighted ``bincount``.
+    Built from the node-pair pattern (d² times smaller than the DOF pattern): the DOF row
+    d·A + i holds, for every node B coupled to node A (sorted) and every component k, the column
+    d·B + k, so the CSR data index of the entry (A, i, B, k) is
+
+        base[s] + i · rowlen[s] + k,   base[s] = d² indptr_A + d (s − indptr_A),  rowlen = d n_A,
+
+    with s the node-pair slot of (A, B) and n_A the nodes coupled to A. Element matrices come in
+    the block layout (i, k, e, a, b) of ``element_stiffness`` (``slot`` maps every entry to its
+    CSR index, so assembly is one weighted ``bincount``) or, for a symmetric K, as the six blocks
+    i ≤ k of ``upper_element_stiffness`` (``symmetric_matrix``).
     """
 
     n: int
     indptr: np.ndarray
     indices: np.ndarray
-    slot: np.ndarray  # (d² · n_elements · n_local²,) CSR data index of every element entry
-    element_shape: tuple[int, int] = (0, 0)  # (n_elements, n_local)
+    node_slot: np.ndarray   # (n_elements, n_local, n_local) node-pair slot of (node[e,a], node[e,b])
+    base: np.ndarray        # (node pairs,) CSR index of the pair's entry (i, k) = (0, 0)
+    rowlen: np.ndarray      # (node pairs,) length of a DOF row of the pair's first node
+    transpose: np.ndarray   # (node pairs,) slot of the pair (B, A)
+    dim: int = 3
 
     @classmethod
     def build(cls, element_nodes: np.ndarray, dim: int = 3) -> "SparsityPattern":
-        n_el, n_loc = element_nodes.shape
-        n = dim * (int(element_nodes.max()) + 1)
-        comp = np.arange(dim)
-        rows = dim * element_nodes[None, None, :, :, None] + comp[:, None, None, None, None]
-        cols = dim * element_nodes[None, None, :, None, :] + comp[None, :, None, None, None]
-        rows, cols = np.broadcast_arrays(rows, cols)
-        keys, slot = np.unique(rows.astype(np.int64).ravel() * n + cols.ravel(), return_inverse=True)
-        indptr = np.zeros(n + 1, dtype=np.int64)
-        np.cumsum(np.bincount(keys // n, minlength=n), out=indptr[1:])
-        return cls(n, indptr, (keys % n).astype(np.int32), slot.astype(np.intp), (n_el, n_loc))
+        d = dim
+        nodes = np.asarray(element_nodes, dtype=np.int64)
+        n_nodes = int(nodes.max()) + 1
+        keys, node_slot = np.unique((nodes[:, :, None] * n_nodes + nodes[:, None, :]).ravel(),
+                                    return_inverse=True)
+        row, col = keys // n_nodes, keys % n_nodes
+        counts = np.bincount(row, minlength=n_nodes)
+        start = np.zeros(n_nodes + 1, dtype=np.int64)
+        np.cumsum(counts, out=start[1:])
+        base = d * d * start[row] + d * (np.arange(len(keys)) - start[row])
+        rowlen = d * counts[row]
+        indptr = np.zeros(d * n_nodes + 1, dtype=np.int64)
+        np.cumsum(np.repeat(d * counts, d), out=indptr[1:])
+        comp = np.arange(d)
+        where = base[:, None, None] + comp[None, :, None] * rowlen[:, None, None] + comp[None, None, :]
+        indices = np.empty(indptr[-1], dtype=np.int32)
+        indices[where.ravel()] = np.broadcast_to(d * col[:, None, None] + comp[None, None, :],
+                                                 where.shape).ravel()
+        transpose = np.searchsorted(keys, col * n_nodes + row)
+        return cls(d * n_nodes, indptr, indices, node_slot.reshape(nodes.shape + nodes.shape[1:2]),
+                   base, rowlen, transpose, d)
+
+    @property
+    def element_shape(self) -> tuple[int, int]:
+        return self.node_slot.shape[:2]
+
+    @cached_property
+    def slot(self) -> np.ndarray:
+        """(d² · n_elements · n_local²,) CSR data index of every entry (i, k, e, a, b)."""
+        comp = np.arange(self.dim)
+        s = self.node_slot[None, None]
+        where = (self.base[s] + comp[:, None, None, None, None] * self.rowlen[s]
+                 + comp[None, :, None, None, None])
+        return where.ravel()
 
     def matrix(self, element_matrices: np.ndarray) -> sp.csr_matrix:
         """K from element matrices (d,d,e,a,b) in any memory layout (read in memory order)."""
         order = tuple(np.argsort([-s for s in element_matrices.strides], kind="stable"))
         slot = self.slot if order == tuple(range(5)) else self._slot_in(order)
         values = np.transpose(element_matrices, order)
-        data = np.bincount(slot, weights=values.ravel(), minlength=len(self.indices))
+        return self._csr(np.bincount(slot, weights=values.ravel(), minlength=len(self.indices)))
+
+    def symmetric_matrix(self, upper: np.ndarray) -> sp.csr_matrix:
+        """K from the element blocks i ≤ k (6, n_local, n_local, e) of ``upper_element_stiffness``.
+
+        The six blocks are scattered; every entry with i > k is then copied from its transpose
+        (K_(Ai)(Bk) = K_(Bk)(Ai)), a gather of a third of the nonzeros."""
+        data = np.bincount(self._upper_slot, weights=upper.ravel(), minlength=len(self.indices))
+        lower, source = self._mirror
+        data[lower] = data[source]
+        return self._csr(data)
+
+    def _csr(self, data: np.ndarray) -> sp.csr_matrix:
         return sp.csr_matrix((data, self.indices, self.indptr), shape=(self.n, self.n))
+
+    @cached_property
+    def _upper_slot(self) -> np.ndarray:
+        """CSR index of every entry (p, a, b, e) of the six blocks (i, k) = UPPER_PAIRS[p]."""
+        s = np.ascontiguousarray(self.node_slot.transpose(1, 2, 0))    # (a, b, e)
+        base, rowlen = self.base[s], self.rowlen[s]
+        return np.concatenate([(base + i * rowlen + k).ravel() for i, k in UPPER_PAIRS])
+
+    @cached_property
+    def _mirror(self) -> tuple[np.ndarray, np.ndarray]:
+        """(CSR index of every entry with i > k, CSR index of its transpose)."""
+        pairs = [(i, k) for i in range(self.dim) for k in range(i)]
+        t = self.transpose
+        lower = np.concatenate([self.base + i * self.rowlen + k for i, k in pairs])
+        source = np.concatenate([self.base[t] + k * self.rowlen[t] + i for i, k in pairs])
+        return lower, source
 
     def _slot_in(self, order: tuple[int, ...]) -> np.ndarray:
         """``slot`` permuted to the block layout with axes ``order`` (computed once per layout)."""
         cache = self.__dict__.setdefault("_slots", {})
         if order not in cache:
             n_el, n_loc = self.element_shape
-            d = int(round((self.slot.size / (n_el * n_loc * n_loc)) ** 0.5))  # 3, or 2 for a sheet
-            blocks = self.slot.reshape(d, d, n_el, n_loc, n_loc)
+            blocks = self.slot.reshape(self.dim, self.dim, n_el, n_loc, n_loc)
             cache[order] = np.ascontiguousarray(np.transpose(blocks, order)).ravel()
         return cache[order]
 
@@ -113,7 +176,7 @@ class Partition:
 
 def element_forces(space: DisplacementSpace, P: np.ndarray) -> np.ndarray:
     """Σ_q P_iJ dN_a,J dx per element, shape (n_elements, n_local, d), N. P is (d,d,e,q)."""
-    return np.einsum("iJeq,eqaJ,eq->eai", P, space.dN, space.dx, optimize=True)
+    return space.element_forces(P)
 
 
 def element_stiffness(space: DisplacementSpace, A: np.ndarray) -> np.ndarray:
@@ -133,8 +196,12 @@ def element_stiffness(space: DisplacementSpace, A: np.ndarray) -> np.ndarray:
     if space.reference_dN is None:
         return _element_stiffness_generic(space, A if isinstance(A, np.ndarray) else A.full())
     if not isinstance(A, np.ndarray):
-        R = np.ascontiguousarray(np.swapaxes(space.inverse_jacobian, 2, 3))  # (m, J, q, e)
-        return _reference_gemm_batch_last(space, A.pulled_back(R, np.ascontiguousarray(space.dx.T)))
+        upper = upper_element_stiffness(space, A)                  # (p, a, b, e)
+        Ke = np.empty((3, 3) + upper.shape[1:])
+        for p, (i, k) in enumerate(UPPER_PAIRS):
+            Ke[i, k] = upper[p]
+            Ke[k, i] = upper[p].transpose(1, 0, 2)
+        return Ke.transpose(0, 1, 4, 2, 3)
     R = space.inverse_jacobian                     # (m, J, e, q)
     Rw = R * space.dx                              # dx folded into the first pull-back
     X = np.empty_like(A)                           # X_imkL = Σ_J Rw_mJ A_iJkL
@@ -160,37 +227,18 @@ def _reference_gemm(space: DisplacementSpace, Y: np.ndarray) -> np.ndarray:
     return Ke.reshape(3, 3, n_el, n_loc, n_loc)
 
 
-def _reference_gemm_batch_last(space: DisplacementSpace, Y: np.ndarray) -> np.ndarray:
-    """As ``_reference_gemm`` with Y in the layout (i, k, q, m, n, e): (K^e_ik)ᵀ = Mᵀ Y_ik.
+def upper_element_stiffness(space: DisplacementSpace, terms) -> np.ndarray:
+    """The blocks i ≤ k of K^e (``UPPER_PAIRS``), shape (6, n_local, n_local, n_elements), N/mm.
 
-    Returns a (3,3,e,a,b) view of a contiguous (i, k, a, b, e) array (SparsityPattern.matrix
-    reads it in memory order, no copy)."""
+    For a tangent given as ``TangentTerms`` on an isoparametric 3D space: Â (6, q, m, n, e) from
+    ``TangentTerms.pulled_back``, then K^e_ik[(a,b), e] = Σ_(q,m,n) dN̂_qam dN̂_qbn Â_ik[(q,m,n), e]
+    is one dense product (n_local² × 9 n_qp) @ (9 n_qp × n_elements) per block. The three
+    blocks i > k are the transposes (major symmetry), so 6 products instead of 9."""
     n_el, n_qp, n_loc, _ = space.dN.shape
-    G = space.reference_dN                         # (q, a, m)
-    MT = np.einsum("qam,qbn->abqmn", G, G).reshape(n_loc * n_loc, 9 * n_qp)
+    Y = terms.pulled_back(space.inverse_jacobian_qe, space.dx_qe)
     with single_threaded_blas():
-        Ke = np.matmul(MT, Y.reshape(9, 9 * n_qp, n_el))
-    return Ke.reshape(3, 3, n_loc, n_loc, n_el).transpose(0, 1, 4, 2, 3)
-
-
-_BLAS: list = []
-
-
-def single_threaded_blas():
-    """Context limiting numpy's BLAS to one thread (threadpoolctl, if installed).
-
-    The element GEMMs are short; BLAS worker threads that keep spinning after them steal the
-    cores from the sparse factorization that follows (2× slower iterations measured on 2 cores).
-    """
-    if not _BLAS:
-        try:
-            from threadpoolctl import ThreadpoolController
-            _BLAS.append(ThreadpoolController())
-        except ImportError:
-            _BLAS.append(None)
-    if _BLAS[0] is None:
-        return contextlib.nullcontext()
-    return _BLAS[0].limit(limits=1, user_api="blas")
+        Ke = np.matmul(space.reference_products, Y.reshape(len(UPPER_PAIRS), 9 * n_qp, n_el))
+    return Ke.reshape(len(UPPER_PAIRS), n_loc, n_loc, n_el)
 
 
 def _element_stiffness_generic(space: DisplacementSpace, A: np.ndarray) -> np.ndarray:

@@ -62,7 +62,7 @@ def choose(requested: str, n_free: int, direct_backend: str) -> str:
     if requested != "auto":
         return requested
     threshold = CROSSOVER.get(direct_backend, CROSSOVER["superlu"])
-    return "cg-amg" if available() is not None and n_free >= threshold else "direct"
+    return "cg-amg" if n_free >= threshold and available() is not None else "direct"
 
 
 def rigid_body_modes(X: np.ndarray) -> np.ndarray:

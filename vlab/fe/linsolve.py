@@ -105,7 +105,10 @@ CONDITION_LIMIT = 1e14
 
 
 def _norm_inf(K: sp.spmatrix) -> float:
-    return float(abs(K).sum(axis=1).max()) if K.shape[0] else 0.0
+    """max_i Σ_j |K_ij| by row segments of the CSR data (no |K| matrix is formed)."""
+    K = K if sp.isspmatrix_csr(K) else sp.csr_matrix(K)
+    starts = K.indptr[:-1][K.indptr[:-1] < K.indptr[1:]]  # rows with entries
+    return float(np.add.reduceat(np.abs(K.data), starts).max()) if len(starts) else 0.0
 
 
 class SuperLUFactorization(Factorization):

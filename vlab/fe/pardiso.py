@@ -32,6 +32,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
+from vlab.fe.blas import serial_openblas
+
 log = logging.getLogger(__name__)
 
 SLOTS = 2
@@ -59,6 +61,8 @@ def library():
     pypardiso's own (slow, recursive) search."""
     if not _LIB:
         _LIB.append(_load())
+        if _LIB[0] is not None:
+            serial_openblas()
     return _LIB[0]
 
 

@@ -15,7 +15,8 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from vlab.fe.assembly import SparsityPattern, element_forces, element_stiffness, scatter_vector
+from vlab.fe.assembly import (SparsityPattern, element_forces, element_stiffness, scatter_vector,
+                              upper_element_stiffness)
 from vlab.fe.space import DisplacementSpace
 from vlab.fe.timers import ASSEMBLY, timed
 from vlab.tensor import det
@@ -73,5 +74,7 @@ class HyperelasticBody:
         A model that states its tangent as a sum of outer products (``tangent_terms``) is pulled
         back term by term, without the full (3,3,3,3,e,q) tangent."""
         terms = getattr(self.material, "tangent_terms", None)
+        if terms is not None and self.space.reference_dN is not None:
+            return self.pattern.symmetric_matrix(upper_element_stiffness(self.space, terms(evaluation.F)))
         A = terms(evaluation.F) if terms is not None else self.material.tangent(evaluation.F)
         return self.pattern.matrix(element_stiffness(self.space, A))

@@ -15,9 +15,12 @@ material law (vlab.materials.plane) works per unit volume like the 3D ones.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 import skfem
+
+from vlab.fe.blas import single_threaded_blas
 
 # Quadrature order per (cell, element order). P1 tets have constant F, so one point is exact;
 # the others use the lowest Gauss rule that integrates the linearised stiffness exactly.
@@ -97,12 +100,82 @@ class DisplacementSpace:
         return (d * self.element_nodes[:, :, None] + np.arange(d)).reshape(len(self.element_nodes), -1)
 
     def deformation_gradient(self, u: np.ndarray) -> np.ndarray:
-        """F = I + ∂u/∂X at every quadrature point, shape (dim, dim, n_elements, n_qp), unitless."""
+        """F = I + ∂u/∂X at every quadrature point, shape (dim, dim, n_elements, n_qp), unitless.
+
+        With a reference map, ∂u_i/∂X_J = Σ_m (Σ_a u_ai dN̂_qam) ∂ξ_m/∂X_J: the inner sum is one
+        dense product (3 n_elements × n_local) @ (n_local × 3 n_qp) shared by all elements, the
+        outer one 27 element-wise products (2–3× faster than contracting the physical dN)."""
         ue = u.reshape(-1, self.dim)[self.element_nodes]  # (e, a, i)
-        grad = np.einsum("eai,eqaJ->iJeq", ue, self.dN, optimize=True)
+        if self.reference_dN is None:
+            grad = np.einsum("eai,eqaJ->iJeq", ue, self.dN, optimize=True)
+        else:
+            n_el, n_qp = self.dx.shape
+            ui = np.ascontiguousarray(ue.transpose(2, 0, 1)).reshape(3 * n_el, -1)
+            with single_threaded_blas():
+                G = (ui @ self._reference_dN_am).reshape(3, n_el, n_qp, 3)      # ∂u_i/∂ξ_m
+            G = np.ascontiguousarray(G.transpose(0, 3, 1, 2))                    # (i, m, e, q)
+            R = self.inverse_jacobian
+            grad = np.empty((3, 3, n_el, n_qp))
+            for i in range(3):
+                for J in range(3):
+                    g = np.multiply(G[i, 0], R[0, J], out=grad[i, J])
+                    g += G[i, 1] * R[1, J]
+                    g += G[i, 2] * R[2, J]
         for i in range(self.dim):
             grad[i, i] += 1.0
         return grad
+
+    def element_forces(self, P: np.ndarray) -> np.ndarray:
+        """Σ_q P_iJ dN_a,J dx per element, shape (n_elements, n_local, d), N. P is (d,d,e,q).
+
+        With a reference map: Σ_(q,m) H_im dN̂_qam with H_im = Σ_J P_iJ (∂ξ_m/∂X_J dx), one dense
+        product (3 n_elements × 3 n_qp) @ (3 n_qp × n_local)."""
+        if self.reference_dN is None:
+            return np.einsum("iJeq,eqaJ,eq->eai", P, self.dN, self.dx, optimize=True)
+        n_el, n_qp = self.dx.shape
+        Rw = self._inverse_jacobian_dx
+        H = np.empty((3, n_el, n_qp, 3))                                         # (i, e, q, m)
+        for i in range(3):
+            for m in range(3):
+                H[i, :, :, m] = P[i, 0] * Rw[m, 0] + P[i, 1] * Rw[m, 1] + P[i, 2] * Rw[m, 2]
+        with single_threaded_blas():
+            f = (H.reshape(3 * n_el, 3 * n_qp) @ self._reference_dN_qma).reshape(3, n_el, -1)
+        return f.transpose(1, 2, 0)
+
+    @cached_property
+    def _reference_dN_am(self) -> np.ndarray:
+        """dN̂ as (n_local, (q, m)), C-contiguous."""
+        q, a, m = self.reference_dN.shape
+        return np.ascontiguousarray(self.reference_dN.transpose(1, 0, 2).reshape(a, q * m))
+
+    @cached_property
+    def _reference_dN_qma(self) -> np.ndarray:
+        """dN̂ as ((q, m), n_local), C-contiguous."""
+        q, a, m = self.reference_dN.shape
+        return np.ascontiguousarray(self.reference_dN.transpose(0, 2, 1).reshape(q * m, a))
+
+    @cached_property
+    def inverse_jacobian_qe(self) -> np.ndarray:
+        """∂ξ_m/∂X_J as (m, J, q, e), C-contiguous (element index last for the tangent kernels)."""
+        return np.ascontiguousarray(np.swapaxes(self.inverse_jacobian, 2, 3))
+
+    @cached_property
+    def dx_qe(self) -> np.ndarray:
+        """dx as (q, e), C-contiguous, mm³."""
+        return np.ascontiguousarray(self.dx.T)
+
+    @cached_property
+    def reference_products(self) -> np.ndarray:
+        """dN̂_qam dN̂_qbn as ((a, b), (q, m, n)), C-contiguous: the shared factor of every
+        element stiffness on the reference cell."""
+        G = self.reference_dN
+        n_qp, n_loc, _ = G.shape
+        return np.einsum("qam,qbn->abqmn", G, G).reshape(n_loc * n_loc, 9 * n_qp)
+
+    @cached_property
+    def _inverse_jacobian_dx(self) -> np.ndarray:
+        """∂ξ_m/∂X_J · dx, (m, J, e, q), mm²."""
+        return self.inverse_jacobian * self.dx
 
     def probe_matrix(self, points: np.ndarray):
         """Sparse (n_points, n_nodes) interpolation matrix at reference points (dim, n_points)."""
@@ -127,3 +200,4 @@ def _reference_map(basis: skfem.CellBasis, dN: np.ndarray):
                                                     atol=1e-12 * np.abs(dN).max()):
         return None, None
     return reference_dN, np.ascontiguousarray(inverse_jacobian)
+

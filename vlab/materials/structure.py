@@ -62,37 +62,43 @@ class TangentTerms:
         return A
 
     def pulled_back(self, R: np.ndarray, dx: np.ndarray) -> np.ndarray:
-        """Â in the layout (i, k, q, m, n, e), C-contiguous, with dx folded in (N/mm · mm).
+        """Â for the six blocks i ≤ k, layout (p, q, m, n, e) with p over UPPER_PAIRS,
+        C-contiguous, dx folded in (N/mm · mm).
 
         R = ∂ξ_m/∂X_J with shape (m, J, q, e) and dx with shape (q, e), element index last so
         that every operation runs over long contiguous rows; the batch of the terms must be
-        (e, q). All terms are summed slice by slice (i, k, m, n), so each output slice is written
-        once while its inputs are in cache; the major symmetry Â_imkn = Â_knim fills i > k."""
+        (e, q). The blocks i > k follow from the major symmetry Â_imkn = Â_knim (a tangent is the
+        second derivative of ψ), so they are never formed. Each output slice (p, m, n) is
+        written once while its inputs are in cache."""
         n_qp, n_el = dx.shape
         dyads = [(_pull(P, R, dx), _pull(Q, R)) for P, Q in self.dyad]      # (i, q, m, e)
         crosses = [(_pull(P, R, dx), _pull(Q, R)) for P, Q in self.cross]
-        krons = [(B if np.isscalar(B) else _batch_last(B), _pull_both(C, R, dx))  # (q, m, n, e)
-                 for B, C in self.kron]
-        Y = np.empty((3, 3, n_qp, 3, 3, n_el))
+        krons = [(_batch_last(B), _pull_both(C, R, dx))                    # (q, m, n, e)
+                 for B, C in self.kron if not np.isscalar(B)]
+        deltas = [B * _pull_both(C, R, dx) for B, C in self.kron if np.isscalar(B)]  # B δ_ik
+        Y = np.empty((len(UPPER_PAIRS), n_qp, 3, 3, n_el))
         scratch = np.empty((n_qp, n_el))
-        for i in range(3):
-            for k in range(i, 3):
-                for m in range(3):
-                    for n in range(3):
-                        y = Y[i, k, :, m, n]
+        for p, (i, k) in enumerate(UPPER_PAIRS):
+            for m in range(3):
+                for n in range(3):
+                    y = Y[p, :, m, n]
+                    parts = ([(H[i, :, m], H2[k, :, n]) for H, H2 in dyads]      # H_im H'_kn
+                             + [(H[i, :, n], H2[k, :, m]) for H, H2 in crosses]  # H_in H'_km
+                             + [(B[i, k], RCR[:, m, n]) for B, RCR in krons])   # B_ik (RCRᵀ)_mn
+                    scaled = [RCR[:, m, n] for RCR in deltas] if i == k else []
+                    if parts:
+                        np.multiply(*parts[0], out=y)
+                        for a, b in parts[1:]:
+                            y += np.multiply(a, b, out=scratch)
+                    else:
                         y.fill(0.0)
-                        for H, H2 in dyads:                 # H_im H'_kn
-                            y += np.multiply(H[i, :, m], H2[k, :, n], out=scratch)
-                        for H, H2 in crosses:               # H_in H'_km
-                            y += np.multiply(H[i, :, n], H2[k, :, m], out=scratch)
-                        for B, RCR in krons:                # B_ik (R C Rᵀ)_mn
-                            if not np.isscalar(B):
-                                y += np.multiply(B[i, k], RCR[:, m, n], out=scratch)
-                            elif i == k:
-                                y += B * RCR[:, m, n]
-                if i != k:
-                    Y[k, i] = Y[i, k].transpose(0, 2, 1, 3)
+                    for term in scaled:
+                        y += term
         return Y
+
+
+#: The (i, k) blocks i ≤ k of a major-symmetric tangent, in the order of ``pulled_back``.
+UPPER_PAIRS = ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))
 
 
 def _batch_last(P: np.ndarray) -> np.ndarray:
