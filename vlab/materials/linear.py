@@ -77,5 +77,5 @@ class LinearElastic(Material):
         """kron μ(δ, δ) + dyad (λI, I) + cross (μI, I)."""
         identity = identity_like(as_tensor_field(F))
         return TangentTerms(identity.shape[2:], kron=[(self.mu, 1.0)],
-                            dyad=[(self.lmbda * identity, identity)],
-                            cross=[(self.mu * identity, identity)])
+                            dyad=[((self.lmbda, identity), identity)],
+                            cross=[((self.mu, identity), identity)])

@@ -63,5 +63,5 @@ class NeoHookean(Material):
         with np.errstate(all="ignore"):
             G, J = inv_transpose(F)
             c = self.mu - self.lmbda * np.log(J)
-        return TangentTerms(F.shape[2:], kron=[(self.mu, 1.0)], dyad=[(self.lmbda * G, G)],
-                            cross=[(c * G, G)])
+        return TangentTerms(F.shape[2:], kron=[(self.mu, 1.0)], dyad=[((self.lmbda, G), G)],
+                            cross=[((c, G), G)])

@@ -18,6 +18,9 @@ follows term by term with H = P Rᵀ, H' = Q Rᵀ (3×3 per point):
 
 so the full (3,3,3,3,e,q) array is never formed. ``full()`` builds it (for the Taylor tests and
 any kernel without a reference map): both paths come from the same terms.
+
+The first field of a dyad or cross may be given as ``(c, X)``, meaning c·X with c a float or a
+scalar field (*batch): the common case P = c Q (λ F⁻ᵀ ⊗ F⁻ᵀ) then pulls X back once and scales.
 """
 
 from __future__ import annotations
@@ -42,10 +45,12 @@ class TangentTerms:
         """The tangent A, shape (3,3,3,3,*batch), MPa (a new array)."""
         A = np.zeros((3, 3, 3, 3) + self.batch)
         for P, Q in self.dyad:
+            P = _scaled(P)
             for i in range(3):
                 for J in range(3):
                     A[i, J] += P[i, J] * Q
         for P, Q in self.cross:
+            P = _scaled(P)
             for i in range(3):
                 for L in range(3):
                     A[i, :, :, L] += P[i, L] * Q.swapaxes(0, 1)
@@ -71,8 +76,20 @@ class TangentTerms:
         second derivative of ψ), so they are never formed. Each output slice (p, m, n) is
         written once while its inputs are in cache."""
         n_qp, n_el = dx.shape
-        dyads = [(_pull(P, R, dx), _pull(Q, R)) for P, Q in self.dyad]      # (i, q, m, e)
-        crosses = [(_pull(P, R, dx), _pull(Q, R)) for P, Q in self.cross]
+        pulls: dict[int, np.ndarray] = {}                                  # id(X) -> X Rᵀ
+
+        def pull(X: np.ndarray) -> np.ndarray:
+            if id(X) not in pulls:
+                pulls[id(X)] = _pull(X, R)
+            return pulls[id(X)]
+
+        def weighted(P) -> np.ndarray:                                     # P Rᵀ dx
+            c, X = P if isinstance(P, tuple) else (1.0, P)
+            w = dx * (c if np.isscalar(c) else np.asarray(c).T)
+            return pull(X) * w[None, :, None, :]
+
+        dyads = [(weighted(P), pull(Q)) for P, Q in self.dyad]            # (i, q, m, e)
+        crosses = [(weighted(P), pull(Q)) for P, Q in self.cross]
         krons = [(_batch_last(B), _pull_both(C, R, dx))                    # (q, m, n, e)
                  for B, C in self.kron if not np.isscalar(B)]
         deltas = [B * _pull_both(C, R, dx) for B, C in self.kron if np.isscalar(B)]  # B δ_ik
@@ -82,6 +99,9 @@ class TangentTerms:
             for m in range(3):
                 for n in range(3):
                     y = Y[p, :, m, n]
+                    if i == k and n < m:                    # Â_imin = Â_inim
+                        np.copyto(y, Y[p, :, n, m])
+                        continue
                     parts = ([(H[i, :, m], H2[k, :, n]) for H, H2 in dyads]      # H_im H'_kn
                              + [(H[i, :, n], H2[k, :, m]) for H, H2 in crosses]  # H_in H'_km
                              + [(B[i, k], RCR[:, m, n]) for B, RCR in krons])   # B_ik (RCRᵀ)_mn
@@ -101,13 +121,21 @@ class TangentTerms:
 UPPER_PAIRS = ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))
 
 
+def _scaled(P) -> np.ndarray:
+    """P, or c·X for P = (c, X)."""
+    if not isinstance(P, tuple):
+        return P
+    c, X = P
+    return c * X
+
+
 def _batch_last(P: np.ndarray) -> np.ndarray:
     """(3,3,e,q) -> (3,3,q,e) contiguous."""
     return np.ascontiguousarray(np.swapaxes(P, 2, 3))
 
 
-def _pull(P: np.ndarray, R: np.ndarray, dx: np.ndarray | None = None) -> np.ndarray:
-    """H_im = Σ_J P_iJ R_mJ (· dx) per point: P (3,3,e,q), R (m,J,q,e) -> H (i,q,m,e)."""
+def _pull(P: np.ndarray, R: np.ndarray) -> np.ndarray:
+    """H_im = Σ_J P_iJ R_mJ per point: P (3,3,e,q), R (m,J,q,e) -> H (i,q,m,e)."""
     P = _batch_last(P)
     H = np.empty((3, R.shape[2], 3, R.shape[3]))
     for i in range(3):
@@ -116,8 +144,6 @@ def _pull(P: np.ndarray, R: np.ndarray, dx: np.ndarray | None = None) -> np.ndar
             np.multiply(P[i, 0], R[m, 0], out=h)
             h += P[i, 1] * R[m, 1]
             h += P[i, 2] * R[m, 2]
-            if dx is not None:
-                h *= dx
     return H
 
 

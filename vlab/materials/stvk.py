@@ -61,5 +61,5 @@ class StVenantKirchhoff(Material):
         S = self._pk2(green_strain(F))
         b = dot(F, transpose(F))
         b *= self.mu
-        return TangentTerms(F.shape[2:], kron=[(1.0, S), (b, 1.0)], dyad=[(self.lmbda * F, F)],
-                            cross=[(self.mu * F, F)])
+        return TangentTerms(F.shape[2:], kron=[(1.0, S), (b, 1.0)], dyad=[((self.lmbda, F), F)],
+                            cross=[((self.mu, F), F)])
