@@ -13,5 +13,7 @@ import sys as _sys
 # vlab.fe.blas.serial_openblas limits it at run time when PARDISO is loaded.
 if "numpy" not in _sys.modules:
     _os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+#: True when numpy's BLAS is known to be serial for the whole process (no run-time limit needed).
+SERIAL_BLAS = "numpy" not in _sys.modules and _os.environ.get("OPENBLAS_NUM_THREADS") == "1"
 
 __version__ = "0.1.0"

@@ -23,6 +23,7 @@ from vlab.fe.problem import J_COLLAPSE, Evaluation
 from vlab.fe.space import DisplacementSpace
 from vlab.materials.history import HistoryMaterial
 from vlab.post.fields import cauchy, cell_average
+from vlab.tensor import det
 
 
 class HistoryBody:
@@ -45,7 +46,7 @@ class HistoryBody:
 
     def evaluate(self, u: np.ndarray) -> Evaluation:
         F = self.space.deformation_gradient(u)
-        J = np.linalg.det(np.moveaxis(F, (0, 1), (-2, -1)))
+        J = det(F)
         worst = np.unravel_index(int(np.argmin(J)), J.shape)
         where = (int(worst[0]), int(worst[1]))
         min_J = float(J[worst])

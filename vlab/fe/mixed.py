@@ -37,6 +37,7 @@ import skfem
 from vlab.fe.assembly import SparsityPattern, element_forces, element_stiffness, scatter_vector
 from vlab.fe.problem import J_COLLAPSE, Evaluation
 from vlab.fe.space import DisplacementSpace
+from vlab.tensor import det
 
 
 class MixedUnsupported(ValueError):
@@ -114,7 +115,7 @@ class MixedHyperelasticBody:
     def evaluate(self, u: np.ndarray) -> MixedEvaluation:
         law, dx = self.material, self.space.dx
         F = self.space.deformation_gradient(u)
-        J = np.linalg.det(np.moveaxis(F, (0, 1), (-2, -1)))
+        J = det(F)
         x = self.projection(law.volume(F))                        # θ − 1, the projected volume change
         theta = 1.0 + x
         ratio = np.minimum(J, theta) if np.isfinite(law.theta_min) else J

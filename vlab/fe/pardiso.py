@@ -70,11 +70,14 @@ def _load():
     # MKL's OpenMP threads otherwise spin for 200 ms after each call, stealing the cores from
     # the numpy work (assembly) that follows every factorization; read when the runtime starts.
     os.environ.setdefault("KMP_BLOCKTIME", "0")
-    candidates = [os.environ.get("PYPARDISO_MKL_RT"), ctypes.util.find_library("mkl_rt")]
-    for prefix in dict.fromkeys((sys.prefix, site.getuserbase())):
-        candidates += sorted(glob.glob(os.path.join(prefix, "lib", "libmkl_rt.so*")), key=len)
-        candidates += sorted(glob.glob(os.path.join(prefix, "Library", "bin", "mkl_rt*.dll")), key=len)
-    for path in filter(None, candidates):
+    def candidates():
+        yield os.environ.get("PYPARDISO_MKL_RT")
+        for prefix in dict.fromkeys((sys.prefix, site.getuserbase())):
+            yield from sorted(glob.glob(os.path.join(prefix, "lib", "libmkl_rt.so*")), key=len)
+            yield from sorted(glob.glob(os.path.join(prefix, "Library", "bin", "mkl_rt*.dll")), key=len)
+        yield ctypes.util.find_library("mkl_rt")  # last: it runs ldconfig/gcc (~25 ms)
+
+    for path in filter(None, candidates()):
         try:
             fn = ctypes.CDLL(path).pardiso
         except (OSError, AttributeError):
