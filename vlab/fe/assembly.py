@@ -228,17 +228,21 @@ def _reference_gemm(space: DisplacementSpace, Y: np.ndarray) -> np.ndarray:
 
 
 def upper_element_stiffness(space: DisplacementSpace, terms) -> np.ndarray:
-    """The blocks i ≤ k of K^e (``UPPER_PAIRS``), shape (6, n_local, n_local, n_elements), N/mm.
+    """The blocks i ≤ k of K^e (``UPPER_PAIRS``), shape (6, n_local, n_local, n_elements), N/mm,
+    in a workspace array of the space (valid until the next call).
 
     For a tangent given as ``TangentTerms`` on an isoparametric 3D space: Â (6, q, m, n, e) from
     ``TangentTerms.pulled_back``, then K^e_ik[(a,b), e] = Σ_(q,m,n) dN̂_qam dN̂_qbn Â_ik[(q,m,n), e]
     is one dense product (n_local² × 9 n_qp) @ (9 n_qp × n_elements) per block. The three
     blocks i > k are the transposes (major symmetry), so 6 products instead of 9."""
     n_el, n_qp, n_loc, _ = space.dN.shape
-    Y = terms.pulled_back(space.inverse_jacobian_qe, space.dx_qe)
+    n = len(UPPER_PAIRS)
+    Y = terms.pulled_back(space.inverse_jacobian_qe, space.dx_qe,
+                          out=space.workspace("pulled-back tangent", (n, n_qp, 3, 3, n_el)))
+    Ke = space.workspace("upper element stiffness", (n, n_loc * n_loc, n_el))
     with single_threaded_blas():
-        Ke = np.matmul(space.reference_products, Y.reshape(len(UPPER_PAIRS), 9 * n_qp, n_el))
-    return Ke.reshape(len(UPPER_PAIRS), n_loc, n_loc, n_el)
+        np.matmul(space.reference_products, Y.reshape(n, 9 * n_qp, n_el), out=Ke)
+    return Ke.reshape(n, n_loc, n_loc, n_el)
 
 
 def _element_stiffness_generic(space: DisplacementSpace, A: np.ndarray) -> np.ndarray:

@@ -69,7 +69,8 @@ def inertia(K: sp.spmatrix, zero_tol: float = ZERO_TOL) -> Inertia:
     return Inertia(None, None, None, "unknown (SuperLU pivoted, system too large for dense)")
 
 
-def factorized_inertia(factor, K: sp.spmatrix, zero_tol: float = ZERO_TOL) -> Inertia:
+def factorized_inertia(factor, K: sp.spmatrix, zero_tol: float = ZERO_TOL,
+                       verify_zero: bool = True) -> Inertia:
     """The inertia of K from the Newton solver's own factorization of K (no second one) when
     that factorization is conclusive, else ``inertia(K)``:
 
@@ -80,12 +81,16 @@ def factorized_inertia(factor, K: sp.spmatrix, zero_tol: float = ZERO_TOL) -> In
       λ_min ≈ 0 the very first step lands on its eigenvector (the gap to λ₂ is ~1e10), so
       a quotient ≤ zero_tol · max|K_ii| means a zero eigenvalue and the count is done anew.
     - SuperLU in symmetric mode without pivoting: the signs of diag U as in ``inertia``.
-    Everything else (PARDISO's LDLᵀ with perturbed pivots, pivoted LU) is counted anew."""
+    Everything else (PARDISO's LDLᵀ with perturbed pivots, pivoted LU) is counted anew.
+
+    ``verify_zero=False`` skips the two solves behind a Cholesky: for states along a load path
+    whose unloaded K_ff was verified free of zero eigenvalues, where an eigenvalue reaches zero
+    only by crossing it (and the crossing shows as a failed Cholesky, i.e. negative pivots)."""
     backend = getattr(factor, "backend", "")
     if backend == "pardiso" and getattr(factor, "cholesky", False):
         n = K.shape[0]
         scale = float(np.max(np.abs(K.diagonal()), initial=0.0)) or 1.0
-        if n == 0 or _rayleigh_after_inverse_iteration(factor.solve, K) > zero_tol * scale:
+        if n == 0 or not verify_zero or _rayleigh_after_inverse_iteration(factor.solve, K) > zero_tol * scale:
             return Inertia(0, 0, n, "Cholesky (PARDISO, all pivots positive)", factor.solve)
         return inertia(K, zero_tol)
     pivots = getattr(factor, "pivots", None)

