@@ -76,3 +76,21 @@ def test_solver_choice_is_validated():
         linsolve.use_solver("cholmod")
     linsolve.use_solver("superlu")
     assert linsolve.solver_in_use() == "superlu"
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_a_nearly_singular_spd_matrix_is_reported_by_its_condition_number(backend):
+    """A Cholesky of an SPD matrix with one eigenvalue ~1e-17 of the others succeeds and is
+    backward stable; the solve proves κ∞ > 1e14 and is refused (the cheap norm bound must not
+    let it through)."""
+    linsolve.use_solver(backend)
+    K = _laplacian_3d(4).tolil()
+    K[0, 0] = K[0, 0] * 1e-17 + 1e-17  # decouple DOF 0 with a tiny positive stiffness
+    K[0, 1:] = 0.0
+    K[1:, 0] = 0.0
+    K = K.tocsr()
+    F = linsolve.factorize(K)
+    assert F.norm_bound >= linsolve._norm_inf(K) * (1 - 1e-15)  # an upper bound
+    with pytest.raises(linsolve.SingularSystem, match="condition number"):
+        F.solve(np.r_[1.0, np.zeros(K.shape[0] - 1)])
+    assert abs(F.norm_inf - linsolve._norm_inf(K)) <= 1e-12 * linsolve._norm_inf(K)
