@@ -91,12 +91,14 @@ class SparsityPattern:
         values = np.transpose(element_matrices, order)
         return self._csr(np.bincount(slot, weights=values.ravel(), minlength=len(self.indices)))
 
-    def symmetric_matrix(self, upper: np.ndarray) -> sp.csr_matrix:
-        """K from the element blocks i ≤ k (6, n_local, n_local, e) of ``upper_element_stiffness``.
+    def symmetric_matrix(self, blocks: np.ndarray) -> sp.csr_matrix:
+        """K from the flat element blocks of ``upper_element_stiffness``: the diagonal blocks
+        i = k as their entries a ≤ b, then the blocks i < k whole.
 
-        The six blocks are scattered; every entry with i > k is then copied from its transpose
-        (K_(Ai)(Bk) = K_(Bk)(Ai)), a gather of a third of the nonzeros."""
-        data = np.bincount(self._upper_slot, weights=upper.ravel(), minlength=len(self.indices))
+        Every diagonal-block entry goes to the upper-triangle entry of its node pair; the blocks
+        i < k go where they belong. The rest (i > k, and i = k below the diagonal) is then copied
+        from its transpose, K_(Ai)(Bk) = K_(Bk)(Ai): a gather of about half the nonzeros."""
+        data = np.bincount(self._split_slots, weights=blocks, minlength=len(self.indices))
         lower, source = self._mirror
         data[lower] = data[source]
         return self._csr(data)
@@ -105,20 +107,36 @@ class SparsityPattern:
         return sp.csr_matrix((data, self.indices, self.indptr), shape=(self.n, self.n))
 
     @cached_property
-    def _upper_slot(self) -> np.ndarray:
-        """CSR index of every entry (p, a, b, e) of the six blocks (i, k) = UPPER_PAIRS[p]."""
-        s = np.ascontiguousarray(self.node_slot.transpose(1, 2, 0))    # (a, b, e)
+    def _split_slots(self) -> np.ndarray:
+        """CSR indices of the entries (p, (a ≤ b), e) of the diagonal blocks, each sent to the
+        upper-triangle entry of its node pair, then of (p, a, b, e) of the blocks i < k."""
+        n_loc = self.node_slot.shape[1]
+        a, b = np.triu_indices(n_loc)
+        s = np.ascontiguousarray(self.node_slot.transpose(1, 2, 0))     # (a, b, e)
+        pair = s[a, b]                                                   # (pairs, e)
+        upper = np.where(self._is_upper_pair[pair], pair, self.transpose[pair])
+        base, rowlen = self.base[upper], self.rowlen[upper]
+        diagonal = np.concatenate([(base + i * rowlen + i).ravel() for i, k in UPPER_PAIRS if i == k])
         base, rowlen = self.base[s], self.rowlen[s]
-        return np.concatenate([(base + i * rowlen + k).ravel() for i, k in UPPER_PAIRS])
+        off = np.concatenate([(base + i * rowlen + k).ravel() for i, k in UPPER_PAIRS if i < k])
+        return np.concatenate([diagonal, off])
+
+    @cached_property
+    def _is_upper_pair(self) -> np.ndarray:
+        """(node pairs,) True where the pair (A, B) has A ≤ B."""
+        return np.arange(len(self.base)) <= self.transpose
 
     @cached_property
     def _mirror(self) -> tuple[np.ndarray, np.ndarray]:
-        """(CSR index of every entry with i > k, CSR index of its transpose)."""
-        pairs = [(i, k) for i in range(self.dim) for k in range(i)]
+        """(CSR index of every entry filled from its transpose, CSR index of that transpose):
+        all entries with i > k, and those with i = k of node pairs A > B."""
         t = self.transpose
-        lower = np.concatenate([self.base + i * self.rowlen + k for i, k in pairs])
-        source = np.concatenate([self.base[t] + k * self.rowlen[t] + i for i, k in pairs])
-        return lower, source
+        lower = [self.base + i * self.rowlen + k for i in range(self.dim) for k in range(i)]
+        source = [self.base[t] + k * self.rowlen[t] + i for i in range(self.dim) for k in range(i)]
+        below = np.flatnonzero(~self._is_upper_pair)
+        lower += [self.base[below] + i * self.rowlen[below] + i for i in range(self.dim)]
+        source += [self.base[t[below]] + i * self.rowlen[t[below]] + i for i in range(self.dim)]
+        return np.concatenate(lower), np.concatenate(source)
 
     def _slot_in(self, order: tuple[int, ...]) -> np.ndarray:
         """``slot`` permuted to the block layout with axes ``order`` (computed once per layout)."""
@@ -196,11 +214,17 @@ def element_stiffness(space: DisplacementSpace, A: np.ndarray) -> np.ndarray:
     if space.reference_dN is None:
         return _element_stiffness_generic(space, A if isinstance(A, np.ndarray) else A.full())
     if not isinstance(A, np.ndarray):
-        upper = upper_element_stiffness(space, A)                  # (p, a, b, e)
-        Ke = np.empty((3, 3) + upper.shape[1:])
+        n_loc = space.dN.shape[2]
+        diagonal, off = split_upper(upper_element_stiffness(space, A), n_loc, space.dN.shape[0])
+        a, b = np.triu_indices(n_loc)
+        Ke = np.empty((3, 3) + off.shape[1:])
         for p, (i, k) in enumerate(UPPER_PAIRS):
-            Ke[i, k] = upper[p]
-            Ke[k, i] = upper[p].transpose(1, 0, 2)
+            if i == k:
+                Ke[i, i][a, b] = diagonal[p]
+                Ke[i, i][b, a] = diagonal[p]
+            else:
+                Ke[i, k] = off[p - 3]
+                Ke[k, i] = off[p - 3].transpose(1, 0, 2)
         return Ke.transpose(0, 1, 4, 2, 3)
     R = space.inverse_jacobian                     # (m, J, e, q)
     Rw = R * space.dx                              # dx folded into the first pull-back
@@ -228,21 +252,35 @@ def _reference_gemm(space: DisplacementSpace, Y: np.ndarray) -> np.ndarray:
 
 
 def upper_element_stiffness(space: DisplacementSpace, terms) -> np.ndarray:
-    """The blocks i ≤ k of K^e (``UPPER_PAIRS``), shape (6, n_local, n_local, n_elements), N/mm,
-    in a workspace array of the space (valid until the next call).
+    """The element blocks i ≤ k of K^e, N/mm, flat in a workspace array of the space (valid
+    until the next call): the diagonal blocks (0,0), (1,1), (2,2) as their entries a ≤ b,
+    (3, n_local(n_local+1)/2, n_elements), then the blocks (0,1), (0,2), (1,2) whole,
+    (3, n_local, n_local, n_elements); ``split_upper`` gives the two views.
 
     For a tangent given as ``TangentTerms`` on an isoparametric 3D space: Â (6, q, m, n, e) from
     ``TangentTerms.pulled_back``, then K^e_ik[(a,b), e] = Σ_(q,m,n) dN̂_qam dN̂_qbn Â_ik[(q,m,n), e]
-    is one dense product (n_local² × 9 n_qp) @ (9 n_qp × n_elements) per block. The three
-    blocks i > k are the transposes (major symmetry), so 6 products instead of 9."""
+    is one dense product (n_local² × 9 n_qp) @ (9 n_qp × n_elements) per block. The blocks i > k
+    are the transposes (major symmetry) and a diagonal block is symmetric in (a, b), so 6
+    products instead of 9, the diagonal ones with the rows a ≤ b only."""
     n_el, n_qp, n_loc, _ = space.dN.shape
     n = len(UPPER_PAIRS)
     Y = terms.pulled_back(space.inverse_jacobian_qe, space.dx_qe,
                           out=space.workspace("pulled-back tangent", (n, n_qp, 3, 3, n_el)))
-    Ke = space.workspace("upper element stiffness", (n, n_loc * n_loc, n_el))
+    Y = Y.reshape(n, 9 * n_qp, n_el)
+    pairs = n_loc * (n_loc + 1) // 2
+    flat = space.workspace("upper element blocks", (3 * (pairs + n_loc * n_loc) * n_el,))
+    diagonal, off = split_upper(flat, n_loc, n_el)
     with single_threaded_blas():
-        np.matmul(space.reference_products, Y.reshape(n, 9 * n_qp, n_el), out=Ke)
-    return Ke.reshape(n, n_loc, n_loc, n_el)
+        np.matmul(space.reference_products_upper, Y[:3], out=diagonal)
+        np.matmul(space.reference_products, Y[3:], out=off.reshape(3, n_loc * n_loc, n_el))
+    return flat
+
+
+def split_upper(flat: np.ndarray, n_loc: int, n_el: int) -> tuple[np.ndarray, np.ndarray]:
+    """Views (diagonal (3, n_local(n_local+1)/2, e), off (3, n_local, n_local, e)) of the flat
+    blocks of ``upper_element_stiffness``."""
+    size = 3 * n_loc * (n_loc + 1) // 2 * n_el
+    return (flat[:size].reshape(3, -1, n_el), flat[size:].reshape(3, n_loc, n_loc, n_el))
 
 
 def _element_stiffness_generic(space: DisplacementSpace, A: np.ndarray) -> np.ndarray:

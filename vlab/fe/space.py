@@ -184,6 +184,13 @@ class DisplacementSpace:
         return np.einsum("qam,qbn->abqmn", G, G).reshape(n_loc * n_loc, 9 * n_qp)
 
     @cached_property
+    def reference_products_upper(self) -> np.ndarray:
+        """The rows (a, b) with a ≤ b of ``reference_products``, C-contiguous."""
+        n_loc = self.reference_dN.shape[1]
+        a, b = np.triu_indices(n_loc)
+        return np.ascontiguousarray(self.reference_products[a * n_loc + b])
+
+    @cached_property
     def _inverse_jacobian_dx(self) -> np.ndarray:
         """∂ξ_m/∂X_J · dx, (m, J, e, q), mm²."""
         return self.inverse_jacobian * self.dx

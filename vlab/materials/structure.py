@@ -117,8 +117,9 @@ class TangentTerms:
         return Y
 
 
-#: The (i, k) blocks i ≤ k of a major-symmetric tangent, in the order of ``pulled_back``.
-UPPER_PAIRS = ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))
+#: The (i, k) blocks i ≤ k of a major-symmetric tangent, in the order of ``pulled_back``: the
+#: three diagonal blocks (symmetric in (m, n), so their element matrices are symmetric) first.
+UPPER_PAIRS = ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))
 
 
 def _scaled(P) -> np.ndarray:
