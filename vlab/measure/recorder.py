@@ -20,7 +20,7 @@ import numpy as np
 from vlab.fe.space import DisplacementSpace
 from vlab.fe.stepping import Level
 from vlab.geometry.specimen import Specimen
-from vlab.measure.instruments import Extensometer, LoadCell, ThicknessGauge
+from vlab.measure.instruments import LoadCell, ThicknessGauge, extensometers
 
 
 @dataclass
@@ -65,10 +65,14 @@ class Recorder:
         self.target = stretch
         planes = specimen.symmetry
         self.load_cells = {a: LoadCell(moving_dofs[a], specimen.force_factor(a)) for a in self.axes}
-        self.extensometers = {a: Extensometer(space, specimen.extensometers[a], planes) for a in self.axes}
-        self.width = Extensometer(space, specimen.transverse[0], planes)
+        marks = [specimen.extensometers[a] for a in self.axes] + [specimen.transverse[0]]
+        if space.dim == 3:
+            marks.append(specimen.thickness)
+        found = extensometers(space, marks, planes)
+        self.extensometers = dict(zip(self.axes, found))
+        self.width = found[len(self.axes)]
         self.thickness = (ThicknessGauge(space, material, specimen.thickness) if space.dim == 2
-                          else Extensometer(space, specimen.thickness, planes))
+                          else found[-1])
         self.curve = Curve(area0={a: specimen.area0[a] for a in self.axes})
         for a in self.axes:
             self.curve.stretch[a], self.curve.force[a], self.curve.strain[a] = [], [], []
