@@ -75,14 +75,16 @@ class SparsityPattern:
     def element_shape(self) -> tuple[int, int]:
         return self.node_slot.shape[:2]
 
+    def entry(self, pair, i, k) -> np.ndarray:
+        """CSR data index of the entry (row component i, column component k) of node pair(s)."""
+        return self.base[pair] + i * self.rowlen[pair] + k
+
     @cached_property
     def slot(self) -> np.ndarray:
         """(d² · n_elements · n_local²,) CSR data index of every entry (i, k, e, a, b)."""
         comp = np.arange(self.dim)
-        s = self.node_slot[None, None]
-        where = (self.base[s] + comp[:, None, None, None, None] * self.rowlen[s]
-                 + comp[None, :, None, None, None])
-        return where.ravel()
+        return self.entry(self.node_slot[None, None], comp[:, None, None, None, None],
+                          comp[None, :, None, None, None]).ravel()
 
     def matrix(self, element_matrices: np.ndarray) -> sp.csr_matrix:
         """K from element matrices (d,d,e,a,b) in any memory layout (read in memory order)."""
@@ -115,11 +117,8 @@ class SparsityPattern:
         s = np.ascontiguousarray(self.node_slot.transpose(1, 2, 0))     # (a, b, e)
         pair = s[a, b]                                                   # (pairs, e)
         upper = np.where(self._is_upper_pair[pair], pair, self.transpose[pair])
-        base, rowlen = self.base[upper], self.rowlen[upper]
-        diagonal = np.concatenate([(base + i * rowlen + i).ravel() for i, k in UPPER_PAIRS if i == k])
-        base, rowlen = self.base[s], self.rowlen[s]
-        off = np.concatenate([(base + i * rowlen + k).ravel() for i, k in UPPER_PAIRS if i < k])
-        return np.concatenate([diagonal, off])
+        return np.concatenate([self.entry(upper if i == k else s, i, k).ravel()
+                               for i, k in UPPER_PAIRS])         # diagonal blocks come first
 
     @cached_property
     def _is_upper_pair(self) -> np.ndarray:
@@ -130,13 +129,12 @@ class SparsityPattern:
     def _mirror(self) -> tuple[np.ndarray, np.ndarray]:
         """(CSR index of every entry filled from its transpose, CSR index of that transpose):
         all entries with i > k, and those with i = k of node pairs A > B."""
-        t = self.transpose
-        lower = [self.base + i * self.rowlen + k for i in range(self.dim) for k in range(i)]
-        source = [self.base[t] + k * self.rowlen[t] + i for i in range(self.dim) for k in range(i)]
+        every, t = np.arange(len(self.base)), self.transpose
         below = np.flatnonzero(~self._is_upper_pair)
-        lower += [self.base[below] + i * self.rowlen[below] + i for i in range(self.dim)]
-        source += [self.base[t[below]] + i * self.rowlen[t[below]] + i for i in range(self.dim)]
-        return np.concatenate(lower), np.concatenate(source)
+        pairs = ([(every, i, k) for i in range(self.dim) for k in range(i)]
+                 + [(below, i, i) for i in range(self.dim)])
+        return (np.concatenate([self.entry(p, i, k) for p, i, k in pairs]),
+                np.concatenate([self.entry(t[p], k, i) for p, i, k in pairs]))
 
     def _slot_in(self, order: tuple[int, ...]) -> np.ndarray:
         """``slot`` permuted to the block layout with axes ``order`` (computed once per layout)."""
