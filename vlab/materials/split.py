@@ -124,22 +124,23 @@ class SplitNeoHookean(Material):
         scale = np.where(ok, np.abs(J), 1.0) ** (-2.0 / 3.0)
         return np.where(ok, 0.5 * self.mu * (scale * I1 - 3.0), np.inf)
 
-    def isochoric_stress(self, F) -> np.ndarray:
-        """P_iso = μ J^(−2/3) (F − I₁/3 F⁻ᵀ), shape (3,3,*batch), MPa."""
+    def _isochoric_parts(self, F):
+        """(F, F⁻ᵀ, I₁ = tr C, μ J^(−2/3)) shared by the isochoric stress and tangent."""
         F = as_tensor_field(F)
         with np.errstate(all="ignore"):
             G, J = inv_transpose(F)
-            I1 = np.einsum("ij...,ij...->...", F, F)
-            a = self.mu * J ** (-2.0 / 3.0)
+            return F, G, np.einsum("ij...,ij...->...", F, F), self.mu * J ** (-2.0 / 3.0)
+
+    def isochoric_stress(self, F) -> np.ndarray:
+        """P_iso = μ J^(−2/3) (F − I₁/3 F⁻ᵀ), shape (3,3,*batch), MPa."""
+        F, G, I1, a = self._isochoric_parts(F)
+        with np.errstate(all="ignore"):
             return a * (F - (I1 / 3.0) * G)
 
     def isochoric_tangent(self, F) -> np.ndarray:
         """A_iso (see the class docstring), shape (3,3,3,3,*batch), MPa."""
-        F = as_tensor_field(F)
+        F, G, I1, a = self._isochoric_parts(F)
         with np.errstate(all="ignore"):
-            G, J = inv_transpose(F)
-            I1 = np.einsum("ij...,ij...->...", F, F)
-            a = self.mu * J ** (-2.0 / 3.0)
             A = dyad(-(2.0 / 3.0) * a * F, G)
             dyad(-(2.0 / 3.0) * a * G, F, out=A)
             dyad((2.0 / 9.0) * a * I1 * G, G, out=A)
