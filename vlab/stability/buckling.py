@@ -63,6 +63,8 @@ class CriticalState:
             return "buckling"
         if self.non_elliptic_fraction:
             return "loss of ellipticity (material instability)"
+        if self.mode is None:
+            return "loss of stability (negative eigenvalues counted; the eigensolver found no mode)"
         return "structural bifurcation (local mode)"
 
     def strain_bracket(self, axis: int = 0) -> tuple[float, float]:

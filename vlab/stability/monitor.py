@@ -40,7 +40,7 @@ from dataclasses import replace as dataclass_replace
 import numpy as np
 
 from vlab.fe.assembly import Partition
-from vlab.fe.inertia import factorized_inertia, inertia, lowest_eigenpair
+from vlab.fe.inertia import EigenpairNotFound, factorized_inertia, inertia, lowest_eigenpair
 from vlab.fe.linsolve import SingularSystem
 from vlab.fe.newton import TangentCache
 from vlab.fe.problem import Evaluation, HyperelasticBody
@@ -111,7 +111,7 @@ class StabilityMonitor:
         limit_axis = self._limit_axis(forces, slopes) if self.options.limit_points else None
         unstable = bool(found.negative) or bool(found.zero)
         solve = found.solve if not found.zero else None  # a singular K_ff: factorize K − σI instead
-        pair = lowest_eigenpair(Kff, found.negative, solve) if unstable or self.options.eigenvalues else None
+        pair = _eigenpair(Kff, found.negative, solve) if unstable or self.options.eigenvalues else None
         record = LevelStability(float(t), self.stretch_at(t), found.negative, found.zero,
                                 found.method, forces, limit_axis is not None,
                                 accepted=not unstable and limit_axis is None,
@@ -151,17 +151,21 @@ class StabilityMonitor:
         eig_stable = stable.lowest_eigenvalue if stable is not None else None
         if stable is not None and eig_stable is None and self._accepted_Kff is not None:
             Kff_stable, solve_stable = self._accepted_Kff
-            eig_stable = lowest_eigenpair(Kff_stable, 0, solve_stable)[0]
+            found = _eigenpair(Kff_stable, 0, solve_stable)
+            eig_stable = None if found is None else found[0]
             self._accepted = stable = dataclass_replace(stable, lowest_eigenvalue=eig_stable)
-        mode = np.zeros(self.body.space.n_dofs)
-        mode[self.partition.free] = pair[1]
+        mode = None
+        if pair is not None:
+            mode = np.zeros(self.body.space.n_dofs)
+            mode[self.partition.free] = pair[1]
         axis = 0
         return CriticalState(
             stretch_stable=stable.stretch if stable else self.stretch_at(0.0), stretch_unstable=r.stretch,
-            eigenvalue_stable=eig_stable, eigenvalue_unstable=pair[0],
+            eigenvalue_stable=eig_stable, eigenvalue_unstable=None if pair is None else pair[0],
             force_stable=stable.forces if stable else [0.0] * len(self.target),
             negative_eigenvalues=int(r.negative_eigenvalues or 0),
-            lateral_fraction=lateral_fraction(self.body.space.node_coordinates, mode, axis), mode=mode,
+            lateral_fraction=None if mode is None else lateral_fraction(self.body.space.node_coordinates, mode, axis),
+            mode=mode,
             non_elliptic_fraction=self._non_elliptic(ev))
 
     def _non_elliptic(self, ev: Evaluation) -> float | None:
@@ -236,3 +240,12 @@ class StabilityMonitor:
 
 def _fmt(stretch: list[float]) -> str:
     return ", ".join(f"{s:.4g}" for s in stretch) if len(stretch) > 1 else f"{stretch[0]:.4g}"
+
+
+def _eigenpair(Kff, negative, solve):
+    """The lowest eigenpair, or None when Lanczos fails: the inertia alone still decides stability,
+    the report then shows no eigenvalue or mode rather than stopping the run."""
+    try:
+        return lowest_eigenpair(Kff, negative, solve)
+    except EigenpairNotFound:
+        return None
