@@ -8,13 +8,13 @@ from scenes import scene_dict
 
 from vlab.report.results import result_to_dict
 from vlab.run import observed_order, run_scene
-from vlab.scene import parse_scene
+from vlab.scene import SceneError, parse_scene
 
 
 def test_newton_converges_quadratically_near_the_solution():
     data = result_to_dict(run_scene(parse_scene(scene_dict(
         mesh={"cell": "tet", "size": 4.0}, test={"stretch": 1.6, "steps": 4, "grips": "clamped"},
-        solver={"rtol": 1e-12}))))
+        solver={"rtol": 1e-12, "newton": "exact"}))))
     orders = [p for p in data["solver"]["observed_order"] if p is not None]
     assert orders and min(orders) > 1.8
     for history in data["solver"]["residual_history"]:
@@ -58,3 +58,25 @@ def test_a_failed_test_reports_step_stretch_reason_and_history_without_nan():
     # The recorded curve stops at the last converged level and holds only finite numbers.
     assert np.all(np.isfinite(data["curve"]["stress"]))
     assert min(data["curve"]["stretch"]) >= failure["last_converged_stretch"][0] - 1e-12
+
+
+def test_factor_reuse_reaches_the_exact_newton_answer_with_fewer_factorizations():
+    runs = {mode: run_scene(parse_scene(scene_dict(
+        mesh={"cell": "hex", "size": 2.0}, test={"stretch": 1.5, "steps": 10, "grips": "clamped"},
+        solver={"newton": mode}))) for mode in ("reuse", "exact")}
+    data = {mode: result_to_dict(r) for mode, r in runs.items()}
+    assert all(d["converged"] for d in data.values())
+    reuse, exact = data["reuse"]["solver"], data["exact"]["solver"]
+    assert reuse["newton"] == "reuse" and exact["newton"] == "exact"
+    assert all(h[-1] <= 1e-8 for h in reuse["residual_history"])
+    # both converged to rtol: the final grip force agrees to the tolerance, not to round-off
+    f = [r.curve.force[0][-1] for r in runs.values()]
+    assert f[0] == pytest.approx(f[1], rel=1e-8)
+    # measured: 20 vs 31 factorizations, and no exact Newton iteration at all with reuse
+    assert reuse["factorizations"] < 0.7 * exact["factorizations"]
+    assert sum(reuse["exact_iterations"]) < sum(exact["exact_iterations"])
+
+
+def test_an_unknown_newton_mode_is_refused_with_the_allowed_values():
+    with pytest.raises(SceneError, match=r"solver\.newton.*reuse.*exact"):
+        parse_scene(scene_dict(solver={"newton": "quasi"}))

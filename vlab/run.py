@@ -17,7 +17,7 @@ from vlab import __version__
 from vlab.fe.assembly import Partition
 from vlab.fe.iterative import choose as choose_linear
 from vlab.fe.linsolve import solver_in_use
-from vlab.fe.newton import NewtonOptions
+from vlab.fe.newton import CHORD_CONTRACTION, NewtonOptions
 from vlab.fe.mixed import MixedHyperelasticBody
 from vlab.fe.problem import HyperelasticBody
 from vlab.fe.space import DisplacementSpace
@@ -209,7 +209,8 @@ def _run_scene(scene: Scene, on_level, specimen: Specimen | None) -> RunResult:
         force_targets=levels.force,
         max_cutbacks=scene.solver.max_cutbacks,
         newton=NewtonOptions(rtol=scene.solver.rtol, max_iterations=scene.solver.max_iterations,
-                             linear=linear_solver),
+                             linear=linear_solver,
+                             chord_contraction=CHORD_CONTRACTION if scene.solver.newton == "reuse" else 0.0),
         accept=monitor.accept,
         tangents=monitor.tangents,  # the stability check's factorization feeds the next predictor
     )

@@ -200,6 +200,7 @@ class SolverSpec:
     max_cutbacks: int
     eigenvalues: bool = False  # lowest eigenvalue of K_ff at every converged state
     linear: str = "auto"  # Newton corrections: "auto" | "direct" | "cg-amg" (vlab.fe.iterative)
+    newton: str = "reuse"  # "reuse": keep a factor while chord steps contract; "exact": refactorize
 
 
 @dataclass(frozen=True)
@@ -684,14 +685,15 @@ def _parse_measure(raw: Any, specimen: Specimen) -> MeasureSpec:
 
 
 def _parse_solver(raw: Any) -> SolverSpec:
-    t = _Table("solver", raw, ("rtol", "max_iterations", "max_cutbacks", "eigenvalues", "linear"))
+    t = _Table("solver", raw, ("rtol", "max_iterations", "max_cutbacks", "eigenvalues", "linear", "newton"))
     eigenvalues = t.get("eigenvalues", False)
     if not isinstance(eigenvalues, bool):
         raise SceneError(f"{t.field('eigenvalues')} must be true or false, got {_show(eigenvalues)}")
     return SolverSpec(rtol=t.number("rtol", default=1e-8, ge=1e-14, le=1e-2),
                       max_iterations=t.integer("max_iterations", 1, 200, default=25),
                       max_cutbacks=t.integer("max_cutbacks", 0, 30, default=8), eigenvalues=eigenvalues,
-                      linear=t.choice("linear", ("auto", "direct", "cg-amg"), default="auto"))
+                      linear=t.choice("linear", ("auto", "direct", "cg-amg"), default="auto"),
+                      newton=t.choice("newton", ("reuse", "exact"), default="reuse"))
 
 
 def _check_symmetry(mesh: MeshSpec, test: TestSpec, specimen: Specimen) -> None:

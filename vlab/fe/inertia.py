@@ -89,8 +89,8 @@ def factorized_inertia(factor, K: sp.spmatrix, zero_tol: float = ZERO_TOL,
     backend = getattr(factor, "backend", "")
     if backend == "pardiso" and getattr(factor, "cholesky", False):
         n = K.shape[0]
-        scale = float(np.max(np.abs(K.diagonal()), initial=0.0)) or 1.0
-        if n == 0 or not verify_zero or _rayleigh_after_inverse_iteration(factor.solve, K) > zero_tol * scale:
+        if n == 0 or not verify_zero or (_rayleigh_after_inverse_iteration(factor.solve, K)
+                                         > zero_tol * (float(np.max(np.abs(K.diagonal()))) or 1.0)):
             return Inertia(0, 0, n, "Cholesky (PARDISO, all pivots positive)", factor.solve)
         return inertia(K, zero_tol)
     pivots = getattr(factor, "pivots", None)
