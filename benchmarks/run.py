@@ -47,7 +47,7 @@ import vlab  # noqa: E402,F401  before numpy, as in the CLI: numpy's BLAS serial
 import numpy as np  # noqa: E402
 
 E, NU, STRETCH, STEPS, RTOL = 10.0, 0.3, 1.5, 10, 1e-8
-NEWTON = os.environ.get("VLAB_BENCH_NEWTON", "reuse")  # solver.newton of the vlab runs
+NEWTON = os.environ.get("VLAB_BENCH_NEWTON", "reuse")  # solver.newton of the vlab runs (--newton)
 PROBLEMS = {  # name: (cell, order, cube edge n in mm, element size in mm)
     "block8-hex": ("hex", 1, 8.0, 1.0),
     "block16-hex": ("hex", 1, 16.0, 1.0),
@@ -124,6 +124,7 @@ def run_vlab(problem: str) -> dict:
         return {"error": result.history.failure.reason}
     iterations = sum(level.iterations for level in result.history.levels)
     out = {"dofs": int(result.space.n_dofs), "iterations": int(iterations), "total": total,
+           "newton": scene.solver.newton,
            "factorizations": int(result.history.factorizations),
            "force": float(result.curve.force[0][-1]), "solver": linsolve.solver_in_use(),
            **clock.seconds}
@@ -337,11 +338,11 @@ def main() -> None:
                         help="solver.newton of the vlab runs")
     parser.add_argument("--out", type=Path, default=None, help="write the table to this Markdown file")
     args = parser.parse_args()
-    global NEWTON
-    NEWTON = args.newton
-    if args.one:
+    if args.one:  # a child: the mode comes from VLAB_BENCH_NEWTON, set by the parent
         _one(*args.one)
         return
+    global NEWTON
+    NEWTON = args.newton
     machine = _machine()
     rows = []
     for problem in args.problems.split(","):

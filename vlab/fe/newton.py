@@ -114,7 +114,7 @@ class Tangent:
 
 class TangentCache:
     """The tangent of the last state asked for, so that one assembly + factorization at a
-    converged state serves the stability check, the next predictor and the first correction.
+    converged state serves the stability check, the next predictor and the chord steps after it.
 
     A model whose tangent is constant (``material.is_linear``) is factorized once for the whole
     test. ``factorizations`` counts the factorizations made here."""
