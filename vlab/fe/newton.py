@@ -30,8 +30,8 @@ against 33 + 49 ms, measured with pyinstrument).
   factor keep their pairs (s, y) = (Δu_f, Δr_f) and apply the BFGS update of K̃⁻¹ (two-loop
   recursion; a pair without curvature, sᵀy ≤ 0, is dropped, so the update stays positive
   definite and the direction a descent one): the secant pairs learn K − K̃ along the directions
-  the iteration explores, which on the blocks turns the second chord step's 1e-6 → 1.6e-8 into
-  1e-6 → 2e-11. With the quadratic predictor of vlab.fe.stepping a load step starts at
+  the iteration explores, which on the blocks turns the second chord step's 1.1e-6 → 1.6e-8 into
+  1.1e-6 → 1.2e-11. With the quadratic predictor of vlab.fe.stepping a load step starts at
   ‖r‖ ~ 1e-4, and the stability check's factor converges it in two or three solves with no
   factorization of its own (blocks, 10 steps: 21 iterations and 11 factorizations against 21 and
   21 exact; dogbone: 33 and 12 against 21 and 21). A step that contracts less (a stiffening or

@@ -17,6 +17,15 @@ def _fmt(value, digits: int = 5) -> str:
     return html.escape(str(value))
 
 
+def _newton_cost(solver: dict) -> str:
+    """Iterations, how many of them refactorized, and all factorizations (stability checks too)."""
+    text = _fmt(sum(solver["newton_iterations"]))
+    if solver.get("exact_iterations") is not None:
+        text += (f" ({_fmt(sum(solver['exact_iterations']))} refactorized; {_fmt(solver['factorizations'])} "
+                 f"factorizations in all; newton = \"{html.escape(solver.get('newton', ''))}\")")
+    return text
+
+
 def summary_rows(data: dict) -> list[tuple[str, str]]:
     m, inp, solver, timing, mesh = (data["measured"], data["input"], data["solver"],
                                     data["timing"], data["mesh"])
@@ -26,7 +35,7 @@ def summary_rows(data: dict) -> list[tuple[str, str]]:
         ("ν measured / input", f"{_fmt(m['nu'])} / {_fmt(inp['nu'])}"),
         ("E from crosshead strain [MPa]", _fmt(m.get("E_crosshead"))),
         ("force at last level [N]", _fmt(data["curve"]["force"][-1] if data["curve"]["force"] else None)),
-        ("Newton iterations (total)", _fmt(sum(solver["newton_iterations"]))),
+        ("Newton iterations (total)", _newton_cost(solver)),
         ("cutbacks", _fmt(sum(solver["cutbacks"]))),
         ("mesh", f"{mesh['cell']} order {mesh['order']}, {mesh['elements']} elements, {mesh['dofs']} DOFs"
                  + (f", symmetry {mesh['symmetry']}" if mesh.get("symmetry", "none") != "none" else "")),
