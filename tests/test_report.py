@@ -40,7 +40,9 @@ def test_html_has_every_models_measured_numbers(comparison):
         assert f"<th>{out.model}</th>" in page
         for value in (m["E"], m["nu"], out.data["curve"]["force"][-1], out.data["timing"]["total_s"]):
             assert _fmt(value) in page or _fmt(value, 3) in page, (out.model, value)
-        assert f"<td class=num>{sum(out.data['solver']['newton_iterations'])}</td>" in page
+        solver = out.data["solver"]
+        assert (f"<td class=num>{sum(solver['newton_iterations'])} ({sum(solver['exact_iterations'])} refactorized; "
+                f"{solver['factorizations']} factorizations in all") in page
     assert "Measured ν = " in page and "spring-network" in page
     assert comparison.scene.content_hash() in page
     assert html.escape('name = "block-neo-hookean"') in page  # the scene file as run
