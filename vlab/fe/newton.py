@@ -7,10 +7,9 @@ The step length α backtracks from 1 until the sufficient-decrease (Armijo) cond
 holds, a trial with J <= 0 anywhere counting as W = +inf. Close to the solution W changes by less
 than its round-off, so a trial that cuts ‖r‖ by the same factor is accepted as well.
 
-A direction with rᵀΔu >= 0
-(indefinite tangent) is not a descent direction: it is repaired with a diagonal shift
-K_ff + τ diag|K_ff| (τ grown tenfold until descent), or as a last resort a scaled gradient step,
-and the repair is counted.
+A direction with rᵀΔu >= 0 (indefinite tangent) is not a descent direction: it is repaired with
+a diagonal shift K_ff + τ diag|K_ff| (τ grown tenfold until descent), or as a last resort a
+scaled gradient step, and the repair is counted.
 
 Converged means ‖r_f‖ <= rtol · (force scale) and the last update ‖Δu‖∞ <= utol · (length scale);
 both histories are recorded.
@@ -81,7 +80,7 @@ class NewtonOptions:
     reuse_last_tangent: bool = True
     chord_band: float = 100.0  # reuse the last exact factor from ‖r‖ ≤ chord_band · rtol on
     chord_contraction: float = CHORD_CONTRACTION  # keep a reused factor while a chord step cuts ‖r‖ by this
-    chord_secant: bool = True
+    chord_secant: bool = True  # BFGS-update the reused factor with the chord steps' (Δu, Δr)
     chord_horizon: float = 3.0  # ... and reaches rtol at that rate within this many more steps
     linear: str = "direct"  # or "cg-amg": exact corrections by CG + AMG (vlab.fe.iterative)
 
@@ -229,8 +228,12 @@ def solve_equilibrium(body: HyperelasticBody, partition: Partition, start: Evalu
 
 
 class _SecantMemory:
-    """BFGS pairs (s, y) = (Δu_f, Δr_f) of the chord steps made with one factor K̃; the two-loop
-    recursion applies the inverse BFGS update of K̃⁻¹ to a residual."""
+    """BFGS pairs (s, y) = (Δu_f, Δr_f) of the chord steps made with one factor K̃.
+
+    ``direction(r)`` = −H r with H = K̃⁻¹ updated by every pair in turn,
+        H₊ = (I − ρ s yᵀ) H (I − ρ y sᵀ) + ρ s sᵀ,   ρ = 1 / (yᵀs)   (mm/N),
+    applied by the two-loop recursion (one solve with K̃, 4 dot products per pair), so that
+    H₊ y = s for the last pair: the secant equation of the energy's Hessian along s."""
 
     def __init__(self, factor):
         self.factor, self.pairs = factor, []

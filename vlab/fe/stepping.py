@@ -219,7 +219,7 @@ def _substep(body, partition, current: Evaluation, tangent: Tangent, u_hat, t0, 
         Δt = t₁ − t₀,  h = t₀ − t₋,
 
     whose error is O(Δt³) against O(Δt²) for the tangent alone (measured on the ISO 527-2 1BA
-    dogbone: the first residual falls ~10×). The curvature term is used only when the load keeps
+    dogbone: the first residual of a load step falls ~20×, 7.7e-3 → 3.7e-4 at the last step). The curvature term is used only when the load keeps
     its direction (a reversal in a cyclic test is a kink in the path). If the prediction inverts
     an element (large increments near a limit point), it is scaled back; the plain grip jump
     (scale 0) is the last candidate."""
