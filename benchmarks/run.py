@@ -129,7 +129,7 @@ def run_vlab(problem: str) -> dict:
            "force": float(result.curve.force[0][-1]), "solver": linsolve.solver_in_use(),
            **clock.seconds}
     out["other"] = total - sum(clock.seconds.values())
-    out["exact_iterations"] = int(sum(r.iterations - r.reused for level in result.history.levels
+    out["exact_iterations"] = int(sum(r.exact for level in result.history.levels
                                       for r in level.newton))
     out["floor_per_iteration"] = _floor(result)
     out["floor"] = out["floor_per_iteration"] * out["factorizations"]

@@ -101,6 +101,11 @@ class NewtonRecord:
     def iterations(self) -> int:
         return len(self.updates)
 
+    @property
+    def exact(self) -> int:
+        """Iterations that assembled and factorized a new tangent (the others reused one)."""
+        return self.iterations - self.reused
+
 
 @dataclass(frozen=True)
 class Tangent:

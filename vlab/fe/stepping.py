@@ -166,7 +166,7 @@ def run_schedule(body: HyperelasticBody, partition: Partition, u_hat: np.ndarray
                 current = candidate
             except NewtonFailure as failure:
                 records.append(failure.record)
-                newton_factorizations += failure.record.iterations - failure.record.reused
+                newton_factorizations += failure.record.exact
                 cutbacks, ds = cutbacks + 1, ds / 2
                 if cutbacks > stepping.max_cutbacks or ds < smallest * (1 - 1e-12):
                     history.failure = _diagnose(index, target, t_try, t, failure)
@@ -175,7 +175,7 @@ def run_schedule(body: HyperelasticBody, partition: Partition, u_hat: np.ndarray
             if timed:
                 body.commit(current)
             records.append(record)
-            newton_factorizations += record.iterations - record.reused
+            newton_factorizations += record.exact
             tangent = cache.holds(current) or new_tangent or tangent
             t, s = t_try, s_try
             clock = clock0 + s * span

@@ -80,7 +80,7 @@ def result_to_dict(result: RunResult) -> dict:
             "residual_history": residuals,
             "observed_order": [observed_order(r.residuals) for lv in levels for r in lv.newton[-1:]],
             "newton": scene.solver.newton,
-            "exact_iterations": [sum(r.iterations - r.reused for r in lv.newton) for lv in levels],
+            "exact_iterations": [sum(r.exact for r in lv.newton) for lv in levels],
             "factorizations": history.factorizations,
             "linear": result.extra.get("linear_solver"),
             "rtol": scene.solver.rtol,
