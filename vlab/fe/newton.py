@@ -30,10 +30,10 @@ against 33 + 49 ms, measured with pyinstrument).
   recursion; a pair without curvature, sᵀy ≤ 0, is dropped, so the update stays positive
   definite and the direction a descent one): the secant pairs learn K − K̃ along the directions
   the iteration explores, which on the blocks turns the second chord step's 1.1e-6 → 1.6e-8 into
-  1.1e-6 → 1.2e-11. With the quadratic predictor of vlab.fe.stepping a load step starts at
-  ‖r‖ ~ 1e-4, and the stability check's factor converges it in two or three solves with no
+  1.1e-6 → 1.2e-11. With the cubic predictor of vlab.fe.stepping a load step starts at
+  ‖r‖ ~ 1e-5, and the stability check's factor converges it in two or three solves with no
   factorization of its own (blocks, 10 steps: 21 iterations and 11 factorizations against 21 and
-  21 exact; dogbone: 33 and 12 against 21 and 21). A step that contracts less (a stiffening or
+  21 exact; dogbone: 28 and 12 against 21 and 21). A step that contracts less (a stiffening or
   softening tangent, plasticity switching on) is followed by exact Newton;
 - once ‖r_f‖ meets rtol but the last update still exceeds utol (the update criterion lags one
   step behind the residual), the confirming correction reuses the last factorization;

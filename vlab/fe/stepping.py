@@ -1,11 +1,12 @@
-"""Displacement-controlled load stepping with a tangent predictor and automatic cutback.
+"""Displacement-controlled load stepping with a path predictor and automatic cutback.
 
 The grips prescribe u_p(t) = t · û_p for a load parameter t (0 = unloaded, 1 = target). Each
 scheduled level is reached in one or more substeps. A substep starts from the linearised response
 of the last factorized tangent,
     Δu_f = -K_ff⁻¹ K_fp Δu_p,
 which for the linear model is already the exact solution (so it runs no Newton iteration and
-reuses one factorization for the whole test). When the tangent at the converged state itself is
+reuses one factorization for the whole test); with earlier converged states the path is
+extrapolated further (``path_increment``: the cubic through u and du/dt at the last two). When the tangent at the converged state itself is
 already factorized (the stability check needs it: ``Stepping.tangents``), the predictor and the
 first Newton correction use it, so that factorization is not wasted. A substep that fails (no convergence, inverted
 element, singular tangent) is retried from the last converged state with half the increment; easy
