@@ -148,10 +148,10 @@ def test_mullins_refuses_a_monotonic_test_and_says_why():
 
 @pytest.mark.parametrize("effects, fragment", [
     ({"plasticity": {}}, "missing required key effects.plasticity.yield_stress"),
-    ({"plasticity": {"yield_stress": -1}}, "effects.plasticity.yield_stress must be a number > 0"),
+    ({"plasticity": {"yield_stress": -1}}, "effects.plasticity.yield_stress must be > 0 (MPa"),
     ({"plasticity": {"yield_stress": 1, "saturation_stress": 2}}, "effects.plasticity.saturation_exponent"),
     ({"plasticity": {"yield_stress": 1, "k": 2}}, "unknown key 'k'"),
-    ({"mullins": {"r": 0.5, "m": 1}}, "effects.mullins.r must be a number > 1"),
+    ({"mullins": {"r": 0.5, "m": 1}}, "effects.mullins.r must be > 1 (dimensionless"),
     ({"noise": {}}, "sets no noise"),
     ({"noise": {"load_cell_std": 0.1, "confidence": 1.0}}, "effects.noise.confidence"),
 ])

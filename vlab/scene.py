@@ -24,17 +24,15 @@ biaxially between four clamped grips. ``[mesh] symmetry = "none" | "half" | "qua
 meshes only that part of a block, dogbone or cruciform (geometry/symmetry.py).
 
 New specimen shapes: write a frozen dataclass with ``length`` and ``max_dimension``
-properties and a parser ``(_Table) -> spec``, and register both in ``SPECIMEN_SHAPES`` (and the
+properties and a parser ``(fields.Table) -> spec``, and register both in ``SPECIMEN_SHAPES`` (and the
 test kinds and grips it allows in ``SPECIMEN_TESTS``).
 """
 
 from __future__ import annotations
 
 import copy
-import difflib
 import hashlib
 import json
-import math
 import re
 import tomllib
 from contextvars import ContextVar
@@ -44,6 +42,8 @@ from typing import Any, Callable, Mapping
 
 import numpy as np
 
+from vlab import fields
+from vlab.fields import SceneError
 from vlab.geometry.cruciform import CRUCIFORM_KEYS, CruciformDimensions
 from vlab.geometry.dogbone import DIMENSION_KEYS, DogboneDimensions, GeometryError
 from vlab.geometry.imported import ImportedMesh, MeshImport, MeshImportError, read_mesh
@@ -64,14 +64,9 @@ SECTIONS = ("specimen", "mesh", "material", "test", "measure", "solver", "effect
 TOP_KEYS = ("name", "description") + SECTIONS
 _MODULI_NAMES = MODULI_KEYS + tuple(ALIASES)  # E, nu, lambda, mu, K, M, G, lmbda
 _NAME_RE = re.compile(r"[A-Za-z0-9._-]+")
-_REQUIRED = object()
 KG_PER_M3 = 1e-12  # t/mm³: the mass unit of the N, mm, s system is the tonne (1 N = 1 t·mm/s²)
 PROTOCOL_KEYS = ("protocol", "amplitudes", "min_stretch", "strain_rate", "ramp_time", "hold_time",
                  "hold_steps", "force")
-
-
-class SceneError(ValueError):
-    """An invalid scene; the message names the dotted field, the allowed values and the input."""
 
 
 @dataclass(frozen=True)
@@ -228,97 +223,14 @@ class Scene:
         return hashlib.sha256(text.encode("utf-8")).hexdigest()
 
 
-# --- small validators -----------------------------------------------------------------------
-
-def _suggest(word: str, options) -> str:
-    close = difflib.get_close_matches(word, list(options), n=1)
-    return f" — did you mean {close[0]!r}?" if close else ""
-
-
-def _show(v: Any) -> str:
-    kind = {bool: "boolean", str: "string", list: "array", dict: "table"}.get(type(v))
-    if isinstance(v, bool):
-        return f"{str(v).lower()} (boolean)"
-    return f"{v!r} ({kind})" if kind else f"{v:g}" if isinstance(v, (int, float)) else repr(v)
-
-
-def _bounds(gt=None, ge=None, lt=None, le=None) -> str:
-    ops = ((">", gt), (">=", ge), ("<", lt), ("<=", le))
-    return " and ".join(f"{op} {b:g}" for op, b in ops if b is not None)
-
-
-def _number(field: str, v: Any, *, gt=None, ge=None, lt=None, le=None, note: str = "") -> float:
-    rng = _bounds(gt, ge, lt, le)
-    if isinstance(v, bool) or not isinstance(v, (int, float)):
-        raise SceneError(f"{field} must be a number{' ' + rng if rng else ''}{note}, got {_show(v)}")
-    v = float(v)
-    if not math.isfinite(v):
-        raise SceneError(f"{field} must be a finite number{' ' + rng if rng else ''}, got {v}")
-    if ((gt is not None and not v > gt) or (ge is not None and not v >= ge)
-            or (lt is not None and not v < lt) or (le is not None and not v <= le)):
-        raise SceneError(f"{field} must be {rng}{note}, got {v:g}")
-    return v
-
-
-def _integer(field: str, v: Any, lo: int, hi: int) -> int:
-    ok = not isinstance(v, bool) and (isinstance(v, int) or (isinstance(v, float) and v.is_integer()))
-    if not ok or not lo <= v <= hi:
-        raise SceneError(f"{field} must be an integer {lo}..{hi}, got {_show(v)}")
-    return int(v)
-
-
-def _choice(field: str, v: Any, options: tuple[str, ...]) -> str:
-    if v not in options or not isinstance(v, str):
-        hint = _suggest(v, options) if isinstance(v, str) else ""
-        raise SceneError(f"{field} must be one of {', '.join(options)}; got {_show(v)}{hint}")
-    return v
-
-
-def _vector(field: str, v: Any, n: int, what: str, **bounds) -> tuple[float, ...]:
-    if not isinstance(v, list) or len(v) != n:
-        raise SceneError(f"{field} must be a list of {n} numbers {what}, got {_show(v)}")
-    return tuple(_number(f"{field}[{i}]", x, **bounds) for i, x in enumerate(v))
-
-
-class _Table:
-    """One [section]: rejects unknown keys on creation, then reads fields by name."""
-
-    def __init__(self, section: str, raw: Any, allowed: tuple[str, ...]):
-        if not isinstance(raw, dict):
-            raise SceneError(f"[{section}] must be a table, got {_show(raw)}")
-        for key in raw:
-            if key not in allowed:
-                raise SceneError(f"unknown key {key!r} in [{section}] (allowed: "
-                                 f"{', '.join(allowed)}){_suggest(key, allowed)}")
-        self.section, self.raw = section, raw
-
-    def field(self, key: str) -> str:
-        return f"{self.section}.{key}"
-
-    def get(self, key: str, default: Any = _REQUIRED) -> Any:
-        if key not in self.raw and default is _REQUIRED:
-            raise SceneError(f"missing required key {self.field(key)}")
-        return self.raw.get(key, default)
-
-    def number(self, key: str, default: Any = _REQUIRED, **bounds) -> float:
-        return self.get(key, default) if key not in self.raw else _number(
-            self.field(key), self.raw[key], **bounds)
-
-    def integer(self, key: str, lo: int, hi: int, default: Any = _REQUIRED) -> int:
-        return _integer(self.field(key), self.get(key, default), lo, hi)
-
-    def choice(self, key: str, options: tuple[str, ...], default: Any = _REQUIRED) -> str:
-        return _choice(self.field(key), self.get(key, default), options)
-
-
 # --- sections ------------------------------------------------------------------------------
 
-def _parse_block(t: _Table) -> BlockSpecimen:
-    size = _vector(t.field("size"), t.get("size"), 3, "[length, width, thickness] in mm", gt=0)
+def _parse_block(t: fields.Table) -> BlockSpecimen:
+    size = fields.vector(t.field("size"), t.get("size"), 3, "[length, width, thickness] in mm", gt=0)
     return BlockSpecimen(shape="block", size=size)  # type: ignore[arg-type]
 
 
-def _parse_dogbone(t: _Table) -> DogboneSpecimen:
+def _parse_dogbone(t: fields.Table) -> DogboneSpecimen:
     """``standard = "<name>"`` loads the shipped dimensions; explicit keys override them."""
     values: dict[str, Any] = {"outer_radius": 0.0}
     standard = t.get("standard", "")
@@ -326,7 +238,7 @@ def _parse_dogbone(t: _Table) -> DogboneSpecimen:
         data = standard_dimensions(standard) if isinstance(standard, str) else None
         if data is None:
             raise SceneError(f"{t.field('standard')} must be one of {', '.join(standard_names())}; "
-                             f"got {_show(standard)}{_suggest(str(standard), standard_names())}")
+                             f"got {fields.show(standard)}{fields.suggest(str(standard), standard_names())}")
         standard = data.pop("standard")
         values.update(data)
     for key in DIMENSION_KEYS:
@@ -343,15 +255,15 @@ def _parse_dogbone(t: _Table) -> DogboneSpecimen:
     return DogboneSpecimen(shape="dogbone", dimensions=dims)
 
 
-def _parse_sheet(t: _Table) -> SheetSpecimen:
-    size = _vector(t.field("size"), t.get("size"), 2, "[length, width] in mm (a sheet is 2D; its "
+def _parse_sheet(t: fields.Table) -> SheetSpecimen:
+    size = fields.vector(t.field("size"), t.get("size"), 2, "[length, width] in mm (a sheet is 2D; its "
                    "thickness is specimen.thickness)", gt=0)
     thickness = t.number("thickness", gt=0, note=" (mm)")
     return SheetSpecimen(shape="sheet", size=size, thickness=thickness,  # type: ignore[arg-type]
                          plane=t.choice("plane", ("stress", "strain"), default="stress"))
 
 
-def _parse_cruciform(t: _Table) -> CruciformSpecimen:
+def _parse_cruciform(t: fields.Table) -> CruciformSpecimen:
     """All of arm_width, arm_length, gauge_region, fillet_radius, thickness, grip_length; slits
     optional (slit_count = 0 by default; with slits, slit_width and slit_length are required); a
     thinned centre optional (gauge_thickness with thinning_length)."""
@@ -381,22 +293,22 @@ _BASE_DIR: ContextVar[Path] = ContextVar("scene_base_dir", default=Path("."))  #
 _AXES = ("x", "y", "z")
 
 
-def _marks(t: _Table, key: str) -> tuple[tuple[float, ...], tuple[float, ...]]:
+def _marks(t: fields.Table, key: str) -> tuple[tuple[float, ...], tuple[float, ...]]:
     v = t.get(key)
     if not isinstance(v, list) or len(v) != 2:
         raise SceneError(f"{t.field(key)} must be two points [[x, y, z], [x, y, z]] in the mesh file's "
-                         f"coordinates (mm), got {_show(v)}")
-    return tuple(_vector(f"{t.field(key)}[{i}]", p, 3, "[x, y, z] in mm") for i, p in enumerate(v))  # type: ignore
+                         f"coordinates (mm), got {fields.show(v)}")
+    return tuple(fields.vector(f"{t.field(key)}[{i}]", p, 3, "[x, y, z] in mm") for i, p in enumerate(v))  # type: ignore
 
 
-def _parse_mesh_file(t: _Table) -> MeshFileSpecimen:
+def _parse_mesh_file(t: fields.Table) -> MeshFileSpecimen:
     """``file`` (.msh or .vtu, relative to the scene file), ``grips = {a = "name", b = "name"}``
     (two named regions of the file), ``axis`` (loading axis of the file, default "x"),
     ``gauge_marks``, ``transverse_marks``, ``thickness_marks`` (two points each) and ``area`` (mm²,
     the section the nominal stress divides by)."""
     name = t.get("file")
     if not isinstance(name, str) or not name:
-        raise SceneError(f"{t.field('file')} must be a path to a .msh or .vtu file, got {_show(name)}")
+        raise SceneError(f"{t.field('file')} must be a path to a .msh or .vtu file, got {fields.show(name)}")
     path = Path(name) if Path(name).is_absolute() else _BASE_DIR.get() / name
     try:
         data = read_mesh(path)
@@ -405,7 +317,7 @@ def _parse_mesh_file(t: _Table) -> MeshFileSpecimen:
     grips = t.get("grips")
     if not isinstance(grips, dict) or len(grips) != 2 or not all(isinstance(v, str) for v in grips.values()):
         raise SceneError(f"{t.field('grips')} must be a table of two region names, e.g. {{left = \"grip_left\", "
-                         f"right = \"grip_right\"}}, got {_show(grips)}")
+                         f"right = \"grip_right\"}}, got {fields.show(grips)}")
     for key, region in grips.items():
         if region not in data.regions:
             raise SceneError(f"{t.field('grips')}.{key} = {region!r} is not a region of {path.name}; regions "
@@ -418,7 +330,7 @@ def _parse_mesh_file(t: _Table) -> MeshFileSpecimen:
     return MeshFileSpecimen(shape="mesh", spec=spec, data=data)
 
 
-def _check_marks_inside(t: _Table, spec: MeshImport, data: ImportedMesh) -> None:
+def _check_marks_inside(t: fields.Table, spec: MeshImport, data: ImportedMesh) -> None:
     import skfem
 
     mesh = (skfem.MeshTet if data.cell == "tet" else skfem.MeshHex)(
@@ -437,7 +349,7 @@ def _check_marks_inside(t: _Table, spec: MeshImport, data: ImportedMesh) -> None
 MESH_FILE_KEYS = ("file", "grips", "axis", "gauge_marks", "transverse_marks", "thickness_marks", "area")
 
 # shape -> (allowed keys in [specimen], parser)
-SPECIMEN_SHAPES: dict[str, tuple[tuple[str, ...], Callable[[_Table], Specimen]]] = {
+SPECIMEN_SHAPES: dict[str, tuple[tuple[str, ...], Callable[[fields.Table], Specimen]]] = {
     "block": (("shape", "size"), _parse_block),
     "dogbone": (("shape", "standard") + DIMENSION_KEYS, _parse_dogbone),
     "sheet": (("shape", "size", "thickness", "plane"), _parse_sheet),
@@ -459,16 +371,16 @@ _FINE_MESH_SHAPES = ("dogbone", "cruciform")  # shapes with a [mesh] gauge_size
 
 def _parse_specimen(raw: Any) -> Specimen:
     if not isinstance(raw, dict):
-        raise SceneError(f"[specimen] must be a table, got {_show(raw)}")
+        raise SceneError(f"[specimen] must be a table, got {fields.show(raw)}")
     if "shape" not in raw:
         raise SceneError("missing required key specimen.shape")
-    shape = _choice("specimen.shape", raw["shape"], tuple(SPECIMEN_SHAPES))
+    shape = fields.choice("specimen.shape", raw["shape"], tuple(SPECIMEN_SHAPES))
     keys, parser = SPECIMEN_SHAPES[shape]
-    return parser(_Table("specimen", raw, keys))
+    return parser(fields.Table("specimen", raw, keys))
 
 
 def _parse_mesh(raw: Any, specimen: Specimen) -> MeshSpec:
-    t = _Table("mesh", raw, ("size", "order", "cell", "gauge_size", "min_quality", "symmetry", "formulation"))
+    t = fields.Table("mesh", raw, ("size", "order", "cell", "gauge_size", "min_quality", "symmetry", "formulation"))
     if specimen.shape == "mesh":
         return _parse_mesh_of_file(t, specimen)
     size = t.number("size", gt=0, le=specimen.max_dimension, note=" (the largest specimen dimension)")
@@ -487,7 +399,7 @@ def _parse_mesh(raw: Any, specimen: Specimen) -> MeshSpec:
                     formulation=t.choice("formulation", FORMULATIONS, default="displacement"))
 
 
-def _parse_mesh_of_file(t: _Table, specimen: MeshFileSpecimen) -> MeshSpec:
+def _parse_mesh_of_file(t: fields.Table, specimen: MeshFileSpecimen) -> MeshSpec:
     """An imported mesh is meshed already: size and gauge_size do not apply, the cell kind is the
     file's; order (2 adds mid-edge nodes to tetrahedra) and min_quality do."""
     for key in ("size", "gauge_size"):
@@ -497,7 +409,7 @@ def _parse_mesh_of_file(t: _Table, specimen: MeshFileSpecimen) -> MeshSpec:
     cell = specimen.data.cell
     if t.get("cell", cell) != cell:
         raise SceneError(f"{t.field('cell')} must be {cell!r} (the cells of {specimen.spec.file.name}), "
-                         f"got {_show(t.raw['cell'])}")
+                         f"got {fields.show(t.raw['cell'])}")
     symmetry = t.choice("symmetry", SYMMETRY_LEVELS, default="none")
     if symmetry != "none":
         raise SceneError(f"{t.field('symmetry')} must be 'none' for specimen.shape = 'mesh' (vlab cannot know "
@@ -528,7 +440,7 @@ def _check_formulation(mesh: MeshSpec, model: str) -> None:
 
 
 def _parse_material(raw: Any) -> MaterialSpec:
-    t = _Table("material", raw, ("model", "root", "density") + _MODULI_NAMES)
+    t = fields.Table("material", raw, ("model", "root", "density") + _MODULI_NAMES)
     model = t.choice("model", MODELS)
     root = t.choice("root", ("plus", "minus"), default="plus")
     values = {k: t.number(k) for k in _MODULI_NAMES if k in t.raw}
@@ -545,7 +457,7 @@ def _parse_material(raw: Any) -> MaterialSpec:
 
 
 def _stretch_value(field: str, v: Any) -> float:
-    v = _number(field, v, note=" (allowed 0.2..10)")
+    v = fields.number(field, v, note=" (allowed 0.2..10)")
     if v <= 0:
         raise SceneError(f"{field} must be > 0 (allowed 0.2..10), got {v:g}")
     if not 0.2 <= v <= 10:
@@ -554,7 +466,7 @@ def _stretch_value(field: str, v: Any) -> float:
 
 
 def _parse_test(raw: Any, shape: str = "block") -> TestSpec:
-    t = _Table("test", raw, ("kind", "grips", "stretch", "steps", "imperfection") + PROTOCOL_KEYS)
+    t = fields.Table("test", raw, ("kind", "grips", "stretch", "steps", "imperfection") + PROTOCOL_KEYS)
     kinds, grip_kinds = SPECIMEN_TESTS[shape]
     kind = t.choice("kind", ("uniaxial", "biaxial"))
     if kind not in kinds:
@@ -565,37 +477,37 @@ def _parse_test(raw: Any, shape: str = "block") -> TestSpec:
         raise SceneError(f"{t.field('grips')} must be one of {', '.join(grip_kinds)} for specimen.shape = "
                          f"{shape!r}, got {grips!r}")
     protocol_name = t.choice("protocol", PROTOCOLS, default="monotonic")
-    field, v = t.field("stretch"), t.get("stretch", None if protocol_name == "cyclic" else _REQUIRED)
+    field, v = t.field("stretch"), t.get("stretch", None if protocol_name == "cyclic" else fields.REQUIRED)
     if protocol_name == "cyclic":
         amplitudes = _amplitudes(t, kind)
         if v is not None:
             raise SceneError(f"{field} is not used with test.protocol = 'cyclic' (the largest of "
-                             f"test.amplitudes is the peak stretch); remove it, got {_show(v)}")
+                             f"test.amplitudes is the peak stretch); remove it, got {fields.show(v)}")
         v = amplitudes[-1]
     if kind == "uniaxial":
         if isinstance(v, list):
-            raise SceneError(f"{field} must be a single number for kind = 'uniaxial', got {_show(v)}")
+            raise SceneError(f"{field} must be a single number for kind = 'uniaxial', got {fields.show(v)}")
         stretch: tuple[float, ...] = (_stretch_value(field, v),)
     else:
         if not isinstance(v, list) or len(v) != 2:
             raise SceneError(f"{field} must be a list [sx, sy] of 2 numbers for kind = 'biaxial' "
-                             f"(each 0.2..10), got {_show(v)}")
+                             f"(each 0.2..10), got {fields.show(v)}")
         stretch = tuple(_stretch_value(f"{field}[{i}]", x) for i, x in enumerate(v))
     if all(s == 1.0 for s in stretch):
         raise SceneError(f"{field} must not be 1 everywhere (a stretch of 1 applies no load), "
-                         f"got {_show(v)}")
+                         f"got {fields.show(v)}")
     return TestSpec(kind=kind, grips=grips, stretch=stretch,
                     steps=t.integer("steps", 1, 10000, default=10),
                     protocol=_parse_protocol(t, protocol_name, stretch),
                     imperfection=_imperfection(t, stretch))
 
 
-def _amplitudes(t: _Table, kind: str) -> tuple[float, ...]:
+def _amplitudes(t: fields.Table, kind: str) -> tuple[float, ...]:
     field, v = t.field("amplitudes"), t.get("amplitudes")
     if kind != "uniaxial":
         raise SceneError(f"test.protocol = 'cyclic' needs test.kind = 'uniaxial', got {kind!r}")
     if not isinstance(v, list) or not 1 <= len(v) <= 50:
-        raise SceneError(f"{field} must be a list of 1..50 peak grip stretches, got {_show(v)}")
+        raise SceneError(f"{field} must be a list of 1..50 peak grip stretches, got {fields.show(v)}")
     amps = tuple(_stretch_value(f"{field}[{i}]", x) for i, x in enumerate(v))
     side = [a > 1.0 for a in amps]
     growing = all(abs(b - 1.0) > abs(a - 1.0) for a, b in zip(amps, amps[1:]))
@@ -605,7 +517,7 @@ def _amplitudes(t: _Table, kind: str) -> tuple[float, ...]:
     return amps
 
 
-def _parse_protocol(t: _Table, name: str, stretch: tuple[float, ...]) -> ProtocolSpec:
+def _parse_protocol(t: fields.Table, name: str, stretch: tuple[float, ...]) -> ProtocolSpec:
     """The [test] protocol keys: each allowed only for the protocols that use it."""
     uses = {"amplitudes": ("cyclic",), "min_stretch": ("cyclic",), "hold_time": HOLDS,
             "hold_steps": HOLDS, "force": ("creep",)}
@@ -637,7 +549,7 @@ def _parse_protocol(t: _Table, name: str, stretch: tuple[float, ...]) -> Protoco
         force=_creep_force(t, stretch) if name == "creep" else None)
 
 
-def _creep_force(t: _Table, stretch: tuple[float, ...]) -> float | None:
+def _creep_force(t: fields.Table, stretch: tuple[float, ...]) -> float | None:
     """test.force (N): the creep load, ramped under force control over test.ramp_time, then held.
     Its sign follows test.stretch (which then only gives the direction and scale of the grip
     travel): > 0 in tension (stretch > 1), < 0 in compression."""
@@ -653,7 +565,7 @@ def _creep_force(t: _Table, stretch: tuple[float, ...]) -> float | None:
     return t.number("force", ge=-1e9, lt=0, note=" N, compression as test.stretch < 1")
 
 
-def _imperfection(t: _Table, stretch: tuple[float, ...]) -> float | None:
+def _imperfection(t: fields.Table, stretch: tuple[float, ...]) -> float | None:
     """``[test] imperfection``: amplitude of the buckling-mode imperfection / specimen thickness,
     0 < a <= 0.5, for uniaxial compression only (a tension test has no buckling mode)."""
     if "imperfection" not in t.raw:
@@ -666,11 +578,11 @@ def _imperfection(t: _Table, stretch: tuple[float, ...]) -> float | None:
 
 
 def _parse_measure(raw: Any, specimen: Specimen) -> MeasureSpec:
-    t = _Table("measure", raw, ("modulus_window", "gauge_length", "fit", "modulus_points"))
+    t = fields.Table("measure", raw, ("modulus_window", "gauge_length", "fit", "modulus_points"))
     field = t.field("modulus_window")
     window = (0.0005, 0.0025)
     if "modulus_window" in t.raw:
-        window = _vector(field, t.raw["modulus_window"], 2, "[a, b]", ge=0, le=0.05)
+        window = fields.vector(field, t.raw["modulus_window"], 2, "[a, b]", ge=0, le=0.05)
         if not window[0] < window[1]:
             raise SceneError(f"{field} must satisfy 0 <= a < b <= 0.05, got {list(window)}")
     gauge = t.number("gauge_length", default=None, gt=0, lt=specimen.length,
@@ -685,10 +597,10 @@ def _parse_measure(raw: Any, specimen: Specimen) -> MeasureSpec:
 
 
 def _parse_solver(raw: Any) -> SolverSpec:
-    t = _Table("solver", raw, ("rtol", "max_iterations", "max_cutbacks", "eigenvalues", "linear", "newton"))
+    t = fields.Table("solver", raw, ("rtol", "max_iterations", "max_cutbacks", "eigenvalues", "linear", "newton"))
     eigenvalues = t.get("eigenvalues", False)
     if not isinstance(eigenvalues, bool):
-        raise SceneError(f"{t.field('eigenvalues')} must be true or false, got {_show(eigenvalues)}")
+        raise SceneError(f"{t.field('eigenvalues')} must be true or false, got {fields.show(eigenvalues)}")
     return SolverSpec(rtol=t.number("rtol", default=1e-8, ge=1e-14, le=1e-2),
                       max_iterations=t.integer("max_iterations", 1, 200, default=25),
                       max_cutbacks=t.integer("max_cutbacks", 0, 30, default=8), eigenvalues=eigenvalues,
@@ -711,12 +623,12 @@ def _check_symmetry(mesh: MeshSpec, test: TestSpec, specimen: Specimen) -> None:
 
 def _parse(data: Mapping[str, Any]) -> Scene:
     if not isinstance(data, Mapping):
-        raise SceneError(f"a scene must be a table of sections, got {_show(data)}")
+        raise SceneError(f"a scene must be a table of sections, got {fields.show(data)}")
     for key, val in data.items():
         if key not in TOP_KEYS:
             what = f"section [{key}]" if isinstance(val, dict) else f"top-level key {key!r}"
             raise SceneError(f"unknown {what} (allowed: {', '.join(TOP_KEYS)})"
-                             f"{_suggest(key, TOP_KEYS)}")
+                             f"{fields.suggest(key, TOP_KEYS)}")
     for section in ("specimen", "mesh", "material", "test"):
         if section not in data:
             raise SceneError(f"missing required section [{section}]")
@@ -725,10 +637,10 @@ def _parse(data: Mapping[str, Any]) -> Scene:
     name = data["name"]
     if not isinstance(name, str) or not _NAME_RE.fullmatch(name) or set(name) == {"."}:
         raise SceneError(f"name must match [A-Za-z0-9._-]+ (it names the report folder) and not "
-                         f"be only dots, got {_show(name)}")
+                         f"be only dots, got {fields.show(name)}")
     description = data.get("description", "")
     if not isinstance(description, str):
-        raise SceneError(f"description must be a string, got {_show(description)}")
+        raise SceneError(f"description must be a string, got {fields.show(description)}")
     specimen = _parse_specimen(data["specimen"])
     mesh, material = _parse_mesh(data["mesh"], specimen), _parse_material(data["material"])
     _check_formulation(mesh, material.model)
@@ -767,17 +679,17 @@ def _check_effects_scope(raw: Any, shape: str, mesh: MeshSpec, model: str) -> No
 
 def _parse_effects(raw: Any, material: MaterialSpec, test: TestSpec) -> tuple:
     """[effects.<name>] tables -> effect specs, validated by the registry (vlab.effects)."""
-    from vlab.effects import EFFECTS  # lazy: the effect parsers use this module's _Table
+    from vlab.effects import EFFECTS  # lazy: the effect parsers use this module's fields.Table
 
     if not isinstance(raw, dict):
-        raise SceneError(f"[effects] must be a table of effects, got {_show(raw)}")
+        raise SceneError(f"[effects] must be a table of effects, got {fields.show(raw)}")
     specs = []
     for name, table in raw.items():
         if name not in EFFECTS:
             raise SceneError(f"unknown effect effects.{name} (allowed: {', '.join(EFFECTS)})"
-                             f"{_suggest(name, EFFECTS)}")
+                             f"{fields.suggest(name, EFFECTS)}")
         effect = EFFECTS[name]
-        spec = effect.parse(_Table(f"effects.{name}", table, effect.keys), material, test)
+        spec = effect.parse(fields.Table(f"effects.{name}", table, effect.keys), material, test)
         if effect.protocols is not None and test.protocol.name not in effect.protocols:
             raise SceneError(f"effects.{name} cannot show with test.protocol = {test.protocol.name!r}: "
                              f"use one of {', '.join(effect.protocols)}")
@@ -839,8 +751,8 @@ def apply_overrides(data: Mapping[str, Any], overrides: Mapping[str, object]) ->
             table[parts[1]] = copy.deepcopy(value)
         elif len(parts) == 2:
             raise SceneError(f"override {dotted!r}: unknown section [{head}] "
-                             f"(allowed: {', '.join(SECTIONS)}){_suggest(head, SECTIONS)}")
+                             f"(allowed: {', '.join(SECTIONS)}){fields.suggest(head, SECTIONS)}")
         else:
             raise SceneError(f"override {dotted!r}: expected 'section.key' or one of "
-                             f"name, description{_suggest(dotted, TOP_KEYS)}")
+                             f"name, description{fields.suggest(dotted, TOP_KEYS)}")
     return out

@@ -14,6 +14,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from vlab.effects.registry import Effect
+from vlab.fields import SceneError, number, show
 from vlab.materials.viscoelastic import PronyViscoelastic
 
 MAX_TERMS = 20
@@ -27,12 +28,11 @@ class ViscoelasticSpec:
 
 
 def _series(t, key: str, n: int | None, **bounds) -> tuple[float, ...]:
-    from vlab.scene import SceneError, _number, _show
     v = t.get(key)
     what = f"{n}" if n is not None else f"1..{MAX_TERMS}"
     if not isinstance(v, list) or not 1 <= len(v) <= MAX_TERMS or (n is not None and len(v) != n):
-        raise SceneError(f"{t.field(key)} must be a list of {what} numbers (one per Prony term), got {_show(v)}")
-    return tuple(_number(f"{t.field(key)}[{i}]", x, **bounds) for i, x in enumerate(v))
+        raise SceneError(f"{t.field(key)} must be a list of {what} numbers (one per Prony term), got {show(v)}")
+    return tuple(number(f"{t.field(key)}[{i}]", x, **bounds) for i, x in enumerate(v))
 
 
 def parse(t, material, test) -> ViscoelasticSpec:

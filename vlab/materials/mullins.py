@@ -35,7 +35,7 @@ from scipy.special import erf, erfinv
 
 from vlab.materials.base import Material
 from vlab.materials.history import HistoryMaterial, Response, State
-from vlab.params import ParamTable
+from vlab.fields import Table
 from vlab.tensor import as_tensor_field, dyad
 
 __all__ = ["OgdenRoxburgh", "parse_params", "PARAM_KEYS"]
@@ -120,8 +120,8 @@ def parse_params(raw: dict, prefix: str, elastic: Material) -> OgdenRoxburgh:
     Keys: r > 1 (required; the largest softening is 1/r), m > 0 MPa (required; energy scale),
     beta ≥ 0 (default 0; growth of the scale with W_max).
     """
-    t = ParamTable(raw, prefix, PARAM_KEYS)
-    r = t.number("r", gt=1.0, unit="dimensionless; the largest softening is 1/r")
-    m = t.number("m", gt=0.0, unit="MPa, energy scale of the softening")
-    beta = t.number("beta", 0.0, ge=0.0, unit="dimensionless; growth of m with the maximum energy")
+    t = Table(prefix, raw, PARAM_KEYS)
+    r = t.number("r", gt=1.0, note=" (dimensionless; the largest softening is 1/r)")
+    m = t.number("m", gt=0.0, note=" (MPa, energy scale of the softening)")
+    beta = t.number("beta", 0.0, ge=0.0, note=" (dimensionless; growth of m with the maximum energy)")
     return OgdenRoxburgh(elastic, r=r, m=m, beta=beta)

@@ -52,7 +52,7 @@ from vlab.materials.base import Material
 from vlab.materials.hencky import Hencky, admissible_part
 from vlab.materials.history import HistoryMaterial, Response, State
 from vlab.materials.principal import PrincipalFrame, principal_frame, principal_stress, principal_tangent
-from vlab.params import ParamTable
+from vlab.fields import Table
 from vlab.tensor import as_tensor_field
 
 __all__ = ["J2Plasticity", "parse_params", "PARAM_KEYS"]
@@ -204,13 +204,13 @@ def parse_params(raw: dict, prefix: str, elastic: Material) -> J2Plasticity:
     Keys: yield_stress σ_y0 > 0 MPa (required), hardening_modulus H ≥ 0 MPa (default 0),
     saturation_stress Q ≥ 0 MPa (default 0), saturation_exponent δ > 0 (required when Q > 0).
     """
-    t = ParamTable(raw, prefix, PARAM_KEYS)
-    sy = t.number("yield_stress", gt=0.0, unit="MPa, initial yield stress")
-    H = t.number("hardening_modulus", 0.0, ge=0.0, unit="MPa, linear hardening modulus")
-    Q = t.number("saturation_stress", 0.0, ge=0.0, unit="MPa, Voce saturation increase of the yield stress")
+    t = Table(prefix, raw, PARAM_KEYS)
+    sy = t.number("yield_stress", gt=0.0, note=" (MPa, initial yield stress)")
+    H = t.number("hardening_modulus", 0.0, ge=0.0, note=" (MPa, linear hardening modulus)")
+    Q = t.number("saturation_stress", 0.0, ge=0.0, note=" (MPa, Voce saturation increase of the yield stress)")
     if Q > 0.0:
-        d = t.number("saturation_exponent", gt=0.0, unit="Voce exponent, required when saturation_stress > 0")
+        d = t.number("saturation_exponent", gt=0.0, note=" (Voce exponent, required when saturation_stress > 0)")
     else:
-        d = t.number("saturation_exponent", 0.0, ge=0.0, unit="Voce exponent")
+        d = t.number("saturation_exponent", 0.0, ge=0.0, note=" (Voce exponent)")
     return J2Plasticity(Hencky(elastic.lmbda, elastic.mu), yield_stress=sy, hardening_modulus=H,
                         saturation_stress=Q, saturation_exponent=d)

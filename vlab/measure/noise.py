@@ -40,7 +40,7 @@ from scipy.stats import t as student_t
 
 from vlab.measure.fit import FitError, fit_line
 from vlab.measure.recorder import Curve
-from vlab.params import ParamTable
+from vlab.fields import Table
 
 __all__ = ["NoiseSpec", "GaugeLengths", "Interval", "ElasticUncertainty", "noisy_curve",
            "elastic_uncertainty", "parse_params", "PARAM_KEYS"]
@@ -189,15 +189,15 @@ def parse_params(raw: dict, prefix: str) -> NoiseSpec:
     load_cell_resolution ≥ 0 N, extensometer_std ≥ 0 mm, extensometer_resolution ≥ 0 mm,
     seed integer 0..2⁶³−1 (default 0), confidence in [0.5, 1) (default 0.95).
     """
-    t = ParamTable(raw, prefix, PARAM_KEYS)
+    t = Table(prefix, raw, PARAM_KEYS)
     spec = NoiseSpec(
-        load_cell_std=t.number("load_cell_std", 0.0, ge=0.0, unit="N, standard deviation"),
-        load_cell_resolution=t.number("load_cell_resolution", 0.0, ge=0.0, unit="N, reading step; 0 = none"),
-        extensometer_std=t.number("extensometer_std", 0.0, ge=0.0, unit="mm of elongation, standard deviation"),
+        load_cell_std=t.number("load_cell_std", 0.0, ge=0.0, note=" (N, standard deviation)"),
+        load_cell_resolution=t.number("load_cell_resolution", 0.0, ge=0.0, note=" (N, reading step; 0 = none)"),
+        extensometer_std=t.number("extensometer_std", 0.0, ge=0.0, note=" (mm of elongation, standard deviation)"),
         extensometer_resolution=t.number("extensometer_resolution", 0.0, ge=0.0,
-                                         unit="mm, reading step; 0 = none"),
-        seed=t.integer("seed", 0, 0, 2**63 - 1),
-        confidence=t.number("confidence", 0.95, ge=0.5, lt=1.0, unit="e.g. 0.68 or 0.95"),
+                                         note=" (mm, reading step; 0 = none)"),
+        seed=t.integer("seed", 0, 2**63 - 1, default=0),
+        confidence=t.number("confidence", 0.95, ge=0.5, lt=1.0, note=" (e.g. 0.68 or 0.95)"),
     )
     if not any((spec.load_cell_std, spec.load_cell_resolution, spec.extensometer_std,
                 spec.extensometer_resolution)):
