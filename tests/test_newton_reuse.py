@@ -104,10 +104,15 @@ def test_the_extrapolating_predictors_start_a_load_step_much_nearer_equilibrium(
     # the path derivative at the earlier state, from its own tangent (what the stepper keeps)
     earlier = tangent_at(body, partition, before.evaluation)
     slope = -earlier.factor.solve(earlier.Kfp @ u_hat[partition.prescribed])
+    # a previous state off the path (as past a buckling point, where converged states jump
+    # between neighbouring paths): its curvature term is distrusted, the tangent alone is used
+    jumped = before.evaluation.u.copy()
+    jumped[partition.free] += 5.0
     first = {}
     for name, previous in (("tangent", None),
                            ("quadratic", PathPoint(before.t, before.evaluation.u)),
-                           ("cubic", PathPoint(before.t, before.evaluation.u, slope))):
+                           ("cubic", PathPoint(before.t, before.evaluation.u, slope)),
+                           ("jumped", PathPoint(before.t, jumped, slope))):
         record = _substep(body, partition, now.evaluation, tangent, u_hat, now.t, 1.0,
                           Stepping(np.array([1.0]), newton=NewtonOptions(chord_contraction=0.0)),
                           (1e-9, 10.0), tangent, previous)[1]
@@ -115,3 +120,4 @@ def test_the_extrapolating_predictors_start_a_load_step_much_nearer_equilibrium(
     # measured on this block: 7.2e-3 (tangent), 7.7e-4 (quadratic), 9.7e-5 (cubic)
     assert first["quadratic"] < 0.2 * first["tangent"]
     assert first["cubic"] < 0.3 * first["quadratic"]
+    assert first["jumped"] == pytest.approx(first["tangent"], rel=1e-12)
