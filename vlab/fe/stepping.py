@@ -5,11 +5,12 @@ scheduled level is reached in one or more substeps. A substep starts from the li
 of the last factorized tangent,
     Δu_f = -K_ff⁻¹ K_fp Δu_p,
 which for the linear model is already the exact solution (so it runs no Newton iteration and
-reuses one factorization for the whole test); with earlier converged states the path is
-extrapolated further (``path_increment``: the cubic through u and du/dt at the last two). When the tangent at the converged state itself is
-already factorized (the stability check needs it: ``Stepping.tangents``), the predictor and the
-first Newton correction use it, so that factorization is not wasted. A substep that fails (no convergence, inverted
-element, singular tangent) is retried from the last converged state with half the increment; easy
+reuses one factorization for the whole test); past the first level the path is extrapolated
+further (``path_increment``: the cubic through u and du/dt at the last two converged states).
+When the tangent at the converged state itself is already factorized (the stability check
+needs it: ``Stepping.tangents``), the predictor and the first Newton correction use it, so that
+factorization is not wasted. A substep that fails (no convergence, inverted element, singular
+tangent) is retried from the last converged state with half the increment; easy
 substeps let the increment grow back. A level may be cut back at most ``max_cutbacks`` times in
 all (not only in a row: near a limit point halving and regrowing would otherwise creep towards
 the limit forever); then the test stops with a diagnosis. An optional acceptance check
@@ -228,28 +229,22 @@ def _substep(body, partition, current: Evaluation, tangent: Tangent, u_hat, t0, 
              previous: PathPoint | None = None):
     """Move the grips from t0 to t1, predict the free DOFs, then iterate to equilibrium.
 
-    The predictor extrapolates the equilibrium path u_f(t) from the converged states. With the
-    path derivative at the current state, v₀ = du_f/dt = −K_ff⁻¹ K_fp û_p (the current tangent,
-    already factorized), and a = u_f(t₋) − u_f(t₀) + v₀ h at the previous state t₋:
-
-        u_f(t₁) ≈ u_f(t₀) + v₀ Δt + X τ² + Y τ³,    τ = Δt / h,  Δt = t₁ − t₀,  h = t₀ − t₋,
-
-    with X = a, Y = 0 (the quadratic through u(t₋); error O(Δt³)) or, when the previous state's
-    own path derivative v₋ is known, X = 3a + (v₋ − v₀) h, Y = 2a + (v₋ − v₀) h: the cubic
-    Hermite polynomial through (u, v) at t₋ and t₀, error O(Δt⁴). v₋ is known when the previous
-    substep predicted from the tangent of its converged start (``PathPoint.velocity``).
-    Measured on the ISO 527-2 1BA dogbone (10 steps to stretch 1.5), first residual of the last
-    step: tangent alone 7.7e-3, quadratic 3.7e-4, cubic 1.9e-5 (its Newton iterations 33 → 28
-    with the factor reuse of ``solve_equilibrium``). The extrapolation
-    is used only when the load keeps its direction (a reversal in a cyclic test is a kink in the
-    path), only while its curvature term stays below CURVATURE_TRUST times the tangent step (else
-    the quadratic, else the tangent alone: past a buckling point the converged states jump
-    between neighbouring paths and the polynomial through them predicts nonsense; measured on
-    the imperfect ISO 37 dumb-bell in compression, correction 1.6e3 mm against a tangent step of
-    0.2 mm, while on smooth paths the ratio is 0.01–0.1), and not beyond MAX_EXTRAPOLATION
-    times the last interval (the modulus-window levels
-    are ~1e-4 of a load step: τ³ would amplify their round-off). If the prediction inverts an element (large increments near a limit point), it is
-    scaled back; the plain grip jump (scale 0) is the last candidate.
+    The predictor starts from the tangent step v₀ Δt, v₀ = du_f/dt = −K_ff⁻¹ K_fp û_p (the
+    current tangent, already factorized), and extrapolates the path through the previous
+    converged state (``path_increment``): the cubic when both states' own v are known, else the
+    quadratic. Measured on the ISO 527-2 1BA dogbone (10 steps to stretch 1.5), first residual
+    of the last step: tangent alone 7.7e-3, quadratic 3.7e-4, cubic 1.9e-5 (Newton iterations
+    33 → 28 with the factor reuse of ``solve_equilibrium``). The extrapolation is used only
+    - while the load keeps its direction (a reversal in a cyclic test is a kink in the path);
+    - up to MAX_EXTRAPOLATION times the last interval (the modulus-window levels are ~1e-4 of a
+      load step, and τ³ would amplify their round-off);
+    - while its curvature term stays below CURVATURE_TRUST times the tangent step, else the
+      quadratic, else the tangent alone: past a buckling point converged states jump between
+      neighbouring paths and a polynomial through them predicts nonsense (the imperfect ISO 37
+      dumb-bell in compression: a correction of 1.6e3 mm against a tangent step of 0.2 mm; on
+      smooth paths the ratio is 0.01–0.1).
+    If the prediction inverts an element (large increments near a limit point), it is scaled
+    back; the plain grip jump (scale 0) is the last candidate.
 
     Returns (converged evaluation, Newton record, its tangent or None, the path point of t₀)."""
     prescribed, free = partition.prescribed, partition.free
