@@ -19,6 +19,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from vlab.effects.registry import Effect
+from vlab.fields import SceneError
 
 DIRECTIONS = ("-x", "+x", "-y", "+y", "-z", "+z")
 M_PER_S2 = 1e3  # mm/s² per m/s²
@@ -32,7 +33,6 @@ class GravitySpec:
 
 
 def parse(t, material, test) -> GravitySpec:
-    from vlab.scene import SceneError
     if material.density is None:
         raise SceneError("effects.gravity needs material.density (kg/m³, > 0)")
     g = t.number("g", default=9.81, gt=0, le=1000, note=" m/s²")

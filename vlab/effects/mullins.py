@@ -17,6 +17,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from vlab.effects.registry import Effect
+from vlab.fields import SceneError
 from vlab.materials.mullins import PARAM_KEYS, OgdenRoxburgh, parse_params
 
 
@@ -29,7 +30,6 @@ class MullinsSpec:
 
 
 def parse(t, material, test) -> MullinsSpec:
-    from vlab.scene import SceneError
     if not test.protocol.unloads:
         raise SceneError(f"effects.mullins cannot show with test.protocol = {test.protocol.name!r}: the "
                          "Mullins effect is a softening on unloading and reloading below the largest past "

@@ -20,13 +20,14 @@ from __future__ import annotations
 from dataclasses import asdict
 
 from vlab.effects.registry import Effect
+from vlab.fields import SceneError
 from vlab.measure.elastic_constants import elastic_constants, first_loading
 from vlab.measure.noise import (PARAM_KEYS, GaugeLengths, NoiseSpec, elastic_uncertainty, noisy_curve,
                                 parse_params)
+from vlab.measure.recorder import Curve
 
 
 def parse(t, material, test) -> NoiseSpec:
-    from vlab.scene import SceneError
     try:
         return parse_params(t.raw, "effects.noise")
     except ValueError as exc:

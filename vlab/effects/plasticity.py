@@ -19,6 +19,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from vlab.effects.registry import Effect
+from vlab.fields import SceneError
 from vlab.materials.hencky import Hencky
 from vlab.materials.plasticity import PARAM_KEYS, J2Plasticity, parse_params
 
@@ -33,7 +34,6 @@ class PlasticitySpec:
 
 
 def parse(t, material, test) -> PlasticitySpec:
-    from vlab.scene import SceneError
     try:
         law = parse_params(t.raw, "effects.plasticity", material.moduli)
     except ValueError as exc:
