@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 import skfem
 
-from vlab.fe import assembly
+from vlab.fe import assembly, compiled
 from vlab.fe.problem import HyperelasticBody
 from vlab.fe.space import DisplacementSpace
 from vlab.geometry.block import block_mesh
@@ -94,13 +94,20 @@ def test_sparsity_pattern_covers_every_element_coupling():
     np.testing.assert_array_equal(K.diagonal(), np.repeat(shared, 3))
 
 
+KERNELS = ["numpy", pytest.param("compiled", marks=pytest.mark.skipif(
+    not compiled.available(), reason="numba not installed"))]
+
+
+@pytest.mark.parametrize("kernel", KERNELS)
 @pytest.mark.parametrize("model", ["neo-hookean", "stvk", "linear"])
 @pytest.mark.parametrize("cell,order", CASES)
-def test_symmetric_assembly_of_six_blocks_equals_the_full_scatter(cell, order, model):
-    """The body's stiffness (blocks i ≤ k scattered, i > k mirrored) is the textbook K."""
+def test_symmetric_assembly_of_six_blocks_equals_the_full_scatter(cell, order, model, kernel):
+    """The body's stiffness is the textbook K with either kernel: numpy (blocks i ≤ k
+    scattered, i > k mirrored) or compiled (isotropic form, node blocks added to the CSR)."""
     space = _space(cell, order)
     material = make_material(model, 5.0, 2.0)
-    body = HyperelasticBody(space, material)
+    body = HyperelasticBody(space, material, kernel=kernel)
+    assert body.tangent_kernel.startswith(kernel)
     ev = body.evaluate(0.02 * np.random.default_rng(4).standard_normal(space.n_dofs))
     textbook = np.einsum("eqaJ,iJkLeq,eqbL,eq->ikeab", space.dN, material.tangent(ev.F), space.dN,
                          space.dx)
@@ -127,3 +134,74 @@ def test_sparsity_pattern_from_node_pairs_equals_the_dof_pattern(dim):
     assert list(zip(csr_rows.tolist(), pattern.indices.tolist())) == expected
     np.testing.assert_array_equal(csr_rows[pattern.slot], rows)
     np.testing.assert_array_equal(pattern.indices[pattern.slot], cols)
+
+
+def _isotropic_full(form, batch) -> np.ndarray:
+    """c₀ δ_ik δ_JL + δ_ik S_JL + B_ik δ_JL + α X_iJ X_kL + β X_iL X_kJ, written out."""
+    I = np.eye(3)
+    ones = np.ones(batch)
+    A = np.einsum("ik,JL,...->iJkL...", I, I, form.c0 * ones)
+    if form.S is not None:
+        A += np.einsum("ik,JL...->iJkL...", I, form.S)
+    if form.B is not None:
+        A += np.einsum("ik...,JL->iJkL...", form.B, I)
+    X = form.X
+    A += np.einsum("iJ...,kL...,...->iJkL...", X, X, form.alpha * ones)
+    A += np.einsum("iL...,kJ...,...->iJkL...", X, X, form.beta * ones)
+    return A
+
+
+@pytest.mark.parametrize("model", ["neo-hookean", "stvk", "linear"])
+def test_isotropic_form_of_the_three_models_is_their_tangent(model):
+    material = make_material(model, 5.0, 2.0)
+    rng = np.random.default_rng(6)
+    F = np.eye(3)[:, :, None, None] + 0.2 * rng.standard_normal((3, 3, 4, 5))
+    form = material.tangent_terms(F).isotropic()
+    assert form is not None
+    np.testing.assert_allclose(_isotropic_full(form, (4, 5)), material.tangent(F), rtol=0,
+                               atol=1e-12 * np.abs(material.tangent(F)).max())
+
+
+def test_terms_of_another_form_have_no_isotropic_form():
+    from vlab.materials.structure import TangentTerms
+    rng = np.random.default_rng(7)
+    P, Q = rng.standard_normal((2, 3, 3, 4))
+    assert TangentTerms((4,), dyad=[(P, P)], cross=[(Q, Q)]).isotropic() is None  # two fields
+    assert TangentTerms((4,), dyad=[(P, P)]).isotropic() is None                   # no cross
+    assert TangentTerms((4,), kron=[(P, Q)], dyad=[(P, P)], cross=[(P, P)]).isotropic() is None
+    form = TangentTerms((4,), kron=[(2.0, 1.0), (1.0, Q), (P, 3.0)], dyad=[((1.5, P), P)],
+                        cross=[(P, P)]).isotropic()
+    assert form.c0 == 2.0 and form.S is Q and np.array_equal(form.B, 3.0 * P)
+    assert form.alpha == 1.5 and form.beta == 1.0 and form.X is P
+
+
+@pytest.mark.skipif(not compiled.available(), reason="numba not installed")
+def test_compiled_kernel_without_a_writable_cache_compiles_in_memory(monkeypatch):
+    """No writable directory for the generated source: the kernel is compiled from memory (no
+    on-disk cache) and gives the same K."""
+    space = _space("tet", 1)
+    material = make_material("neo-hookean", 5.0, 2.0)
+    ev = HyperelasticBody(space, material, kernel="numpy").evaluate(
+        0.02 * np.random.default_rng(8).standard_normal(space.n_dofs))
+    reference = HyperelasticBody(space, material, kernel="numpy").stiffness(ev)
+    monkeypatch.setattr(compiled, "_KERNELS", {})
+    monkeypatch.setattr(compiled, "_source_dir", lambda: None)
+    K = HyperelasticBody(space, material, kernel="compiled").stiffness(ev)
+    assert abs(K - reference).max() <= 1e-12 * abs(reference).max()
+
+
+def test_vlab_kernel_numpy_keeps_numba_out(tmp_path):
+    """VLAB_KERNEL=numpy: numba is not even imported, the numpy kernels assemble."""
+    import os
+    import subprocess
+    import sys
+    code = ("import sys; from vlab.fe import compiled; "
+            "print(compiled.available(), compiled.kernel_in_use(), 'numba' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
+                         env=os.environ | {"VLAB_KERNEL": "numpy"}).stdout.split()
+    assert out == ["False", "numpy", "False"]
+
+
+def test_unknown_kernel_name_is_refused():
+    with pytest.raises(ValueError, match="kernel must be"):
+        HyperelasticBody(_space("tet", 1), make_material("linear", 5.0, 2.0), kernel="fast")

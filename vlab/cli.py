@@ -151,6 +151,9 @@ def info():
     Console().print(f"  iterative     cg-amg   {amg or 'not installed (pip install pyamg)'}",
                     highlight=False)
     Console().print(f"linear solver in use: {solver_in_use()}", highlight=False)
+    from vlab.fe.compiled import kernel_in_use
+    Console().print(f"tangent kernel: {kernel_in_use()} (VLAB_KERNEL=numpy: numpy only)",
+                    highlight=False)
     if amg:
         Console().print(f"  \\[solver] linear = 'auto': CG + AMG for Newton corrections from "
                         f"{CROSSOVER.get(solver_in_use(), CROSSOVER['superlu']):,} free DOFs on "

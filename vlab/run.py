@@ -257,6 +257,7 @@ def _run_scene(scene: Scene, on_level, specimen: Specimen | None) -> RunResult:
     timing["total_s"] = clock() - t0
     extra["linear_solver"] = {"requested": scene.solver.linear, "newton": linear_solver,
                               "direct": solver_in_use()}
+    extra["tangent_kernel"] = getattr(body, "tangent_kernel", "numpy")
     extra |= {"body": body, "partition": partition, "stability": [r.as_dict() for r in monitor.records], "warnings": _warnings(scene)}
     extra |= _buckling_extra(monitor, deflection, seeded)
     if scene.effects or scene.test.protocol.name != "monotonic":

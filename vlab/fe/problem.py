@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
+from vlab.fe import compiled
 from vlab.fe.assembly import (SparsityPattern, element_forces, element_stiffness, scatter_vector,
                               upper_element_stiffness)
 from vlab.fe.space import DisplacementSpace
@@ -48,10 +49,27 @@ class Evaluation:
 class HyperelasticBody:
     """Couples a material model to a displacement space through vectorized kernels."""
 
-    def __init__(self, space: DisplacementSpace, material):
+    def __init__(self, space: DisplacementSpace, material, kernel: str = "auto"):
+        """``kernel``: "auto" (the compiled tangent kernel where it applies and numba is
+        installed), "numpy" (the vectorized numpy kernels only) or "compiled" (required)."""
+        if kernel not in ("auto", "numpy", "compiled"):
+            raise ValueError(f"kernel must be 'auto', 'numpy' or 'compiled'; got {kernel!r}")
         self.space = space
         self.material = material
         self.pattern = SparsityPattern.build(space.element_nodes, space.dim)
+        self._compiled = None
+        applies = space.dim == 3 and hasattr(material, "tangent_terms")
+        if kernel == "compiled" and not (applies and compiled.available()):
+            raise ValueError("the compiled tangent kernel needs numba and a 3D material with "
+                             "tangent_terms")
+        if kernel != "numpy" and applies and compiled.available():
+            self._compiled = compiled.CompiledStiffness(space, self.pattern)
+            self._compiled.prepare()   # set-up once per mesh, like the pattern
+
+    @property
+    def tangent_kernel(self) -> str:
+        """Which kernel assembles the tangent: 'compiled (numba x.y)' or 'numpy'."""
+        return f"compiled ({compiled.kernel_in_use()})" if self._compiled is not None else "numpy"
 
     @timed(ASSEMBLY)
     def evaluate(self, u: np.ndarray) -> Evaluation:
@@ -71,10 +89,14 @@ class HyperelasticBody:
     def stiffness(self, evaluation: Evaluation) -> sp.csr_matrix:
         """Tangent stiffness K = ∂f_int/∂u at an admissible state, N/mm.
 
-        A model that states its tangent as a sum of outer products (``tangent_terms``) is pulled
-        back term by term, without the full (3,3,3,3,e,q) tangent."""
+        A model that states its tangent as a sum of outer products (``tangent_terms``) never forms
+        the full (3,3,3,3,e,q) tangent: in the isotropic form of the three hyperelastic models
+        the compiled kernel (vlab.fe.compiled) assembles it, otherwise it is pulled back term by
+        term (vlab.fe.assembly)."""
         terms = getattr(self.material, "tangent_terms", None)
-        if terms is not None and self.space.reference_dN is not None:
-            return self.pattern.symmetric_matrix(upper_element_stiffness(self.space, terms(evaluation.F)))
         A = terms(evaluation.F) if terms is not None else self.material.tangent(evaluation.F)
+        if self._compiled is not None and (form := A.isotropic()) is not None:
+            return self._compiled.matrix(form)
+        if terms is not None and self.space.reference_dN is not None:
+            return self.pattern.symmetric_matrix(upper_element_stiffness(self.space, A))
         return self.pattern.matrix(element_stiffness(self.space, A))

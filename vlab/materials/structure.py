@@ -117,6 +117,52 @@ class TangentTerms:
         return Y
 
 
+    def isotropic(self) -> "IsotropicTangent | None":
+        """These terms as one ``IsotropicTangent`` (what the compiled kernel takes), or None if
+        they do not have that form: exactly one dyad and one cross on the same field X (each
+        X ⊗ X times a scalar or scalar field), and krons that are s·δ ⊗ δ, δ ⊗ C or B ⊗ δ."""
+        if len(self.dyad) != 1 or len(self.cross) != 1:
+            return None
+        (alpha, X), Q = _coefficient(self.dyad[0][0]), self.dyad[0][1]
+        (beta, X2), Q2 = _coefficient(self.cross[0][0]), self.cross[0][1]
+        if not (X is Q and X2 is Q and Q2 is Q) or np.ndim(Q) != 2 + len(self.batch):
+            return None
+        c0, S, B = 0.0, None, None
+        for first, second in self.kron:
+            if np.isscalar(first) and np.isscalar(second):
+                c0 += float(first) * float(second)
+            elif np.isscalar(first):
+                term = second if first == 1.0 else first * second
+                S = term if S is None else S + term
+            elif np.isscalar(second):
+                term = first if second == 1.0 else second * first
+                B = term if B is None else B + term
+            else:
+                return None
+        return IsotropicTangent(X, alpha, beta, c0, S, B)
+
+
+@dataclass
+class IsotropicTangent:
+    """A_iJkL = c₀ δ_ik δ_JL + δ_ik S_JL + B_ik δ_JL + α X_iJ X_kL + β X_iL X_kJ (MPa).
+
+    X, S, B are (3,3,*batch) fields (S, B symmetric, or None for zero), α and β floats or
+    (*batch) fields, c₀ a float: the tangents of the linear, St. Venant–Kirchhoff and
+    Neo-Hookean models (vlab.fe.compiled assembles this form)."""
+
+    X: np.ndarray
+    alpha: Field
+    beta: Field
+    c0: float
+    S: np.ndarray | None
+    B: np.ndarray | None
+
+
+def _coefficient(P) -> tuple[Field, np.ndarray]:
+    """(c, X) for a dyad/cross first field given as (c, X) or as X (c = 1)."""
+    return P if isinstance(P, tuple) else (1.0, P)
+
+
 #: The (i, k) blocks i ≤ k of a major-symmetric tangent, in the order of ``pulled_back``: the
 #: three diagonal blocks (symmetric in (m, n), so their element matrices are symmetric) first.
 UPPER_PAIRS = ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))

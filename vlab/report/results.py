@@ -83,6 +83,7 @@ def result_to_dict(result: RunResult) -> dict:
             "exact_iterations": [sum(r.exact for r in lv.newton) for lv in levels],
             "factorizations": history.factorizations,
             "linear": result.extra.get("linear_solver"),
+            "tangent_kernel": result.extra.get("tangent_kernel"),
             "rtol": scene.solver.rtol,
         },
         "timing": result.timing,
