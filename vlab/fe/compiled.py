@@ -62,10 +62,13 @@ def _start():
         return None
     try:
         import numba
-        numba.njit(cache=True)(_ready)(1)
     except Exception as exc:  # ImportError, or a numba/numpy version mismatch
         log.debug("numba unavailable (%s): numpy tangent kernels", exc)
         return None
+    try:
+        numba.njit(cache=True)(_ready)(1)
+    except RuntimeError:  # no writable cache location for this file: compile in memory
+        numba.njit(_ready)(1)
     return numba
 
 
