@@ -1,8 +1,12 @@
 """Vectorized assembly of the total energy, internal force and tangent stiffness.
 
-Material and mesh meet here and nowhere else. Per Newton iteration F, P and A are evaluated once
-at all quadrature points; element contributions are formed with batched tensor contractions and
-scattered into a sparsity pattern that is computed once per mesh (and once per set of grips).
+The tangents of the linear, StVK and Neo-Hookean models are assembled by the compiled kernel of
+vlab.fe.compiled when numba is installed; the numpy kernels here do every other case (2D
+sheets, other tangent forms, ``VLAB_KERNEL=numpy``) and are the reference it is tested against.
+Material and mesh meet here and in vlab.fe.compiled, nowhere else. Per Newton iteration F, P
+and A are evaluated once at all quadrature points; element contributions are formed with
+batched tensor contractions and scattered into a sparsity pattern that is computed once per
+mesh (and once per set of grips).
 
     W(u)      = Σ_e Σ_q ψ(F_eq) dx_eq                                     (mJ = N·mm)
     f_int[ai] = Σ_e Σ_q P_iJ dN_a,J dx                                     (N)
