@@ -26,6 +26,15 @@ def _newton_cost(solver: dict) -> str:
     return text
 
 
+def _solvers(solver: dict) -> str:
+    """The direct solver (and the Newton corrections' one if different) and the tangent kernel."""
+    linear = solver.get("linear") or {}
+    text = _fmt(linear.get("direct"))
+    if linear.get("newton") not in (None, "direct", linear.get("direct")):
+        text += f" (Newton corrections: {_fmt(linear['newton'])})"
+    return f"{text}; {_fmt(solver.get('tangent_kernel'))}"
+
+
 def summary_rows(data: dict) -> list[tuple[str, str]]:
     m, inp, solver, timing, mesh = (data["measured"], data["input"], data["solver"],
                                     data["timing"], data["mesh"])
@@ -36,6 +45,7 @@ def summary_rows(data: dict) -> list[tuple[str, str]]:
         ("E from crosshead strain [MPa]", _fmt(m.get("E_crosshead"))),
         ("force at last level [N]", _fmt(data["curve"]["force"][-1] if data["curve"]["force"] else None)),
         ("Newton iterations (total)", _newton_cost(solver)),
+        ("linear solver; tangent kernel", _solvers(solver)),
         ("cutbacks", _fmt(sum(solver["cutbacks"]))),
         ("mesh", f"{mesh['cell']} order {mesh['order']}, {mesh['elements']} elements, {mesh['dofs']} DOFs"
                  + (f", symmetry {mesh['symmetry']}" if mesh.get("symmetry", "none") != "none" else "")),
@@ -175,6 +185,7 @@ def comparison_rows(page: ReportPage) -> list[tuple[str, list[str]]]:
         ("strain where |s − s_NH|/s_NH ≥ 10 %", per(departure("10%"))),
         ("stress vs analytic, max rel. error", per(error)),
         ("Newton iterations (total)", per(lambda d: _newton_cost(d["solver"]))),
+        ("linear solver; tangent kernel", per(lambda d: _solvers(d["solver"]))),
         ("cutbacks", per(lambda d: _fmt(sum(d["solver"]["cutbacks"])))),
         ("wall time [s]", per(lambda d: _fmt(d["timing"]["total_s"], 3))),
         ("DOFs", per(lambda d: _fmt(d["mesh"]["dofs"]))),
