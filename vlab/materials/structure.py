@@ -116,7 +116,6 @@ class TangentTerms:
                         y += term
         return Y
 
-
     def isotropic(self) -> "IsotropicTangent | None":
         """These terms as one ``IsotropicTangent`` (what the compiled kernel takes), or None if
         they do not have that form: exactly one dyad and one cross on the same field X (each
