@@ -95,7 +95,7 @@ class SparsityPattern:
         order = tuple(np.argsort([-s for s in element_matrices.strides], kind="stable"))
         slot = self.slot if order == tuple(range(5)) else self._slot_in(order)
         values = np.transpose(element_matrices, order)
-        return self._csr(np.bincount(slot, weights=values.ravel(), minlength=len(self.indices)))
+        return self.csr(np.bincount(slot, weights=values.ravel(), minlength=len(self.indices)))
 
     def symmetric_matrix(self, blocks: np.ndarray) -> sp.csr_matrix:
         """K from the flat element blocks of ``upper_element_stiffness``: the diagonal blocks
@@ -107,9 +107,10 @@ class SparsityPattern:
         data = np.bincount(self._split_slots, weights=blocks, minlength=len(self.indices))
         lower, source = self._mirror
         data[lower] = data[source]
-        return self._csr(data)
+        return self.csr(data)
 
-    def _csr(self, data: np.ndarray) -> sp.csr_matrix:
+    def csr(self, data: np.ndarray) -> sp.csr_matrix:
+        """The matrix with these CSR data values (n × n), sharing the pattern's index arrays."""
         return sp.csr_matrix((data, self.indices, self.indptr), shape=(self.n, self.n))
 
     @cached_property

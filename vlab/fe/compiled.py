@@ -255,8 +255,8 @@ _NONE = np.empty((0, 0, 0, 0))
 
 @dataclass
 class CompiledStiffness:
-    """The per-mesh data of the compiled kernel: gradients, weights, the geometric Laplacian
-    and the CSR position of every element node pair."""
+    """The per-mesh data of the compiled kernel: gradients, the geometric Laplacian and the CSR
+    position of every element node pair (the weights are the space's dx, C-contiguous)."""
 
     space: object      # DisplacementSpace (3D)
     pattern: object    # SparsityPattern of the space
@@ -265,10 +265,6 @@ class CompiledStiffness:
     def gradients(self) -> np.ndarray:
         """g[e, q, J, a] = ∂N_a/∂X_J, C-contiguous, 1/mm."""
         return np.ascontiguousarray(self.space.dN.transpose(0, 1, 3, 2))
-
-    @cached_property
-    def weights(self) -> np.ndarray:
-        return np.ascontiguousarray(self.space.dx)
 
     @cached_property
     def laplacian(self) -> np.ndarray:
@@ -287,20 +283,20 @@ class CompiledStiffness:
     def prepare(self) -> None:
         """Compute the per-mesh arrays and load the kernel (one-time set-up, not per iteration):
         a call on no elements compiles it, or loads it from numba's cache."""
-        n_el, n_qp = self.weights.shape
+        n_el, n_qp = self.space.dx.shape
         none = np.zeros((0, n_qp))
         self._run(np.zeros((3, 3, 0, n_qp)), none, none, 0.0, _NONE, _NONE,
                   np.zeros(len(self.pattern.indices)), elements=slice(0, 0))
 
     def _run(self, X, alpha, beta, c0, S, B, data, elements=slice(None)) -> None:
         base, rowlen = self.slots
-        _call(kernel(self.space.dN.shape[2]), self.gradients[elements], self.weights[elements],
+        _call(kernel(self.space.dN.shape[2]), self.gradients[elements], self.space.dx[elements],
               X, alpha, beta, float(c0), self.laplacian[elements], S, B, base[elements],
               rowlen[elements], data)
 
     def matrix(self, form) -> sp.csr_matrix:
         """K (N/mm) for an ``IsotropicTangent`` at all quadrature points (batch (e, q))."""
-        n_el, n_qp = self.weights.shape
+        n_el, n_qp = self.space.dx.shape
 
         def field(x):
             return (np.full((n_el, n_qp), float(x)) if np.isscalar(x)
@@ -310,5 +306,4 @@ class CompiledStiffness:
         self._run(np.ascontiguousarray(form.X, dtype=float), field(form.alpha), field(form.beta),
                   form.c0, _NONE if form.S is None else np.ascontiguousarray(form.S, dtype=float),
                   _NONE if form.B is None else np.ascontiguousarray(form.B, dtype=float), data)
-        return sp.csr_matrix((data, self.pattern.indices, self.pattern.indptr),
-                             shape=(self.pattern.n, self.pattern.n))
+        return self.pattern.csr(data)
