@@ -58,10 +58,11 @@ class HyperelasticBody:
         self.material = material
         self.pattern = SparsityPattern.build(space.element_nodes, space.dim)
         self._compiled = None
-        applies = space.dim == 3 and hasattr(material, "tangent_terms")
+        applies = (space.dim == 3 and space.reference_dN is not None
+                   and hasattr(material, "tangent_terms"))
         if kernel == "compiled" and not (applies and compiled.available()):
-            raise ValueError("the compiled tangent kernel needs numba and a 3D material with "
-                             "tangent_terms")
+            raise ValueError("the compiled tangent kernel needs numba, a 3D isoparametric "
+                             "space and a material with tangent_terms")
         if kernel != "numpy" and applies and compiled.available():
             self._compiled = compiled.CompiledStiffness(space, self.pattern)
             self._compiled.prepare()   # set-up once per mesh, like the pattern
