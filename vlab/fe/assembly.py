@@ -71,6 +71,7 @@ class SparsityPattern:
         indices = np.empty(indptr[-1], dtype=np.int32)
         indices[where.ravel()] = np.broadcast_to(d * col[:, None, None] + comp[None, None, :],
                                                  where.shape).ravel()
+        indptr = _compact(indptr)
         transpose = np.searchsorted(keys, col * n_nodes + row)
         return cls(d * n_nodes, indptr, indices, node_slot.reshape(nodes.shape + nodes.shape[1:2]),
                    base, rowlen, transpose, d)
@@ -184,7 +185,7 @@ class Partition:
             keep = np.flatnonzero(is_free[row] & col_ok)
             indptr = np.zeros(len(free) + 1, dtype=np.int64)
             np.cumsum(np.bincount(renumber[row[keep]], minlength=len(free)), out=indptr[1:])
-            blocks += [keep, indptr, col_map[col[keep]].astype(np.int32)]
+            blocks += [keep, _compact(indptr), col_map[col[keep]].astype(np.int32)]
         return cls(free, np.asarray(prescribed), *blocks)
 
     def blocks(self, K: sp.csr_matrix) -> tuple[sp.csr_matrix, sp.csr_matrix]:
@@ -193,6 +194,12 @@ class Partition:
         Kff = sp.csr_matrix((K.data[self.ff], self.ff_indices, self.ff_indptr), shape=(nf, nf))
         Kfp = sp.csr_matrix((K.data[self.fp], self.fp_indices, self.fp_indptr), shape=(nf, npres))
         return Kff, Kfp
+
+
+def _compact(indptr: np.ndarray) -> np.ndarray:
+    """indptr as int32 when it fits, like the indices: scipy then takes both arrays as they are
+    (an int64 indptr makes every CSR construction check its range, 0.1–0.3 ms each)."""
+    return indptr.astype(np.int32) if indptr[-1] < np.iinfo(np.int32).max else indptr
 
 
 def element_forces(space: DisplacementSpace, P: np.ndarray) -> np.ndarray:
