@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 import skfem
 
-from vlab.geometry.lattice import Lattice, divisions, symmetric_mesh
+from vlab.geometry.lattice import Lattice, divisions, swept_mesh, symmetric_mesh
 from vlab.geometry.specimen import GaugeMarks, Grip, Specimen
 from vlab.geometry.symmetry import cut_axes, mirrored_planes
 
@@ -24,7 +24,7 @@ def block_mesh(size: tuple[float, float, float], element_size: float, cell: str,
                symmetry: str = "none") -> skfem.Mesh:
     if symmetry == "none":
         axes = [np.linspace(0.0, side, divisions(side, element_size) + 1) for side in size]
-        return (skfem.MeshHex if cell == "hex" else skfem.MeshTet).init_tensor(*axes)
+        return swept_mesh((skfem.MeshHex if cell == "hex" else skfem.MeshTet).init_tensor(*axes))
     axes = [np.linspace(side / 2, side, divisions(side / 2, element_size) + 1) for side in size]
     X = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1)
     planes = [(a, size[a] / 2) for a in mirrored_planes(symmetry)]

@@ -109,34 +109,48 @@ class Lattice:
         return Lattice(self.nodes, np.concatenate(tets))
 
     def swept(self) -> "Lattice":
-        """The same lattice numbered along its longest extent: nodes and cells sorted by
-        (centroid) coordinate, the longest axis slowest and the shortest fastest.
-
-        Why: the tangent assembly adds every element's node blocks into the rows of its nodes;
-        in this order consecutive elements share most of their nodes and the rows in use at any
-        time are those of one cross-section, which stay in cache (ISO 527-2 1BA dogbone, 5,120
-        hexahedra: 6.7 → 5.7 ms per assembly)."""
-        extent = np.ptp(self.nodes, axis=0)
-        axes = np.argsort(extent, kind="stable")  # shortest first: np.lexsort's fastest key
-        tick = 1e-9 * max(float(extent.max()), 1e-300)
-
-        def order(points):
-            return np.lexsort(tuple(np.round(points[:, a] / tick) for a in axes))
-
-        nodes = order(self.nodes)
-        new_id = np.empty(len(nodes), dtype=np.int64)
-        new_id[nodes] = np.arange(len(nodes))
-        cells = new_id[self.cells][order(self.centroids())]
-        return Lattice(self.nodes[nodes], cells)
+        """The same lattice numbered along its longest extent (``sweep``)."""
+        return Lattice(*sweep(self.nodes, self.cells))
 
     def to_mesh(self, cell: str) -> skfem.Mesh:
         """scikit-fem MeshHex (``cell = "hex"``) or MeshTet, numbered by ``swept``."""
-        lattice = self.swept()
         if cell == "hex":
+            lattice = self.swept()
             t = lattice.cells[:, _REF[:, 0], _REF[:, 1], _REF[:, 2]]
             return skfem.MeshHex(np.ascontiguousarray(lattice.nodes.T), np.ascontiguousarray(t.T))
-        tets = lattice.tetrahedra().cells
-        return skfem.MeshTet(np.ascontiguousarray(lattice.nodes.T), np.ascontiguousarray(tets.T))
+        lattice = self.tetrahedra().swept()
+        return skfem.MeshTet(np.ascontiguousarray(lattice.nodes.T),
+                             np.ascontiguousarray(lattice.cells.T))
+
+
+def sweep(nodes: np.ndarray, cells: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Nodes (n, 3) and cells (e, ...) of node ids renumbered along the longest extent: nodes
+    and cells (by centroid) sorted by coordinate, the longest axis slowest, the shortest fastest.
+
+    Why: the tangent assembly adds every element's node blocks into the rows of its nodes; in
+    this order consecutive elements share most of their nodes and the rows in use at any time
+    are those of one cross-section, which stay in cache (ISO 527-2 1BA dogbone, 5,120
+    hexahedra: 6.7 → 5.7 ms per kernel call), and equal runs of consecutive elements are slabs
+    that threads can assemble side by side (vlab.fe.compiled.slabs)."""
+    extent = np.ptp(nodes, axis=0)
+    axes = np.argsort(extent, kind="stable")  # shortest first: np.lexsort's fastest key
+    tick = 1e-9 * max(float(extent.max()), 1e-300)
+
+    def order(points):
+        return np.lexsort(tuple(np.round(points[:, a] / tick) for a in axes))
+
+    node_order = order(nodes)
+    new_id = np.empty(len(nodes), dtype=np.int64)
+    new_id[node_order] = np.arange(len(nodes))
+    renumbered = new_id[cells]
+    centroids = nodes[cells.reshape(len(cells), -1)].mean(axis=1)
+    return nodes[node_order], renumbered[order(centroids)]
+
+
+def swept_mesh(mesh: skfem.Mesh) -> skfem.Mesh:
+    """A scikit-fem mesh without named boundaries or subdomains, numbered by ``sweep``."""
+    nodes, cells = sweep(mesh.p.T, mesh.t.T)
+    return type(mesh)(np.ascontiguousarray(nodes.T), np.ascontiguousarray(cells.T))
 
 
 def symmetric_mesh(unit: Lattice, planes: list[tuple[int, float]], cell: str, scale: float) -> skfem.Mesh:
