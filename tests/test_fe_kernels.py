@@ -190,6 +190,73 @@ def test_compiled_kernel_without_a_writable_cache_compiles_in_memory(monkeypatch
     assert abs(K - reference).max() <= 1e-12 * abs(reference).max()
 
 
+needs_numba = pytest.mark.skipif(not compiled.available(), reason="numba not installed")
+
+
+def _state(space, model="neo-hookean"):
+    material = make_material(model, 5.0, 2.0)
+    ev = HyperelasticBody(space, material, kernel="numpy").evaluate(
+        0.02 * np.random.default_rng(9).standard_normal(space.n_dofs))
+    return material, ev, HyperelasticBody(space, material, kernel="numpy").stiffness(ev)
+
+
+@needs_numba
+@pytest.mark.parametrize("cell,order", CASES)
+def test_threads_assembling_slabs_side_by_side_give_the_serial_K(cell, order):
+    """Slabs of one parity share no node, so threads add into disjoint entries: the K of 2
+    threads (4 slabs of the swept mesh: its 4 hexahedron layers along x) equals the numpy
+    kernel's, and 3 threads fall back to 2 (6 slabs would not separate)."""
+    space = _space(cell, order)
+    material, ev, reference = _state(space)
+    body = HyperelasticBody(space, material, kernel="compiled")
+    for threads in (2, 3):
+        bounds = compiled.slabs(space.element_nodes, threads, min_elements=2)
+        assert len(bounds) == 5
+        body._compiled.__dict__["bounds"] = bounds
+        K = body.stiffness(ev)
+        assert abs(K - reference).max() <= 1e-12 * abs(reference).max()
+
+
+def test_slabs_split_only_where_no_node_is_in_two_slabs_of_one_parity():
+    nodes = block_mesh((4.0, 1.0, 1.0), 0.25, "hex").t.T       # swept: x slowest, 16 layers
+    bounds = compiled.slabs(nodes, 2, min_elements=16)
+    assert len(bounds) == 5 and bounds[0] == 0 and bounds[-1] == len(nodes)
+    slab = np.repeat(np.arange(4), np.diff(bounds))
+    for s in range(4):
+        for other in range(s + 2, 4, 2):
+            assert not set(nodes[slab == s].ravel()) & set(nodes[slab == other].ravel())
+    shuffled = nodes[np.random.default_rng(10).permutation(len(nodes))]
+    np.testing.assert_array_equal(compiled.slabs(shuffled, 2, min_elements=16), [0, len(nodes)])
+    small = compiled.slabs(nodes, 2, min_elements=len(nodes))  # too few elements to split
+    np.testing.assert_array_equal(small, [0, len(nodes)])
+
+
+@needs_numba
+def test_assembly_outside_the_main_thread_is_serial_and_the_same():
+    """numba's workqueue layer must not be entered from two threads at once: a body assembled in
+    another thread takes the serial kernel, with the same K."""
+    import threading
+    space = _space("hex", 1)
+    material, ev, reference = _state(space)
+    body = HyperelasticBody(space, material, kernel="compiled")
+    body._compiled.__dict__["bounds"] = compiled.slabs(space.element_nodes, 2, min_elements=2)
+    out = {}
+    worker = threading.Thread(target=lambda: out.update(K=body.stiffness(ev)))
+    worker.start()
+    worker.join()
+    assert abs(out["K"] - reference).max() <= 1e-12 * abs(reference).max()
+
+
+@needs_numba
+@pytest.mark.parametrize("value", ["0", "two", "999"])
+def test_bad_assembly_thread_count_names_the_variable_and_range(monkeypatch, value):
+    monkeypatch.setenv("VLAB_ASSEMBLY_THREADS", value)
+    with pytest.raises(ValueError, match=r"VLAB_ASSEMBLY_THREADS must be an integer from 1 to"):
+        compiled.threads()
+    monkeypatch.setenv("VLAB_ASSEMBLY_THREADS", "1")
+    assert compiled.threads() == 1
+
+
 def test_vlab_kernel_numpy_keeps_numba_out(tmp_path):
     """VLAB_KERNEL=numpy: numba is not even imported, the numpy kernels assemble."""
     import os

@@ -96,6 +96,8 @@ _events = None  # the worker's end of the progress queue (set by the pool initia
 def _init_worker(events) -> None:
     global _events
     _events = events
+    # the workers already share the cores: one assembly thread each
+    os.environ["VLAB_ASSEMBLY_THREADS"] = "1"
 
 
 def _worker(scene: Scene, model: str) -> ModelOutcome:

@@ -69,8 +69,11 @@ class HyperelasticBody:
 
     @property
     def tangent_kernel(self) -> str:
-        """Which kernel assembles the tangent: 'compiled (numba x.y)' or 'numpy'."""
-        return f"compiled ({compiled.kernel_in_use()})" if self._compiled is not None else "numpy"
+        """Which kernel assembles the tangent: 'compiled (numba x.y, t threads)' or 'numpy'."""
+        if self._compiled is None:
+            return "numpy"
+        t = self._compiled.threads
+        return f"compiled ({compiled.kernel_in_use()}, {t} thread{'s' if t > 1 else ''})"
 
     @timed(ASSEMBLY)
     def evaluate(self, u: np.ndarray) -> Evaluation:
