@@ -217,6 +217,27 @@ def test_threads_assembling_slabs_side_by_side_give_the_serial_K(cell, order):
         assert abs(K - reference).max() <= 1e-12 * abs(reference).max()
 
 
+@needs_numba
+@pytest.mark.parametrize("cell,order", CASES)
+def test_compiled_deformation_gradient_and_internal_force_equal_numpy(cell, order):
+    """F and f_int of the compiled kernels equal the space's numpy contractions (and so the
+    evaluation of a body with either kernel)."""
+    space = _space(cell, order)
+    material = make_material("neo-hookean", 5.0, 2.0)
+    u = 0.02 * np.random.default_rng(11).standard_normal(space.n_dofs)
+    fast, slow = (HyperelasticBody(space, material, kernel=k) for k in ("compiled", "numpy"))
+    F = space.deformation_gradient(u)
+    np.testing.assert_allclose(fast._compiled.deformation_gradient(u), F, rtol=0, atol=1e-14)
+    P = material.stress(F)
+    element = assembly.element_forces(space, P)
+    f = assembly.scatter_vector(space, element)
+    scale = 1e-13 * np.abs(element).max()  # nodal sums cancel: round-off is relative to the terms
+    np.testing.assert_allclose(fast._compiled.internal_force(P), f, rtol=0, atol=scale)
+    a, b = fast.evaluate(u), slow.evaluate(u)
+    assert a.W == pytest.approx(b.W, rel=1e-13) and a.min_J == pytest.approx(b.min_J, rel=1e-13)
+    np.testing.assert_allclose(a.f_int, b.f_int, rtol=0, atol=scale)
+
+
 def test_slabs_split_only_where_no_node_is_in_two_slabs_of_one_parity():
     nodes = block_mesh((4.0, 1.0, 1.0), 0.25, "hex").t.T       # swept: x slowest, 16 layers
     bounds = compiled.slabs(nodes, 2, min_elements=16)

@@ -218,6 +218,52 @@ def source(n_local: int) -> str:
         "                data[r2 + 1] += K[5, b, a]",
         "                data[r2 + 2] += K[2, a, b]",
     ]
+    lines += [
+        "",
+        "",
+        "@numba.njit(cache=True, boundscheck=False, nogil=True)",
+        "def gradient(u, nodes, dN, R, F):",
+        '    """F[i, J, e, q] = δ_iJ + Σ_m (Σ_a u[node a, i] dN[q, m, a]) R[e, q, m, J]."""',
+        "    n_qp = dN.shape[0]",
+        f"    ue = np.empty((3, {A}))",
+        "    for e in range(nodes.shape[0]):",
+        f"        for a in range({A}):",
+        "            n = 3 * nodes[e, a]",
+        "            ue[0, a], ue[1, a], ue[2, a] = u[n], u[n + 1], u[n + 2]",
+        "        for q in range(n_qp):",
+        "            for i in range(3):",
+        "                g0 = g1 = g2 = 0.0",
+        f"                for a in range({A}):",
+        "                    g0 += ue[i, a] * dN[q, 0, a]",
+        "                    g1 += ue[i, a] * dN[q, 1, a]",
+        "                    g2 += ue[i, a] * dN[q, 2, a]",
+        "                for J in range(3):",
+        "                    F[i, J, e, q] = (g0 * R[e, q, 0, J] + g1 * R[e, q, 1, J]",
+        "                                     + g2 * R[e, q, 2, J] + (1.0 if i == J else 0.0))",
+        "",
+        "",
+        "@numba.njit(cache=True, boundscheck=False, nogil=True)",
+        "def forces(P, nodes, dN, R, dx, f):",
+        '    """f[3 node a + i] += Σ_q dx Σ_m (Σ_J P[i, J, e, q] R[e, q, m, J]) dN[q, m, a]."""',
+        "    n_qp = dN.shape[0]",
+        f"    fe = np.empty((3, {A}))",
+        "    for e in range(nodes.shape[0]):",
+        "        fe[:] = 0.0",
+        "        for q in range(n_qp):",
+        "            w = dx[e, q]",
+        "            for i in range(3):",
+        "                p0, p1, p2 = w * P[i, 0, e, q], w * P[i, 1, e, q], w * P[i, 2, e, q]",
+        "                h0 = p0 * R[e, q, 0, 0] + p1 * R[e, q, 0, 1] + p2 * R[e, q, 0, 2]",
+        "                h1 = p0 * R[e, q, 1, 0] + p1 * R[e, q, 1, 1] + p2 * R[e, q, 1, 2]",
+        "                h2 = p0 * R[e, q, 2, 0] + p1 * R[e, q, 2, 1] + p2 * R[e, q, 2, 2]",
+        f"                for a in range({A}):",
+        "                    fe[i, a] += h0 * dN[q, 0, a] + h1 * dN[q, 1, a] + h2 * dN[q, 2, a]",
+        f"        for a in range({A}):",
+        "            n = 3 * nodes[e, a]",
+        "            f[n] += fe[0, a]",
+        "            f[n + 1] += fe[1, a]",
+        "            f[n + 2] += fe[2, a]",
+    ]
     return "\n".join(lines) + "\n"
 
 
@@ -260,17 +306,21 @@ def kernel(n_local: int) -> "Kernel":
             module = importlib.util.module_from_spec(spec)
             sys.modules[name] = module  # numba's cache finds the kernel's globals by module name
             spec.loader.exec_module(module)
-        _KERNELS[n_local] = Kernel(module.stiffness, module.slabs)
+        _KERNELS[n_local] = Kernel(module.stiffness, module.slabs, module.gradient, module.forces)
     return _KERNELS[n_local]
 
 
 @dataclass(frozen=True)
 class Kernel:
-    """The kernels of one n_local: ``serial(..., start, stop, data)`` over a range of elements,
-    ``parallel(..., bounds, data)`` over slabs in numba's threads."""
+    """The kernels of one n_local: the stiffness ``serial(..., start, stop, data)`` over a range
+    of elements and ``parallel(..., bounds, data)`` over slabs in numba's threads; the
+    deformation gradient ``gradient(u, nodes, dN, R, F)``; the internal force
+    ``forces(P, nodes, dN, R, dx, f)``."""
 
     serial: object
     parallel: object
+    gradient: object
+    forces: object
 
 
 def _call(function, *args) -> None:
@@ -337,9 +387,10 @@ def _one_slab_per_node(nodes: np.ndarray, slab: np.ndarray) -> bool:
 
 
 @dataclass
-class CompiledStiffness:
-    """The per-mesh data of the compiled kernel: gradients, the geometric Laplacian and the CSR
-    position of every element node pair (the weights are the space's dx, C-contiguous)."""
+class CompiledKernels:
+    """The compiled kernels of one mesh (stiffness, deformation gradient, internal force) and
+    their per-mesh data: R = ∂ξ/∂X, the reference gradients, the geometric Laplacian, the CSR
+    position of every element node pair and the element slabs of the threads."""
 
     space: object      # DisplacementSpace (3D)
     pattern: object    # SparsityPattern of the space
@@ -387,6 +438,11 @@ class CompiledStiffness:
         none = np.zeros((0, n_qp))  # read for no element: the bounds are all 0
         self._run(np.zeros((3, 3, 0, n_qp)), none, none, 0.0, _NONE, _NONE,
                   np.zeros(len(self.pattern.indices)), np.zeros_like(self.bounds))
+        k, field = kernel(self.space.dN.shape[2]), np.zeros((3, 3, 0, n_qp))
+        _call(k.gradient, np.zeros(self.space.n_dofs), self._nodes[:0], self.reference_gradients,
+              self.inverse_jacobians, field)
+        _call(k.forces, field, self._nodes[:0], self.reference_gradients, self.inverse_jacobians,
+              self.space.dx, np.zeros(self.space.n_dofs))
 
     def _run(self, X, alpha, beta, c0, S, B, data, bounds) -> None:
         base, rowlen = self.slots
@@ -399,6 +455,26 @@ class CompiledStiffness:
             _call(k.parallel, *args, bounds, data)
         else:
             _call(k.serial, *args, int(bounds[0]), int(bounds[-1]), data)
+
+    @cached_property
+    def _nodes(self) -> np.ndarray:
+        return np.ascontiguousarray(self.space.element_nodes, dtype=np.int64)
+
+    def deformation_gradient(self, u: np.ndarray) -> np.ndarray:
+        """F = I + ∂u/∂X, (3, 3, n_elements, n_qp), as DisplacementSpace.deformation_gradient
+        in one pass over the elements (no gathered or transposed copies of u)."""
+        n_el, n_qp = self.space.dx.shape
+        F = np.empty((3, 3, n_el, n_qp))
+        _call(kernel(self.space.dN.shape[2]).gradient, np.ascontiguousarray(u, dtype=float),
+              self._nodes, self.reference_gradients, self.inverse_jacobians, F)
+        return F
+
+    def internal_force(self, P: np.ndarray) -> np.ndarray:
+        """f_int[ai] = Σ_e Σ_q P_iJ ∂N_a/∂X_J dx (N), length n_dofs, from P (3, 3, e, q) (MPa)."""
+        f = np.zeros(self.space.n_dofs)
+        _call(kernel(self.space.dN.shape[2]).forces, np.ascontiguousarray(P, dtype=float),
+              self._nodes, self.reference_gradients, self.inverse_jacobians, self.space.dx, f)
+        return f
 
     def matrix(self, form) -> sp.csr_matrix:
         """K (N/mm) for an ``IsotropicTangent`` at all quadrature points (batch (e, q))."""

@@ -64,7 +64,7 @@ class HyperelasticBody:
             raise ValueError("the compiled tangent kernel needs numba, a 3D isoparametric "
                              "space and a material with tangent_terms")
         if kernel != "numpy" and applies and compiled.available():
-            self._compiled = compiled.CompiledStiffness(space, self.pattern)
+            self._compiled = compiled.CompiledKernels(space, self.pattern)
             self._compiled.prepare()   # set-up once per mesh, like the pattern
 
     @property
@@ -77,7 +77,9 @@ class HyperelasticBody:
 
     @timed(ASSEMBLY)
     def evaluate(self, u: np.ndarray) -> Evaluation:
-        F = self.space.deformation_gradient(u)
+        fast = self._compiled
+        F = (fast.deformation_gradient(u) if fast is not None
+             else self.space.deformation_gradient(u))
         J = det(F)  # closed form: LAPACK's batched det of 3×3 matrices is ~10× slower
         worst = np.unravel_index(int(np.argmin(J)), J.shape)
         min_J = float(J[worst])
@@ -86,7 +88,9 @@ class HyperelasticBody:
         W = float(np.sum(self.material.energy(F) * self.space.dx))
         if not np.isfinite(W):
             return Evaluation(u, F, np.inf, None, min_J, (int(worst[0]), int(worst[1])))
-        f_int = scatter_vector(self.space, element_forces(self.space, self.material.stress(F)))
+        P = self.material.stress(F)
+        f_int = (fast.internal_force(P) if fast is not None
+                 else scatter_vector(self.space, element_forces(self.space, P)))
         return Evaluation(u, F, W, f_int, min_J, (int(worst[0]), int(worst[1])))
 
     @timed(ASSEMBLY)
