@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 import skfem
 
+from vlab import jit
 from vlab.fe import assembly, compiled
 from vlab.fe.problem import HyperelasticBody
 from vlab.fe.space import DisplacementSpace
@@ -185,7 +186,7 @@ def test_compiled_kernel_without_a_writable_cache_compiles_in_memory(monkeypatch
         0.02 * np.random.default_rng(8).standard_normal(space.n_dofs))
     reference = HyperelasticBody(space, material, kernel="numpy").stiffness(ev)
     monkeypatch.setattr(compiled, "_KERNELS", {})
-    monkeypatch.setattr(compiled, "_source_dir", lambda: None)
+    monkeypatch.setattr(jit, "source_dir", lambda: None)
     K = HyperelasticBody(space, material, kernel="compiled").stiffness(ev)
     assert abs(K - reference).max() <= 1e-12 * abs(reference).max()
 
@@ -236,6 +237,26 @@ def test_compiled_deformation_gradient_and_internal_force_equal_numpy(cell, orde
     a, b = fast.evaluate(u), slow.evaluate(u)
     assert a.W == pytest.approx(b.W, rel=1e-13) and a.min_J == pytest.approx(b.min_J, rel=1e-13)
     np.testing.assert_allclose(a.f_int, b.f_int, rtol=0, atol=scale)
+
+
+@needs_numba
+def test_compiled_inverse_transpose_equals_the_cofactor_formula():
+    """tensor.inv_transpose on a mesh-sized batch (compiled) against cof F / det F (numpy), on
+    a non-contiguous F, with a singular point giving inf/nan as the numpy formula does."""
+    from vlab import tensor
+    rng = np.random.default_rng(12)
+    F = (np.eye(3)[:, :, None, None] + 0.3 * rng.standard_normal((3, 3, 8, 64)))[:, :, :, ::2]
+    F[:, :, 1, 3] = 0.0
+    assert F[0, 0].size >= tensor._COMPILED_FROM and not F.flags.c_contiguous
+    G, J = tensor.inv_transpose(F)
+    cof = tensor.cofactor(F)
+    J0 = tensor.det(F, cof)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        G0 = cof / J0
+    np.testing.assert_array_equal(J, J0)
+    assert G.shape == F.shape and np.isnan(G[0, 0, 1, 3]) and np.all(np.isnan(G0[:, :, 1, 3]))
+    ok = np.isfinite(G0)
+    np.testing.assert_allclose(G[ok], G0[ok], rtol=4e-16 * 8, atol=0)
 
 
 def test_slabs_split_only_where_no_node_is_in_two_slabs_of_one_parity():

@@ -35,65 +35,26 @@ kernels of vlab.fe.assembly do the same work (compared entry by entry in the tes
 
 from __future__ import annotations
 
-import hashlib
-import importlib.util
-import logging
-import os
-import sys
-import tempfile
 import threading
-import types
 from dataclasses import dataclass
 from functools import cached_property
-from pathlib import Path
 
 import numpy as np
 import scipy.sparse as sp
 
-log = logging.getLogger(__name__)
+from vlab import jit
 
 _KERNELS: dict[int, "Kernel"] = {}
 
 
-def _ready(x):
-    return x + 1
-
-
-def _start():
-    """numba, imported and its compiler set up, or None (not installed, or VLAB_KERNEL=numpy).
-
-    numba's one-time set-up (import ~0.1 s, then ~0.2 s of type registries on the first
-    compiled call, measured on the benchmark machine) is paid here, when vlab's solver modules
-    are imported, like any other import; loading a cached kernel later takes ~10 ms."""
-    if os.environ.get("VLAB_KERNEL", "auto").lower() == "numpy":
-        return None
-    try:
-        import numba
-    except Exception as exc:  # ImportError, or a numba/numpy version mismatch
-        log.debug("numba unavailable (%s): numpy tangent kernels", exc)
-        return None
-    if "NUMBA_THREADING_LAYER" not in os.environ:
-        # vlab forks worker processes (vlab compare) after assembling in the parent; GNU OpenMP,
-        # numba's default when TBB is missing, cannot be forked. forksafe: TBB, else workqueue.
-        numba.config.THREADING_LAYER = "forksafe"
-    try:
-        numba.njit(cache=True)(_ready)(1)
-    except RuntimeError:  # no writable cache location for this file: compile in memory
-        numba.njit(_ready)(1)
-    return numba
-
-
-_NUMBA = _start()
-
-
 def available() -> bool:
-    """True if the compiled kernel can be used (numba importable, not disabled)."""
-    return _NUMBA is not None
+    """True if the compiled kernels can be used (numba importable, not disabled)."""
+    return jit.available()
 
 
 def kernel_in_use() -> str:
     """'numba <version>' or 'numpy', for ``vlab info`` and results.json."""
-    return f"numba {_NUMBA.__version__}" if available() else "numpy"
+    return jit.in_use()
 
 
 def source(n_local: int) -> str:
@@ -267,45 +228,11 @@ def source(n_local: int) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _source_dir() -> Path | None:
-    """A writable directory for the generated sources (numba caches next to them)."""
-    base = os.environ.get("VLAB_CACHE_DIR") or os.path.join(
-        os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "vlab")
-    for root in (Path(base), Path(tempfile.gettempdir()) / f"vlab-{os.getuid()}"):
-        try:
-            path = root / "kernels"
-            path.mkdir(parents=True, exist_ok=True)
-            probe = path / f".probe-{os.getpid()}"
-            probe.write_text("")
-            probe.unlink()
-            return path
-        except OSError:
-            continue
-    return None
-
-
 def kernel(n_local: int) -> "Kernel":
     """The compiled stiffness kernels for ``n_local`` nodes per element (each compiled, or
     loaded from numba's cache, on its first call)."""
     if n_local not in _KERNELS:
-        text = source(n_local)
-        digest = hashlib.sha1(text.encode()).hexdigest()[:12]
-        folder = _source_dir()
-        if folder is None:  # nowhere to write: compile in memory every process
-            module = types.ModuleType(f"vlab_kernel_{n_local}")
-            exec(compile(text.replace("cache=True", "cache=False"), f"<vlab kernel {n_local}>",
-                         "exec"), module.__dict__)
-        else:
-            path = folder / f"stiffness_{n_local}_{digest}.py"
-            if not path.exists():
-                tmp = path.with_suffix(f".{os.getpid()}.tmp")
-                tmp.write_text(text)
-                os.replace(tmp, path)  # atomic: concurrent processes never see half a file
-            name = f"vlab_kernel_{n_local}_{digest}"
-            spec = importlib.util.spec_from_file_location(name, path)
-            module = importlib.util.module_from_spec(spec)
-            sys.modules[name] = module  # numba's cache finds the kernel's globals by module name
-            spec.loader.exec_module(module)
+        module = jit.load(f"stiffness_{n_local}", source(n_local))
         _KERNELS[n_local] = Kernel(module.stiffness, module.slabs, module.gradient, module.forces)
     return _KERNELS[n_local]
 
@@ -323,36 +250,13 @@ class Kernel:
     forces: object
 
 
-def _call(function, *args) -> None:
-    """Call a kernel; its first call compiles (or loads) it with LLVM's SLP vectorizer on."""
-    if function.signatures:
-        function(*args)
-        return
-    from numba.core import config
-    previous = config.SLP_VECTORIZE
-    config.SLP_VECTORIZE = 1
-    try:
-        function(*args)
-    finally:
-        config.SLP_VECTORIZE = previous
+_call = jit.call
 
 
 _NONE = np.empty((0, 0, 0, 0))
 
 
-def threads() -> int:
-    """Threads the kernel may use: ``VLAB_ASSEMBLY_THREADS`` if set (1 … numba's thread count),
-    else numba's thread count (NUMBA_NUM_THREADS, all cores by default)."""
-    if not available():
-        return 1
-    most = _NUMBA.get_num_threads()
-    asked = os.environ.get("VLAB_ASSEMBLY_THREADS", "").strip()
-    if not asked:
-        return most
-    if not asked.isdigit() or not 1 <= int(asked) <= most:
-        raise ValueError(f"VLAB_ASSEMBLY_THREADS must be an integer from 1 to {most} (numba's "
-                         f"thread count); got {asked!r}")
-    return int(asked)
+threads = jit.threads
 
 
 def slabs(element_nodes: np.ndarray, n_threads: int, min_elements: int = 64) -> np.ndarray:
