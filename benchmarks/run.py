@@ -27,10 +27,14 @@ that reuse a factor (chord steps) are in vlab's iteration count but cost no fact
 "exact" counts the ones that factorize. ``--newton exact`` runs vlab with ``solver.newton =
 "exact"`` (refactorize every iteration after the first chord step) instead of the default reuse.
 
-vlab assembles the tangent with its compiled kernel (numba, vlab/fe/compiled.py) unless the
-environment says ``VLAB_KERNEL=numpy``. numba's one-time start-up (~0.3 s) is paid when vlab's
-modules are imported, before the clock starts, like every other import of either code; loading
-the cached kernel (~10 ms) is in the timed run. Peak memory includes numba's compiler (~100 MB).
+vlab evaluates F and the internal force and assembles the tangent with its compiled kernels
+(numba, vlab/fe/compiled.py), the tangent in numba's threads (2 here: slabs of elements that
+share no node), unless the environment says ``VLAB_KERNEL=numpy`` (``VLAB_ASSEMBLY_THREADS=1``:
+one thread). FElupe runs with its defaults. numba's one-time start-up (~0.3 s) is paid when
+vlab's modules are imported, before the clock starts, like every other import of either code;
+loading the cached kernels (~20 ms) is in the timed run. Peak memory includes numba's compiler
+(~100 MB). vlab's mesher numbers nodes and elements along the longest extent (z for a cube);
+FElupe gets the same nodes and elements.
 """
 
 from __future__ import annotations

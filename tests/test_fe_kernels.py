@@ -295,6 +295,12 @@ def test_bad_assembly_thread_count_names_the_variable_and_range(monkeypatch, val
     monkeypatch.setenv("VLAB_ASSEMBLY_THREADS", value)
     with pytest.raises(ValueError, match=r"VLAB_ASSEMBLY_THREADS must be an integer from 1 to"):
         compiled.threads()
+    from typer.testing import CliRunner
+
+    from vlab.cli import app
+    refused = CliRunner().invoke(app, ["info"])
+    assert refused.exit_code == 2 and "invalid environment" in refused.output
+    assert "VLAB_ASSEMBLY_THREADS must be an integer from 1 to" in refused.output
     monkeypatch.setenv("VLAB_ASSEMBLY_THREADS", "1")
     assert compiled.threads() == 1
 

@@ -20,6 +20,18 @@ console = Console(stderr=True)
 EXIT_OK, EXIT_FAILED, EXIT_INVALID = 0, 1, 2
 
 
+@app.callback()
+def _environment() -> None:
+    """Refuse a bad VLAB_ASSEMBLY_THREADS before any command starts work."""
+    from vlab.jit import requested_threads  # numba itself is started only by the solver
+
+    try:
+        requested_threads()
+    except ValueError as exc:
+        console.print(f"[red]invalid environment[/red] {exc}", highlight=False)
+        raise typer.Exit(EXIT_INVALID)
+
+
 def default_scene_path() -> Path:
     return Path(str(resources.files("vlab") / "scenes" / "default.toml"))
 
@@ -151,9 +163,10 @@ def info():
     Console().print(f"  iterative     cg-amg   {amg or 'not installed (pip install pyamg)'}",
                     highlight=False)
     Console().print(f"linear solver in use: {solver_in_use()}", highlight=False)
-    from vlab.fe.compiled import kernel_in_use
-    Console().print(f"tangent kernel: {kernel_in_use()} (VLAB_KERNEL=numpy: numpy only)",
-                    highlight=False)
+    from vlab import jit
+    threads = f", {jit.threads()} threads for the tangent" if jit.available() else ""
+    Console().print(f"assembly kernels: {jit.in_use()}{threads} (VLAB_KERNEL=numpy: numpy only; "
+                    f"VLAB_ASSEMBLY_THREADS=n: n threads)", highlight=False)
     if amg:
         Console().print(f"  \\[solver] linear = 'auto': CG + AMG for Newton corrections from "
                         f"{CROSSOVER.get(solver_in_use(), CROSSOVER['superlu']):,} free DOFs on "

@@ -52,32 +52,45 @@ def _start():
     return numba
 
 
-NUMBA = _start()
+_NUMBA: list = []
+
+
+def numba():
+    """The numba module, started on first use (see ``_start``), or None."""
+    if not _NUMBA:
+        _NUMBA.append(_start())
+    return _NUMBA[0]
 
 
 def available() -> bool:
     """True if compiled kernels can be used (numba importable, not disabled)."""
-    return NUMBA is not None
+    return numba() is not None
 
 
 def in_use() -> str:
     """'numba <version>' or 'numpy', for ``vlab info`` and results.json."""
-    return f"numba {NUMBA.__version__}" if available() else "numpy"
+    return f"numba {numba().__version__}" if available() else "numpy"
+
+
+def requested_threads() -> int | None:
+    """``VLAB_ASSEMBLY_THREADS`` as an integer from 1 to the cores numba may use, or None if
+    unset (checked without starting numba, so the CLI can refuse a bad value up front)."""
+    asked = os.environ.get("VLAB_ASSEMBLY_THREADS", "").strip()
+    if not asked:
+        return None
+    most = int(os.environ.get("NUMBA_NUM_THREADS", "").strip() or len(os.sched_getaffinity(0)))
+    if not asked.isdigit() or not 1 <= int(asked) <= most:
+        raise ValueError(f"VLAB_ASSEMBLY_THREADS must be an integer from 1 to {most} (the cores "
+                         f"numba may use); got {asked!r}")
+    return int(asked)
 
 
 def threads() -> int:
-    """Threads a kernel may use: ``VLAB_ASSEMBLY_THREADS`` if set (1 … numba's thread count),
-    else numba's thread count (NUMBA_NUM_THREADS, all cores by default)."""
+    """Threads a kernel may use: ``VLAB_ASSEMBLY_THREADS`` if set, else numba's thread count
+    (NUMBA_NUM_THREADS, all cores by default); 1 without numba."""
     if not available():
         return 1
-    most = NUMBA.get_num_threads()
-    asked = os.environ.get("VLAB_ASSEMBLY_THREADS", "").strip()
-    if not asked:
-        return most
-    if not asked.isdigit() or not 1 <= int(asked) <= most:
-        raise ValueError(f"VLAB_ASSEMBLY_THREADS must be an integer from 1 to {most} (numba's "
-                         f"thread count); got {asked!r}")
-    return int(asked)
+    return min(requested_threads() or numba().get_num_threads(), numba().get_num_threads())
 
 
 def source_dir() -> Path | None:
