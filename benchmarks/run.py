@@ -332,7 +332,7 @@ def _table(rows: list[tuple[str, dict, dict]]) -> str:
         lines.append(
             f"| {name} | {v['dofs']} | {v['iterations']} ({v['exact_iterations']}) / "
             f"{f.get('iterations', '-')} | {v['factorizations']} | {v['total']:.2f} | "
-            f"{v['assembly']:.2f} | {v['factorization']:.2f} | {v['assembly'] / v['factorization']:.0%} | "
+            f"{v['assembly']:.2f} | {v['factorization']:.2f} | {v['assembly'] / v['factorization']:.1%} | "
             f"{v['solve']:.2f} | {v['other']:.2f} | "
             f"{v['floor']:.2f} | {v['total'] / v['floor']:.2f} | "
             f"{v['floor_per_iteration'] * plain:.2f} | "
