@@ -7,7 +7,7 @@ from typer.testing import CliRunner
 
 from vlab.cli import app
 from vlab.stability import suite
-from vlab.stability.suite import CaseContext, Outcome, register, run_case, run_suite, select
+from vlab.stability.suite import CaseContext, Outcome, register, run_suite, select
 
 
 @pytest.fixture(scope="module")

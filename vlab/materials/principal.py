@@ -37,8 +37,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from vlab.tensor import dyad
-
 __all__ = ["PrincipalFrame", "principal_frame", "principal_stress", "principal_tangent"]
 
 

@@ -38,7 +38,7 @@ from typing import ClassVar
 import numpy as np
 
 from vlab.materials.history import HistoryMaterial, Response, State
-from vlab.tensor import det, dot, dyad, dyad_ik, dyad_il, identity_like, inv_transpose, transpose
+from vlab.tensor import dot, dyad, dyad_ik, dyad_il, identity_like, inv_transpose, transpose
 
 
 @dataclass(frozen=True)
