@@ -50,8 +50,9 @@ class HyperelasticBody:
     """Couples a material model to a displacement space through vectorized kernels."""
 
     def __init__(self, space: DisplacementSpace, material, kernel: str = "auto"):
-        """``kernel``: "auto" (the compiled tangent kernel where it applies and numba is
-        installed), "numpy" (the vectorized numpy kernels only) or "compiled" (required)."""
+        """``kernel``: "auto" (the compiled kernels of vlab.fe.compiled for F, the internal force
+        and the tangent where they apply and numba is installed), "numpy" (the vectorized numpy
+        kernels only) or "compiled" (required)."""
         if kernel not in ("auto", "numpy", "compiled"):
             raise ValueError(f"kernel must be 'auto', 'numpy' or 'compiled'; got {kernel!r}")
         self.space = space
