@@ -345,7 +345,7 @@ class CompiledKernels:
         none = np.zeros((0, n_qp))  # read for no element: the bounds are all 0
         self._run(np.zeros((3, 3, 0, n_qp)), none, none, 0.0, _NONE, _NONE,
                   np.zeros(len(self.pattern.indices)), np.zeros_like(self.bounds))
-        k, field = kernel(self.space.dN.shape[2]), np.zeros((3, 3, 0, n_qp))
+        k, field = self._kernels, np.zeros((3, 3, 0, n_qp))
         _call(k.gradient, np.zeros(self.space.n_dofs), self._nodes[:0], self.reference_gradients,
               self.inverse_jacobians, field)
         _call(k.forces, field, self._nodes[:0], self.reference_gradients, self.inverse_jacobians,
@@ -353,7 +353,7 @@ class CompiledKernels:
 
     def _run(self, X, alpha, beta, c0, S, B, data, bounds) -> None:
         base, rowlen = self.slots
-        k = kernel(self.space.dN.shape[2])
+        k = self._kernels
         args = (self.reference_gradients, self.inverse_jacobians, self.space.dx, X, alpha, beta,
                 float(c0), self.laplacian, S, B, base, rowlen)
         # numba's workqueue layer (no TBB) must not be entered from two threads at once, so
@@ -364,6 +364,10 @@ class CompiledKernels:
             _call(k.serial, *args, int(bounds[0]), int(bounds[-1]), data)
 
     @cached_property
+    def _kernels(self) -> Kernel:
+        return kernel(self.space.dN.shape[2])
+
+    @cached_property
     def _nodes(self) -> np.ndarray:
         return np.ascontiguousarray(self.space.element_nodes, dtype=np.int64)
 
@@ -372,14 +376,14 @@ class CompiledKernels:
         in one pass over the elements (no gathered or transposed copies of u)."""
         n_el, n_qp = self.space.dx.shape
         F = np.empty((3, 3, n_el, n_qp))
-        _call(kernel(self.space.dN.shape[2]).gradient, np.ascontiguousarray(u, dtype=float),
+        _call(self._kernels.gradient, np.ascontiguousarray(u, dtype=float),
               self._nodes, self.reference_gradients, self.inverse_jacobians, F)
         return F
 
     def internal_force(self, P: np.ndarray) -> np.ndarray:
         """f_int[ai] = Σ_e Σ_q P_iJ ∂N_a/∂X_J dx (N), length n_dofs, from P (3, 3, e, q) (MPa)."""
         f = np.zeros(self.space.n_dofs)
-        _call(kernel(self.space.dN.shape[2]).forces, np.ascontiguousarray(P, dtype=float),
+        _call(self._kernels.forces, np.ascontiguousarray(P, dtype=float),
               self._nodes, self.reference_gradients, self.inverse_jacobians, self.space.dx, f)
         return f
 
