@@ -78,7 +78,9 @@ def requested_threads() -> int | None:
     asked = os.environ.get("VLAB_ASSEMBLY_THREADS", "").strip()
     if not asked:
         return None
-    most = int(os.environ.get("NUMBA_NUM_THREADS", "").strip() or len(os.sched_getaffinity(0)))
+    cores = (len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity")  # Linux only
+             else os.cpu_count() or 1)
+    most = int(os.environ.get("NUMBA_NUM_THREADS", "").strip() or cores)
     if not asked.isdigit() or not 1 <= int(asked) <= most:
         raise ValueError(f"VLAB_ASSEMBLY_THREADS must be an integer from 1 to {most} (the cores "
                          f"numba may use); got {asked!r}")
