@@ -93,11 +93,14 @@ class DisplacementSpace:
         """(n_nodes, dim) reference coordinates of every scalar DOF, mm."""
         return self.basis.doflocs.T
 
-    @property
+    @cached_property
     def element_dofs(self) -> np.ndarray:
-        """(n_elements, dim n_local) global vector DOFs ordered (node a, component i)."""
+        """(n_elements, dim n_local) global vector DOFs ordered (node a, component i), read-only
+        (computed once: every numpy internal-force scatter reads it; 0.3 ms each on the dogbone)."""
         d = self.dim
-        return (d * self.element_nodes[:, :, None] + np.arange(d)).reshape(len(self.element_nodes), -1)
+        dofs = (d * self.element_nodes[:, :, None] + np.arange(d)).reshape(len(self.element_nodes), -1)
+        dofs.flags.writeable = False
+        return dofs
 
     def deformation_gradient(self, u: np.ndarray) -> np.ndarray:
         """F = I + ∂u/∂X at every quadrature point, shape (dim, dim, n_elements, n_qp), unitless.
