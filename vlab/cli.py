@@ -72,8 +72,11 @@ def run(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (defa
                           highlight=False)
 
     if not quiet:
+        from vlab.loading.kinds import kind_of
+
+        kind = kind_of(parsed.test)
         console.print(f"[bold]{parsed.name}[/bold]: {parsed.material.model}, {parsed.test.kind} "
-                      f"to stretch {list(parsed.test.stretch)}", highlight=False)
+                      f"to {kind.load_key} {list(parsed.test.targets)}", highlight=False)
     try:
         result = run_scene(parsed, on_level=progress)
     except SceneError as exc:  # e.g. a mesh below mesh.min_quality: nothing is written

@@ -32,18 +32,15 @@ from vlab.geometry.sheet import sheet_specimen
 from vlab.geometry.quality import MeshQuality, mesh_quality
 from vlab.geometry.mesh_check import MeshError, check_mesh
 from vlab.geometry.specimen import Specimen
-from vlab.loading.grips import grip_loading
+from vlab.loading.kinds import kind_of
 from vlab.loading.protocol import protocol_levels
 from vlab.materials import make_material
 from vlab.materials.history import HistoryMaterial
 from vlab.materials.plane import plane_model
 from vlab.materials.split import SPLIT_LAWS, make_split_law
 from vlab.measure.centre_stress import CentreStressProbe, centre_report
-from vlab.measure.elastic_constants import (ElasticConstants, crosshead_modulus, elastic_constants,
-                                            first_loading)
-from vlab.measure.homogeneity import HomogeneityProbe
+from vlab.measure.elastic_constants import ElasticConstants, elastic_constants, first_loading
 from vlab.measure.recorder import Curve, Recorder
-from vlab.measure.reference import homogeneous_curve, relative_error
 from vlab.moduli import MIXED_NU_LIMIT
 from vlab.scene import SPRING_NETWORK, Scene, SceneError
 
@@ -171,17 +168,18 @@ def _run_scene(scene: Scene, on_level, specimen: Specimen | None) -> RunResult:
     ground = getattr(material, "elastic", material)  # a history law's elastic ground law
     if isinstance(material, HistoryMaterial) or scene.effect("gravity") is not None:
         material = None  # a history law or a dead load: the elastic homogeneous oracles do not apply
-    loading = grip_loading(specimen, space.node_coordinates, scene.test.stretch, scene.test.grips)
+    kind, targets = kind_of(scene.test), scene.test.targets
+    loading = kind.loading(specimen, space.node_coordinates, scene.test)
     partition = Partition.build(body.pattern, loading.prescribed)
     timing["mesh_s"] = clock() - t0
 
-    recorder = Recorder(space, specimen, scene.test.stretch, loading.moving_dofs, material,
+    recorder = Recorder(space, specimen, kind, targets, loading, material,
                         CentreStressProbe.build(space, specimen, material))
-    probe = HomogeneityProbe.build(space, specimen, material) if material is not None else None
+    probe = kind.probe(space, specimen, material) if material is not None else None
     homogeneity: list[dict] = []
     measure_time = [0.0]
 
-    monitor = StabilityMonitor(body, partition, loading.moving_dofs, scene.test.stretch,
+    monitor = StabilityMonitor(body, partition, {a: loading.moving_dofs[a] for a in kind.axes}, kind, targets,
                                _law_label(scene), loading.u_hat,
                                MonitorOptions(eigenvalues=scene.solver.eigenvalues,
                                               limit_points=_watch_limit_points(scene)))
@@ -200,7 +198,7 @@ def _run_scene(scene: Scene, on_level, specimen: Specimen | None) -> RunResult:
         if on_level is not None:
             on_level(level)
 
-    levels = protocol_levels(scene.test.protocol, scene.test.stretch, scene.test.steps,
+    levels = protocol_levels(scene.test.protocol, tuple(1.0 + g for g in kind.grip_strain(targets)), scene.test.steps,
                              scene.measure.modulus_window, scene.measure.modulus_points)
     linear_solver = choose_linear(scene.solver.linear, len(partition.free), solver_in_use())
     stepping = Stepping(
@@ -237,15 +235,11 @@ def _run_scene(scene: Scene, on_level, specimen: Specimen | None) -> RunResult:
         from vlab.effects.noise import measure_with_noise
         curve, constants, uncertainty = measure_with_noise(scene.effect("noise"), curve, specimen, scene.measure)
     reference = None
-    if material is not None and specimen.shape in ("block", "sheet") and scene.test.grips == "roller":
-        reference = homogeneous_curve(material, curve.stretch)
-        for axis in curve.axes:
-            key = f"stress_{'xy'[axis]}"
-            reference[f"max_relative_error_{'xy'[axis]}"] = relative_error(
-                curve.column("stress", axis), reference[key])
+    if material is not None and kind.has_oracle(specimen.shape, scene.test.grips):
+        reference = kind.reference(material, curve)
     extra = {"mesh_quality": quality.as_dict(),
-             "crosshead": crosshead_modulus(first_loading(curve) if scene.test.protocol.unloads else curve,
-                                            scene.measure.modulus_window, scene.measure.fit)}
+             "crosshead": kind.crosshead(first_loading(curve) if scene.test.protocol.unloads else curve,
+                                         scene.measure.modulus_window, scene.measure.fit)}
     if uncertainty is not None:
         extra["uncertainty"] = uncertainty
     centre = centre_report(curve, scene.measure.modulus_window, scene.measure.fit)
@@ -364,11 +358,12 @@ def _refusal(material, scene: Scene, space: DisplacementSpace, prescribed) -> st
     modes = unrestrained_modes(space.node_coordinates, prescribed)
     if modes:
         return under_constrained_message(modes)
-    return inadmissible_request(material, scene.test.stretch)
+    return inadmissible_request(material, kind_of(scene.test), scene.test.targets)
 
 
 def stretch_at(scene: Scene, t: float) -> list[float]:
-    return [1.0 + t * (s - 1.0) for s in scene.test.stretch]
+    """The control values at load parameter t (grip stretches; simple shear: γ)."""
+    return kind_of(scene.test).at(scene.test.targets, t)
 
 
 def failure_dict(scene: Scene, failure: Failure) -> dict:

@@ -6,6 +6,8 @@ grips deforms homogeneously, so the stress–stretch curve follows from one scal
 - Uniaxial: F = diag(λ, t, t) with the lateral stretch t > 0 solving P₂₂(F) = 0 (by isotropy
   P₃₃ = P₂₂); the nominal (engineering) stress is P₁₁.
 - Biaxial: F = diag(λx, λy, t) with P₃₃(F) = 0.
+- Planar (pure shear): F = diag(λ, 1, t) with P₃₃(F) = 0, the biaxial state at (λ, 1).
+- Simple shear: F = I + γ e₁⊗e₂ prescribed on the whole boundary, nothing to solve.
 
 The root is found with a bracketing solver (``scipy.optimize.brentq``) on g(t) = P_free(t)/t,
 starting from t = 1 and expanding the bracket geometrically. For the four built-in models
@@ -33,7 +35,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 __all__ = ["InadmissibleState", "HomogeneousState", "uniaxial", "biaxial", "plane_strain_uniaxial",
-           "plane_strain_biaxial", "homogeneous_state"]
+           "plane_strain_biaxial", "homogeneous_uniaxial", "homogeneous_biaxial", "planar", "simple_shear"]
 
 _T_MIN = 1e-6      # smallest lateral stretch searched
 _T_MAX = 1e6       # largest lateral stretch searched
@@ -219,10 +221,51 @@ def plane_strain_biaxial(material, stretch_x: float, stretch_y: float) -> Homoge
     return _state(material, (lx, ly, 1.0), 1.0)
 
 
-def homogeneous_state(material, stretch: tuple[float, ...]) -> HomogeneousState:
-    """The homogeneous roller-grip state at grip stretch (s,) or (sx, sy) for a 3D material or a
-    2D reduction of one (vlab.materials.plane: ``base`` and ``plane`` = "stress" | "strain")."""
-    base = getattr(material, "base", material)
-    if getattr(material, "plane", "") == "strain":
-        return plane_strain_uniaxial(base, *stretch) if len(stretch) == 1 else plane_strain_biaxial(base, *stretch)
-    return uniaxial(base, stretch[0]) if len(stretch) == 1 else biaxial(base, *stretch)
+def _plane(material):
+    """(3D base law, "stress" | "strain" | "") of a material or of a 2D reduction of one
+    (vlab.materials.plane: ``base`` and ``plane``)."""
+    return getattr(material, "base", material), getattr(material, "plane", "")
+
+
+def homogeneous_uniaxial(material, stretch: float) -> HomogeneousState:
+    """The roller-grip uniaxial state of a 3D material or of its plane reduction (plane stress:
+    the 3D state, its free faces carry no stress; plane strain: F₃₃ = 1)."""
+    base, plane = _plane(material)
+    return plane_strain_uniaxial(base, stretch) if plane == "strain" else uniaxial(base, stretch)
+
+
+def homogeneous_biaxial(material, stretch_x: float, stretch_y: float) -> HomogeneousState:
+    """The roller-grip biaxial state of a 3D material or of its plane reduction."""
+    base, plane = _plane(material)
+    if plane == "strain":
+        return plane_strain_biaxial(base, stretch_x, stretch_y)
+    return biaxial(base, stretch_x, stretch_y)
+
+
+def planar(material, stretch: float) -> HomogeneousState:
+    """Pure shear (planar tension): F = diag(λ, 1, t), the lateral stretch held at 1 by the grips
+    and the thickness free, P₃₃ = 0 — the biaxial state at (λ, 1). Nominal stress P₁₁; the lateral
+    grips carry P₂₂ (≠ 0). On a 2D reduction: plane stress is this state, plane strain diag(λ, 1, 1).
+
+    Incompressible Neo-Hookean (t = 1/λ): P₁₁ = μ (λ − λ⁻³)."""
+    return homogeneous_biaxial(material, stretch, 1.0)
+
+
+def simple_shear(material, gamma: float) -> HomogeneousState:
+    """Simple shear x = X + γ Y e₁ imposed on the whole boundary: F = I + γ e₁⊗e₂ (J = 1), nothing
+    to solve. P = P(F); the Cauchy stress σ = P Fᵀ/J carries the Poynting normal stresses, even in
+    γ, beside the shear stress σ₁₂, odd in γ. Compressible Neo-Hookean (ψ = μ/2 (I₁ − 3) − μ ln J
+    + λ_L/2 ln² J): σ = μ (B − I), so σ₁₂ = μ γ, σ₁₁ = μ γ², σ₂₂ = σ₃₃ = 0 and σ₁₁ − σ₂₂ = μ γ²
+    (the incompressible result, since J = 1 here). ``lateral_stretch`` is 1 (no free stretch)."""
+    gamma = float(gamma)
+    if not np.isfinite(gamma):
+        raise ValueError(f"gamma must be finite, got {gamma}")
+    F = np.eye(3)
+    F[0, 1] = gamma
+    base, plane = _plane(material)
+    if plane:
+        raise ValueError("simple shear is a 3D state in vlab (F = I + γ e1⊗e2 on a block)")
+    P = np.asarray(base.stress(F), dtype=float)
+    F.setflags(write=False)
+    P.setflags(write=False)
+    return HomogeneousState(F=F, P=P, lateral_stretch=1.0)

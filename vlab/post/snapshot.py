@@ -80,5 +80,7 @@ def take_snapshot(result) -> Snapshot:
         probe = space.probe_matrix(X.T)
         marks[name] = (_in_3d(X), np.stack([_in_3d(X + probe @ ev.u.reshape(-1, d)) for ev in states]))
     t = np.array([0.0] + [lv.t for lv in result.history.levels])
-    stretch = 1.0 + t * (result.scene.test.stretch[0] - 1.0)
+    from vlab.loading.kinds import kind_of
+
+    stretch = np.array([kind_of(result.scene.test).at(result.scene.test.targets, x)[0] for x in t])
     return Snapshot(result.scene.material.model, mesh, t, stretch, u, fields, marks)
