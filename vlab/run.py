@@ -24,11 +24,7 @@ from vlab.fe.space import DisplacementSpace
 from vlab.fe.spring_network import SpringNetwork
 from vlab.fe.stepping import Failure, SolveHistory, Stepping, run_schedule
 from vlab.fe.timers import phase_clock
-from vlab.geometry.block import block_specimen
-from vlab.geometry.cruciform import cruciform_specimen
-from vlab.geometry.imported import imported_specimen
-from vlab.geometry.dogbone import dogbone_specimen
-from vlab.geometry.sheet import sheet_specimen
+from vlab.geometry.shapes import SHAPES
 from vlab.geometry.quality import MeshQuality, mesh_quality
 from vlab.geometry.mesh_check import MeshError, check_mesh
 from vlab.geometry.specimen import Specimen
@@ -80,20 +76,8 @@ class RunResult:
 
 
 def build_specimen(scene: Scene) -> Specimen:
-    spec = scene.specimen
-    mesh = scene.mesh
-    if spec.shape == "block":
-        return block_specimen(spec.size, mesh.size, mesh.cell, scene.measure.gauge_length, mesh.symmetry)
-    if spec.shape == "dogbone":
-        return dogbone_specimen(spec.dimensions, mesh.size, mesh.cell, mesh.gauge_size, mesh.symmetry)
-    if spec.shape == "sheet":
-        return sheet_specimen(spec.size, spec.thickness, mesh.size, mesh.cell, scene.measure.gauge_length)
-    if spec.shape == "cruciform":
-        return cruciform_specimen(spec.dimensions, mesh.size, mesh.cell, mesh.gauge_size, mesh.symmetry,
-                                  scene.measure.gauge_length)
-    if spec.shape == "mesh":
-        return imported_specimen(spec.spec, spec.data)
-    raise ValueError(f"specimen.shape {spec.shape!r} is not supported by this build")
+    """The meshed specimen of a scene (its shape's ``build``: vlab/geometry/shapes.py)."""
+    return SHAPES[scene.specimen.shape].build(scene.specimen, scene.mesh, scene.measure.gauge_length)
 
 
 def checked_quality(scene: Scene, specimen: Specimen) -> MeshQuality:
@@ -285,10 +269,7 @@ def _seeded_specimen(scene: Scene, specimen: Specimen) -> _Seeded:
 
 def specimen_thickness(scene: Scene) -> float:
     """The smallest cross-section dimension (mm), the scale of a buckling imperfection."""
-    spec = scene.specimen
-    if spec.shape == "block":
-        return float(min(spec.size[1], spec.size[2]))
-    return float(min(spec.dimensions.thickness, spec.dimensions.width))
+    return SHAPES[scene.specimen.shape].thickness(scene.specimen)
 
 
 def _buckling_extra(monitor: StabilityMonitor, deflection: list[float], seeded: "_Seeded | None") -> dict:

@@ -23,9 +23,10 @@ fillet_radius, thickness, grip_length and optional slit_count, slit_width, slit_
 biaxially between four clamped grips. ``[mesh] symmetry = "none" | "half" | "quarter" | "eighth"``
 meshes only that part of a block, dogbone or cruciform (geometry/symmetry.py).
 
-New specimen shapes: write a frozen dataclass with ``length`` and ``max_dimension``
-properties and a parser ``(fields.Table) -> spec``, and register both in ``SPECIMEN_SHAPES`` (and the
-test kinds and grips it allows in ``SPECIMEN_TESTS``).
+Specimen shapes come from their registry (vlab/geometry/shapes.py: spec, parser, mesh and the test
+kinds and grips each allows); test kinds from theirs (vlab/loading/kinds/: each parses its load key,
+``stretch`` or ``shear``). Planar-tension strips: ``shape = "planar-tension"`` with height, width
+(≥ 10 × height), thickness; shear specimens: ``shape = "shear"`` with length, gap, depth.
 """
 
 from __future__ import annotations
@@ -35,27 +36,30 @@ import hashlib
 import json
 import re
 import tomllib
-from contextvars import ContextVar
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Callable, Mapping
+from typing import Any, Mapping
 
 import numpy as np
 
 from vlab import fields
 from vlab.fields import SceneError
-from vlab.geometry.cruciform import CRUCIFORM_KEYS, CruciformDimensions
-from vlab.geometry.dogbone import DIMENSION_KEYS, DogboneDimensions, GeometryError
-from vlab.geometry.imported import ImportedMesh, MeshImport, MeshImportError, read_mesh
+from vlab.geometry.block import BlockSpecimen
+from vlab.geometry.cruciform import CruciformSpecimen
+from vlab.geometry.dogbone import DogboneSpecimen
+from vlab.geometry.imported import SCENE_DIR, MeshFileSpecimen
+from vlab.geometry.planar import PlanarSpecimen
+from vlab.geometry.shapes import SHAPES
+from vlab.geometry.shear import ShearSpecimen
+from vlab.geometry.sheet import SheetSpecimen
 from vlab.geometry.symmetry import SYMMETRY_LEVELS
-from vlab.geometry.standards import standard_dimensions, standard_names
 from vlab.loading.protocol import HOLDS, PROTOCOLS, ProtocolSpec
 from vlab.materials.split import SPLIT_LAWS
 from vlab.moduli import ALIASES, KEYS as MODULI_KEYS, Moduli, ModuliError, from_pair
 
 __all__ = ["SceneError", "Scene", "BlockSpecimen", "DogboneSpecimen", "SheetSpecimen", "CruciformSpecimen", "MeshSpec", "MaterialSpec", "TestSpec",
            "MeasureSpec", "SolverSpec", "load_scene", "parse_scene", "apply_overrides",
-           "SPECIMEN_SHAPES", "MODELS"]
+           "SHAPES", "MODELS"]
 
 SPRING_NETWORK = "spring-network"  # not a material law: mesh edges as springs (vlab.fe.spring_network)
 MODELS = ("linear", "stvk", "stvk-volumetric", "neo-hookean", SPRING_NETWORK)
@@ -69,85 +73,7 @@ PROTOCOL_KEYS = ("protocol", "amplitudes", "min_stretch", "strain_rate", "ramp_t
                  "hold_steps", "force")
 
 
-@dataclass(frozen=True)
-class _Sized:
-    """A specimen given by ``size`` (mm), loaded along its first dimension (x)."""
-
-    @property
-    def length(self) -> float:
-        return self.size[0]  # type: ignore[attr-defined]
-
-    @property
-    def max_dimension(self) -> float:
-        return max(self.size)  # type: ignore[attr-defined]
-
-
-@dataclass(frozen=True)
-class BlockSpecimen(_Sized):
-    shape: str
-    size: tuple[float, float, float]  # mm: length (x, loading axis), width (y), thickness (z)
-
-
-@dataclass(frozen=True)
-class DogboneSpecimen:
-    shape: str
-    dimensions: DogboneDimensions  # mm; dimensions.standard names the source ("" if explicit)
-
-    @property
-    def length(self) -> float:
-        return self.dimensions.overall_length
-
-    @property
-    def max_dimension(self) -> float:
-        return self.dimensions.overall_length
-
-
-@dataclass(frozen=True)
-class SheetSpecimen(_Sized):
-    """A thin sheet in the x-y plane, meshed in 2D (cells tri | quad) and solved in plane stress
-    (P₃₃ = 0, the thickness follows the material) or plane strain (thickness held)."""
-
-    shape: str
-    size: tuple[float, float]  # mm: length (x, loading axis), width (y)
-    thickness: float  # mm, through z
-    plane: str = "stress"  # "stress" | "strain"
-    cells = ("tri", "quad")  # 2D cells; the first is the default mesh.cell
-
-
-@dataclass(frozen=True)
-class CruciformSpecimen:
-    shape: str
-    dimensions: CruciformDimensions  # mm
-
-    @property
-    def length(self) -> float:
-        return 2 * self.dimensions.arm_end
-
-    @property
-    def max_dimension(self) -> float:
-        return 2 * self.dimensions.arm_end
-
-
-@dataclass(frozen=True)
-class MeshFileSpecimen:
-    shape: str
-    spec: MeshImport  # file (absolute), grip region names, loading axis, marks, area
-    data: ImportedMesh = field(compare=False, repr=False)  # the mesh as read at validation
-
-    @property
-    def extent(self) -> np.ndarray:
-        return self.data.points.max(axis=0) - self.data.points.min(axis=0)
-
-    @property
-    def length(self) -> float:
-        return float(self.extent[self.spec.axis])
-
-    @property
-    def max_dimension(self) -> float:
-        return float(self.extent.max())
-
-
-Specimen = BlockSpecimen | DogboneSpecimen | SheetSpecimen | CruciformSpecimen | MeshFileSpecimen
+Specimen = BlockSpecimen | DogboneSpecimen | SheetSpecimen | CruciformSpecimen | MeshFileSpecimen | PlanarSpecimen | ShearSpecimen
 
 
 @dataclass(frozen=True)
@@ -231,150 +157,9 @@ class Scene:
 
 # --- sections ------------------------------------------------------------------------------
 
-def _parse_block(t: fields.Table) -> BlockSpecimen:
-    size = fields.vector(t.field("size"), t.get("size"), 3, "[length, width, thickness] in mm", gt=0)
-    return BlockSpecimen(shape="block", size=size)  # type: ignore[arg-type]
-
-
-def _parse_dogbone(t: fields.Table) -> DogboneSpecimen:
-    """``standard = "<name>"`` loads the shipped dimensions; explicit keys override them."""
-    values: dict[str, Any] = {"outer_radius": 0.0}
-    standard = t.get("standard", "")
-    if "standard" in t.raw:
-        data = standard_dimensions(standard) if isinstance(standard, str) else None
-        if data is None:
-            raise SceneError(f"{t.field('standard')} must be one of {', '.join(standard_names())}; "
-                             f"got {fields.show(standard)}{fields.suggest(str(standard), standard_names())}")
-        standard = data.pop("standard")
-        values.update(data)
-    for key in DIMENSION_KEYS:
-        if key in t.raw:
-            values[key] = t.number(key, ge=0) if key == "outer_radius" else t.number(key, gt=0)
-        elif key not in values:
-            raise SceneError(f"missing required key {t.field(key)} (or give specimen.standard, one of "
-                             f"{', '.join(standard_names())})")
-    dims = DogboneDimensions(**values, standard=standard)
-    try:
-        dims.check()
-    except GeometryError as exc:
-        raise SceneError(f"specimen.{exc}") from None
-    return DogboneSpecimen(shape="dogbone", dimensions=dims)
-
-
-def _parse_sheet(t: fields.Table) -> SheetSpecimen:
-    size = fields.vector(t.field("size"), t.get("size"), 2, "[length, width] in mm (a sheet is 2D; its "
-                   "thickness is specimen.thickness)", gt=0)
-    thickness = t.number("thickness", gt=0, note=" (mm)")
-    return SheetSpecimen(shape="sheet", size=size, thickness=thickness,  # type: ignore[arg-type]
-                         plane=t.choice("plane", ("stress", "strain"), default="stress"))
-
-
-def _parse_cruciform(t: fields.Table) -> CruciformSpecimen:
-    """All of arm_width, arm_length, gauge_region, fillet_radius, thickness, grip_length; slits
-    optional (slit_count = 0 by default; with slits, slit_width and slit_length are required); a
-    thinned centre optional (gauge_thickness with thinning_length)."""
-    values: dict[str, Any] = {}
-    for key in CRUCIFORM_KEYS[:6]:
-        values[key] = t.number(key, ge=0) if key == "fillet_radius" else t.number(key, gt=0)
-    values["slit_count"] = t.integer("slit_count", 0, 50, default=0)
-    if "gauge_thickness" in t.raw:
-        values["gauge_thickness"] = t.number("gauge_thickness", gt=0)
-        values["thinning_length"] = t.number("thinning_length", gt=0)
-    elif "thinning_length" in t.raw:
-        raise SceneError(f"{t.field('thinning_length')} needs specimen.gauge_thickness (a thinned centre)")
-    for key in CRUCIFORM_KEYS[7:9]:
-        if values["slit_count"]:
-            values[key] = t.number(key, gt=0)
-        elif key in t.raw:
-            raise SceneError(f"{t.field(key)} needs specimen.slit_count >= 1 (the number of slits per arm)")
-    dims = CruciformDimensions(**values)
-    try:
-        dims.check()
-    except GeometryError as exc:
-        raise SceneError(f"specimen.{exc}") from None
-    return CruciformSpecimen(shape="cruciform", dimensions=dims)
-
-
-_BASE_DIR: ContextVar[Path] = ContextVar("scene_base_dir", default=Path("."))  # resolves specimen.file
-_AXES = ("x", "y", "z")
-
-
-def _marks(t: fields.Table, key: str) -> tuple[tuple[float, ...], tuple[float, ...]]:
-    v = t.get(key)
-    if not isinstance(v, list) or len(v) != 2:
-        raise SceneError(f"{t.field(key)} must be two points [[x, y, z], [x, y, z]] in the mesh file's "
-                         f"coordinates (mm), got {fields.show(v)}")
-    return tuple(fields.vector(f"{t.field(key)}[{i}]", p, 3, "[x, y, z] in mm") for i, p in enumerate(v))  # type: ignore
-
-
-def _parse_mesh_file(t: fields.Table) -> MeshFileSpecimen:
-    """``file`` (.msh or .vtu, relative to the scene file), ``grips = {a = "name", b = "name"}``
-    (two named regions of the file), ``axis`` (loading axis of the file, default "x"),
-    ``gauge_marks``, ``transverse_marks``, ``thickness_marks`` (two points each) and ``area`` (mm²,
-    the section the nominal stress divides by)."""
-    name = t.get("file")
-    if not isinstance(name, str) or not name:
-        raise SceneError(f"{t.field('file')} must be a path to a .msh or .vtu file, got {fields.show(name)}")
-    path = Path(name) if Path(name).is_absolute() else _BASE_DIR.get() / name
-    try:
-        data = read_mesh(path)
-    except MeshImportError as exc:
-        raise SceneError(f"{exc}") from None
-    grips = t.get("grips")
-    if not isinstance(grips, dict) or len(grips) != 2 or not all(isinstance(v, str) for v in grips.values()):
-        raise SceneError(f"{t.field('grips')} must be a table of two region names, e.g. {{left = \"grip_left\", "
-                         f"right = \"grip_right\"}}, got {fields.show(grips)}")
-    for key, region in grips.items():
-        if region not in data.regions:
-            raise SceneError(f"{t.field('grips')}.{key} = {region!r} is not a region of {path.name}; regions "
-                             f"found: {', '.join(data.names) or 'none'}")
-    spec = MeshImport(file=path.resolve(), grips=tuple(grips.values()),  # type: ignore[arg-type]
-                      axis=_AXES.index(t.choice("axis", _AXES, default="x")),
-                      gauge_marks=_marks(t, "gauge_marks"), transverse_marks=_marks(t, "transverse_marks"),
-                      thickness_marks=_marks(t, "thickness_marks"), area=t.number("area", gt=0))
-    _check_marks_inside(t, spec, data)
-    return MeshFileSpecimen(shape="mesh", spec=spec, data=data)
-
-
-def _check_marks_inside(t: fields.Table, spec: MeshImport, data: ImportedMesh) -> None:
-    import skfem
-
-    mesh = (skfem.MeshTet if data.cell == "tet" else skfem.MeshHex)(
-        np.ascontiguousarray(data.points.T), np.ascontiguousarray(data.cells.T))
-    find = mesh.element_finder()
-    for key in ("gauge_marks", "transverse_marks", "thickness_marks"):
-        for point in getattr(spec, key):
-            try:
-                find(*(np.array([c]) for c in point))
-            except ValueError:
-                raise SceneError(f"{t.field(key)}: point {list(point)} lies outside the mesh of "
-                                 f"{spec.file.name} (bounding box {data.points.min(axis=0).tolist()} to "
-                                 f"{data.points.max(axis=0).tolist()})") from None
-
-
-MESH_FILE_KEYS = ("file", "grips", "axis", "gauge_marks", "transverse_marks", "thickness_marks", "area")
-
-# shape -> (allowed keys in [specimen], parser)
-SPECIMEN_SHAPES: dict[str, tuple[tuple[str, ...], Callable[[fields.Table], Specimen]]] = {
-    "block": (("shape", "size"), _parse_block),
-    "dogbone": (("shape", "standard") + DIMENSION_KEYS, _parse_dogbone),
-    "sheet": (("shape", "size", "thickness", "plane"), _parse_sheet),
-    "cruciform": (("shape",) + CRUCIFORM_KEYS, _parse_cruciform),
-    "mesh": (("shape",) + MESH_FILE_KEYS, _parse_mesh_file),
-}
 GRIP_KINDS = ("roller", "clamped", "kinematic", "plates")  # test.grips
-# shape -> {allowed test kind: allowed grips}; the first grip kind is the default
-SPECIMEN_TESTS: dict[str, dict[str, tuple[str, ...]]] = {
-    "block": {"uniaxial": ("roller", "clamped"), "biaxial": ("roller", "clamped"), "planar": ("roller",),
-              "simple-shear": ("kinematic",)},
-    "dogbone": {"uniaxial": ("clamped",)},
-    "sheet": {"uniaxial": ("roller", "clamped"), "biaxial": ("roller", "clamped"), "planar": ("roller",)},
-    "cruciform": {"biaxial": ("clamped",)},
-    "mesh": {"uniaxial": ("clamped",)},
-}
-# shapes whose meshes are built mirror-symmetric and may be reduced by [mesh] symmetry
-SYMMETRIC_SHAPES = ("block", "dogbone", "cruciform")
-_FINE_MESH_SHAPES = ("dogbone", "cruciform")  # shapes with a [mesh] gauge_size
+# shape -> {allowed test kind: allowed grips}, the first grips the default (geometry/shapes.py)
+SPECIMEN_TESTS: dict[str, dict[str, tuple[str, ...]]] = {name: shape.tests for name, shape in SHAPES.items()}
 
 
 def _parse_specimen(raw: Any) -> Specimen:
@@ -382,9 +167,8 @@ def _parse_specimen(raw: Any) -> Specimen:
         raise SceneError(f"[specimen] must be a table, got {fields.show(raw)}")
     if "shape" not in raw:
         raise SceneError("missing required key specimen.shape")
-    shape = fields.choice("specimen.shape", raw["shape"], tuple(SPECIMEN_SHAPES))
-    keys, parser = SPECIMEN_SHAPES[shape]
-    return parser(fields.Table("specimen", raw, keys))
+    shape = SHAPES[fields.choice("specimen.shape", raw["shape"], tuple(SHAPES))]
+    return shape.parse(fields.Table("specimen", raw, ("shape",) + shape.keys))
 
 
 def _parse_mesh(raw: Any, specimen: Specimen) -> MeshSpec:
@@ -393,13 +177,15 @@ def _parse_mesh(raw: Any, specimen: Specimen) -> MeshSpec:
         return _parse_mesh_of_file(t, specimen)
     size = t.number("size", gt=0, le=specimen.max_dimension, note=" (the largest specimen dimension)")
     gauge_size = t.number("gauge_size", default=None, gt=0, le=size, note=" (mesh.size)")
-    if gauge_size is not None and specimen.shape not in _FINE_MESH_SHAPES:
+    fine = [name for name, shape in SHAPES.items() if shape.gauge_size]
+    if gauge_size is not None and specimen.shape not in fine:
         raise SceneError(f"{t.field('gauge_size')} applies to specimen.shape = "
-                         f"{' or '.join(map(repr, _FINE_MESH_SHAPES))} only, not {specimen.shape!r}")
+                         f"{' or '.join(map(repr, fine))} only, not {specimen.shape!r}")
     symmetry = t.choice("symmetry", SYMMETRY_LEVELS, default="none")
-    if symmetry != "none" and specimen.shape not in SYMMETRIC_SHAPES:
+    symmetric = [name for name, shape in SHAPES.items() if shape.symmetric]
+    if symmetry != "none" and specimen.shape not in symmetric:
         raise SceneError(f"{t.field('symmetry')} must be 'none' for specimen.shape = {specimen.shape!r} "
-                         f"(symmetry reduction is for {', '.join(SYMMETRIC_SHAPES)}), got {symmetry!r}")
+                         f"(symmetry reduction is for {', '.join(symmetric)}), got {symmetry!r}")
     cells = getattr(specimen, "cells", ("tet", "hex"))  # a specimen's own cells (2D: tri, quad)
     return MeshSpec(size=size, order=t.integer("order", 1, 2, default=1),
                     cell=t.choice("cell", cells, default=cells[0]), gauge_size=gauge_size,
@@ -680,13 +466,17 @@ def _parse(data: Mapping[str, Any]) -> Scene:
                          f"specimen.shape = 'sheet' needs a continuum model (not {SPRING_NETWORK!r})")
     test = _parse_test(data["test"], specimen.shape)
     _kind(test).check(test, data.get("effects", {}))
+    if test.imperfection is not None and SHAPES[specimen.shape].thickness is None:
+        raise SceneError(f"test.imperfection needs a specimen with a cross-section thickness (specimen.shape = "
+                         f"{' or '.join(repr(n) for n, sh in SHAPES.items() if sh.thickness)}), "
+                         f"got {specimen.shape!r}")
     _check_symmetry(mesh, test, specimen)
     _check_effects_scope(data.get("effects", {}), specimen.shape, mesh, material.model)
     return Scene(name=name, description=description, specimen=specimen,
                  mesh=mesh, material=material, test=test,
                  measure=_parse_measure(data.get("measure", {}), specimen),
                  solver=_parse_solver(data.get("solver", {})),
-                 source=copy.deepcopy(dict(data)), base_dir=str(_BASE_DIR.get()),
+                 source=copy.deepcopy(dict(data)), base_dir=str(SCENE_DIR.get()),
                  effects=_parse_effects(data.get("effects", {}), material, test))
 
 
@@ -740,13 +530,13 @@ def _parse_effects(raw: Any, material: MaterialSpec, test: TestSpec) -> tuple:
 def parse_scene(data: dict, origin: str = "<scene>", base_dir: str | Path | None = None) -> Scene:
     """Validate a parsed scene dict; errors are ``SceneError("<origin>: <message>")``. Relative
     paths in the scene (specimen.file) are taken from ``base_dir`` (default: the current folder)."""
-    token = _BASE_DIR.set(Path(base_dir) if base_dir is not None else Path("."))
+    token = SCENE_DIR.set(Path(base_dir) if base_dir is not None else Path("."))
     try:
         return _parse(data)
     except SceneError as exc:
         raise SceneError(f"{origin}: {exc}") from None
     finally:
-        _BASE_DIR.reset(token)
+        SCENE_DIR.reset(token)
 
 
 def load_scene(path: str | Path) -> Scene:
