@@ -4,7 +4,7 @@ Recorded once from the code before the package restructuring of issue #17
 (`python tests/golden.py` rewrites them; do that only for a deliberate change of results and say
 so in the commit). Kept: curve columns, E, nu and their fits, forces, the analytic reference,
 homogeneity, cruciform factors, mesh size and quality, stability records and verdicts, effects
-summaries, warnings, failure cause. Left out: what legitimately changes without a change of
+summaries, warnings, failure cause. Left out: the inertia back end's name, and what legitimately changes without a change of
 physics (timings, Newton iteration counts, factorization counts, versions, dates, hashes).
 """
 
