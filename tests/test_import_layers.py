@@ -24,6 +24,8 @@ the reason.
 from __future__ import annotations
 
 import ast
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -47,6 +49,9 @@ LAYERS = {
 
 # (importing module, imported module): why a function-level import may reach upward.
 ALLOWED_UPWARD: dict[tuple[str, str], str] = {
+    ("vlab.effects.gravity", "vlab.fe.external_load"):
+        "the effect's build hook, called by run only: its grammar is parsed with the scene, which "
+        "must not load the solver",
 }
 
 
@@ -178,6 +183,30 @@ def test_function_level_imports_reach_upward_only_where_the_allow_list_says_why(
     found = upward(lazy)
     assert [edge for edge in found if edge not in ALLOWED_UPWARD] == []
     assert [edge for edge in ALLOWED_UPWARD if edge not in found] == [], "stale allow-list entries"
+
+
+def test_loading_a_scene_imports_neither_the_solver_nor_numba():
+    code = ("import sys, vlab.scene; vlab.scene.load_scene('specimens/block-neo-hookean.toml'); "
+            "print(sorted(m for m in sys.modules if m == 'numba' or m.startswith(('numba.', 'vlab.fe'))))")
+    out = subprocess.run([sys.executable, "-c", code], cwd=PACKAGE.parent, capture_output=True, text=True,
+                         check=True).stdout
+    assert out.strip() == "[]"
+
+
+def test_importing_the_effects_registry_loads_no_solver():
+    code = ("import sys, vlab.effects; "
+            "print(sorted(m for m in sys.modules if m == 'numba' or m.startswith(('vlab.fe', 'vlab.measure'))))")
+    out = subprocess.run([sys.executable, "-c", code], cwd=PACKAGE.parent, capture_output=True, text=True,
+                         check=True).stdout
+    assert out.strip() == "[]"
+
+
+def test_no_import_of_the_package_starts_numba():
+    code = ("import sys, vlab.run, vlab.cli, vlab.compare, vlab.verification.suite; "
+            "print('numba' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], cwd=PACKAGE.parent, capture_output=True, text=True,
+                         check=True).stdout
+    assert out.strip() == "False"
 
 
 def test_the_checker_sees_an_upward_import_and_a_cycle():
