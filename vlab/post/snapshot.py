@@ -31,6 +31,7 @@ class Snapshot:
     displacement: np.ndarray
     fields: dict[str, np.ndarray]
     marks: dict[str, tuple[np.ndarray, np.ndarray]]
+    control: str = "grip stretch"  # what ``stretch`` holds: the test kind's control (simple shear: "shear γ")
 
     @property
     def n_frames(self) -> int:
@@ -82,5 +83,7 @@ def take_snapshot(result) -> Snapshot:
     t = np.array([0.0] + [lv.t for lv in result.history.levels])
     from vlab.loading.kinds import kind_of
 
-    stretch = np.array([kind_of(result.scene.test).at(result.scene.test.targets, x)[0] for x in t])
-    return Snapshot(result.scene.material.model, mesh, t, stretch, u, fields, marks)
+    kind = kind_of(result.scene.test)
+    stretch = np.array([kind.at(result.scene.test.targets, x)[0] for x in t])
+    control = "grip stretch" if kind.load_key == "stretch" else f"{kind.load_key} γ"
+    return Snapshot(result.scene.material.model, mesh, t, stretch, u, fields, marks, control)

@@ -31,9 +31,11 @@ def stretch_value(field: str, v: Any) -> float:
 class PlotSpec:
     """The report's main plot of a kind: results.json curve columns and axis labels."""
 
-    def __init__(self, x: str, y: str, xlabel: str, ylabel: str, series: tuple[tuple[str, str, str], ...]):
+    def __init__(self, x: str, y: str, xlabel: str, ylabel: str, series: tuple[tuple[str, str, str], ...],
+                 reference_x: str = "stretch"):
         self.x, self.y, self.xlabel, self.ylabel = x, y, xlabel, ylabel
         self.series = series  # (x column, y column, reference key in results.json → reference)
+        self.reference_x = reference_x  # the curve column the reference rows are read at
 
 
 class TestKind:
@@ -49,6 +51,8 @@ class TestKind:
     symmetric = True  # a mirror-symmetric specimen may be reduced ([mesh] symmetry)
     lateral_ratio = False  # the report's lateral-strain plot and apparent Poisson's ratio mean something
     plot: PlotSpec
+    force_column, control_column = "force", "stretch"  # results.json → curve: load cell, control value
+    measures_E = True  # measures Young's modulus (and ν): the report's E and ν rows mean something
     doc = ""
 
     # --- grammar -------------------------------------------------------------------------------

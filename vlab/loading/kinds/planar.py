@@ -24,6 +24,8 @@ class Planar(TestKind):
     name = "planar"
     axes = (0,)
     oracle_setups = {"block": "roller", "sheet": "roller"}
+    force_column, control_column = "force", "stretch"
+    measures_E = True
     plot = PlotSpec("stretch", "stress", "grip stretch λ [–]", "nominal stress F/A₀ [MPa]",
                     (("stretch", "stress", "stress_x"),))
     measured_units = {"planar_modulus": "MPa"}

@@ -38,10 +38,12 @@ class SimpleShear(TestKind):
     oracle_setups = {"block": "kinematic"}
     cyclic = True
     symmetric = False  # shear is antisymmetric about the planes a reduction would cut
+    force_column, control_column = "shear_force", "shear"
+    measures_E = False
     plot = PlotSpec("shear_gauge", "shear_stress", "shear strain γ [–] (gauge marks)",
                     "nominal stress [MPa]",
                     (("shear_gauge", "shear_stress", "shear_stress"),
-                     ("shear_gauge", "normal_stress", "normal_stress")))
+                     ("shear_gauge", "normal_stress", "normal_stress")), reference_x="shear")
     measured_units = {"G": "MPa", "G_plate": "MPa", "normal_stress_at_peak": "MPa",
                       "normal_stress_difference": "MPa"}
     doc = "simple shear x = X + γ Y e1 (kinematic block) or between rigid plates"
