@@ -18,14 +18,25 @@ from vlab.report.results import result_to_dict
 from vlab.run import run_scene
 from vlab.scene import MODELS, SPRING_NETWORK, SceneError, parse_scene
 
+try:  # the rubber models' test cards (C10, mu/alpha, ...), once the model library is there
+    from rubber_cards import CARDS as RUBBER_CARDS
+except ImportError:
+    RUBBER_CARDS = {}
+
 PACKAGE = Path(__file__).resolve().parents[1] / "vlab"
-CONTINUUM = [m for m in MODELS if m != SPRING_NETWORK]
+CONTINUUM = [m for m in MODELS if m != SPRING_NETWORK]  # every continuum model of the registry
+
+
+def card(model: str) -> dict:
+    """The model's test card: a rubber card with K = 20 MPa, else E = 10 MPa, ν = 0.3."""
+    return ({k: v for k, v in RUBBER_CARDS[model].items() if k != "model"} | {"K": 20.0}
+            if model in RUBBER_CARDS else {"E": 10.0, "nu": 0.3})
 
 
 def block_scene(model: str, test: dict, material: dict | None = None, cell: str = "hex") -> dict:
     return {"name": "kind", "specimen": {"shape": "block", "size": [4.0, 3.0, 2.0]},
             "mesh": {"size": 1.0, "cell": cell},
-            "material": {"model": model} | (material or {"E": 10.0, "nu": 0.3}),
+            "material": {"model": model} | (material or card(model)),
             "test": {"steps": 4} | test}
 
 
