@@ -193,3 +193,14 @@ def test_no_module_outside_the_kinds_dispatches_on_how_long_a_stretch_list_is():
             if LEN_DISPATCH.search(line):
                 offenders.append(f"{path.relative_to(PACKAGE)}:{n}: {line.strip()}")
     assert not offenders, "\n".join(offenders)
+
+
+@pytest.mark.parametrize("plane", ["stress", "strain"])
+def test_a_sheet_in_planar_tension_follows_its_plane_reduction_of_pure_shear(plane):
+    raw = {"name": "sheet-planar", "specimen": {"shape": "sheet", "size": [4.0, 3.0], "thickness": 0.5, "plane": plane},
+           "mesh": {"size": 1.0, "cell": "quad"}, "material": {"model": "neo-hookean", "E": 10.0, "nu": 0.3},
+           "test": {"kind": "planar", "stretch": 1.3, "steps": 3}}
+    data = result_to_dict(run_scene(parse_scene(raw)))
+    assert data["converged"] and data["reference"]["max_relative_error_x"] < 1e-6
+    if plane == "strain":  # F = diag(λ, 1, 1): nothing free
+        assert data["reference"]["lateral_stretch"] == [1.0] * len(data["curve"]["stretch"])

@@ -7,10 +7,11 @@ The planar-tension specimen (geometry/planar.py: a wide short strip, width/heigh
 along its long edges) approaches it at its centre; its distance from pure shear is reported.
 
 Measures the planar modulus E_p = E/(1 − ν²) (slope of the nominal stress F/A₀ against the
-extensometer strain over the modulus window, at small strain σ_x = E/(1 − ν²) ε_x when ε_y = 0,
-σ_y = σ_z... = 0 except the lateral grips' ν σ_x), ν from the thickness strain
+extensometer strain over the modulus window: with ε_y = 0 and σ_z = 0 Hooke's law gives
+σ_y = ν σ_x on the lateral grips and σ_x = E/(1 − ν²) ε_x), ν from the thickness strain
 ε_z = −ν/(1 − ν) ε_x (ν = r/(1 + r), r = −dε_z/dε_x), E = (1 − ν²) E_p; and the nominal
-stress–stretch curve. The transverse strain is held (≈ 0): no apparent Poisson's ratio.
+stress–stretch curve (measure/planar.py). The transverse strain is held (≈ 0): no apparent
+Poisson's ratio.
 """
 
 from __future__ import annotations
