@@ -136,11 +136,11 @@ BAD = [
     ({"test": {"kind": "simple-shear", "shear": 0.2, "grips": "roller"}}, "test.grips must be one of kinematic"),
     ({"test": {"kind": "planar", "stretch": 1.2, "grips": "clamped"}}, "test.grips must be one of roller"),
     ({"test": {"kind": "planar", "stretch": [1.2, 1.0]}}, "test.stretch must be a single number for kind = 'planar'"),
-    ({"test": {"kind": "planar", "stretch": 1.2, "protocol": "cyclic"}}, "test.protocol = 'cyclic' needs test.kind"),
+    ({"test": {"kind": "biaxial", "stretch": [1.2, 1.1], "protocol": "cyclic"}}, "test.protocol = 'cyclic' needs test.kind"),
     ({"test": {"kind": "simple-shear", "shear": 0.2}, "mesh": {"size": 1.0, "symmetry": "half"}},
      "mesh.symmetry must be 'none' for test.kind = 'simple-shear'"),
-    ({"test": {"kind": "planar", "stretch": 1.2}, "effects": {"gravity": {}}, "material": {"density": 1000.0}},
-     "[effects] are not available with test.kind = 'planar'"),
+    ({"test": {"kind": "simple-shear", "shear": 0.2}, "effects": {"gravity": {}}, "material": {"density": 1000.0}},
+     "[effects] are not available with test.kind = 'simple-shear'"),
     ({"specimen": {"shape": "planar-tension", "height": 10.0, "width": 50.0, "thickness": 1.0},
       "test": {"kind": "planar", "stretch": 1.2}}, "specimen.width must be >= 10 x specimen.height = 100 mm"),
     ({"specimen": {"shape": "planar-tension", "height": 10.0, "width": 100.0, "thickness": 12.0},
@@ -204,3 +204,15 @@ def test_a_sheet_in_planar_tension_follows_its_plane_reduction_of_pure_shear(pla
     assert data["converged"] and data["reference"]["max_relative_error_x"] < 1e-6
     if plane == "strain":  # F = diag(λ, 1, 1): nothing free
         assert data["reference"]["lateral_stretch"] == [1.0] * len(data["curve"]["stretch"])
+
+
+def test_mullins_softening_shows_in_planar_tension_as_a_lower_unloading_path():
+    raw = block_scene("neo-hookean", {"kind": "planar", "stretch": 1.5, "protocol": "load-unload", "steps": 4})
+    raw["effects"] = {"mullins": {"r": 2.0, "m": 0.5}}
+    data = result_to_dict(run_scene(parse_scene(raw)))
+    assert data["converged"], data["failure"]
+    lam, stress = np.array(data["curve"]["stretch"]), np.array(data["curve"]["stress"])
+    peak = int(np.argmax(lam))
+    up = np.interp(1.25, lam[:peak + 1], stress[:peak + 1])
+    down = np.interp(1.25, lam[peak:][::-1], stress[peak:][::-1])
+    assert down < 0.95 * up  # the softened unloading path lies below the virgin loading

@@ -47,3 +47,13 @@ def test_a_uniaxial_report_keeps_its_lateral_strain_figure(tmp_path):
     write_report([outcome], tmp_path / "r", scene("neo-hookean", {"kind": "uniaxial", "stretch": 1.2}), None, OPTIONS)
     assert (tmp_path / "r" / "lateral_strain.png").exists()
     assert "ν measured" in (tmp_path / "r" / "index.html").read_text(encoding="utf-8")
+
+
+def test_a_planar_load_unload_report_adds_the_hysteresis_loop(tmp_path):
+    raw = {"name": "planar-mullins", "specimen": {"shape": "block", "size": [4.0, 3.0, 2.0]},
+           "mesh": {"size": 1.0, "cell": "hex"}, "material": {"model": "neo-hookean", "E": 3.0, "nu": 0.45},
+           "test": {"kind": "planar", "stretch": 1.4, "steps": 3, "protocol": "load-unload"},
+           "effects": {"mullins": {"r": 2.0, "m": 0.5}}}
+    s = parse_scene(raw)
+    write_report([outcome_of(run_scene(s))], tmp_path / "r", s, None, OPTIONS)
+    assert (tmp_path / "r" / "hysteresis.png").exists() and not (tmp_path / "r" / "lateral_strain.png").exists()

@@ -141,8 +141,12 @@ def _kind_figures(datas: list[dict], tmp: Path) -> list:
     from vlab.report.html import Figure
     from vlab.report.kind_plots import KIND_CAPTIONS, kind_of_data, plot_kind
 
+    from vlab.report.effect_plots import effect_figures
+
     plot_kind(datas, tmp / "stress_strain.png")
-    return [Figure("stress_strain.png", KIND_CAPTIONS[kind_of_data(datas[0]).name])]
+    kind = kind_of_data(datas[0])
+    figures = [Figure("stress_strain.png", KIND_CAPTIONS[kind.name])]
+    return figures + (effect_figures(datas, tmp) if kind.effects else [])
 
 
 def _write_model_files(outcome, root: Path, sub: str, options: ReportOptions) -> list[str]:

@@ -60,16 +60,12 @@ class TestKind:
         raise NotImplementedError
 
     def check(self, test, effects: dict) -> None:
-        """Refuse what this kind cannot run (SceneError naming the field)."""
+        """Refuse what this kind cannot run (SceneError naming the field); a creep force and an
+        imperfection (uniaxial only) are refused where their keys are parsed (vlab/scene/test.py)."""
         if effects and not self.effects:
             name = f"effects.{next(iter(effects))}"
             raise SceneError(f"{name}: [effects] are not available with test.kind = {self.name!r} in this "
-                             f"build (they are with uniaxial and biaxial tests)")
-        if test.protocol.force is not None and self.name != "uniaxial":
-            raise SceneError(f"test.force needs test.kind = 'uniaxial', got {self.name!r}")
-        if test.imperfection is not None and self.name != "uniaxial":
-            raise SceneError(f"test.imperfection applies to uniaxial compression (test.kind = 'uniaxial'), "
-                             f"got test.kind = {self.name!r}")
+                             f"build (they are with uniaxial, biaxial and planar tests)")
 
     # --- grips ---------------------------------------------------------------------------------
     def at(self, targets: tuple[float, ...], t: float) -> list[float]:

@@ -25,6 +25,8 @@ class Planar(TestKind):
     name = "planar"
     axes = (0,)
     oracle_setups = {"block": "roller", "sheet": "roller"}
+    cyclic = True  # stretch-driven cycles, as uniaxial (Mullins softening in pure shear)
+    effects = True
     force_column, control_column = "force", "stretch"
     measures_E = True
     plot = PlotSpec("stretch", "stress", "grip stretch λ [–]", "nominal stress F/A₀ [MPa]",
