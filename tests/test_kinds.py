@@ -216,3 +216,11 @@ def test_mullins_softening_shows_in_planar_tension_as_a_lower_unloading_path():
     up = np.interp(1.25, lam[:peak + 1], stress[:peak + 1])
     down = np.interp(1.25, lam[peak:][::-1], stress[peak:][::-1])
     assert down < 0.95 * up  # the softened unloading path lies below the virgin loading
+
+
+@pytest.mark.parametrize("kind,values", [("uniaxial", (1.7,)), ("biaxial", (1.3, 0.8)), ("planar", (2.1,)),
+                                         ("simple-shear", (0.6,))])
+def test_every_kind_names_an_isochoric_path_through_its_target(kind, values):
+    F = KINDS[kind].isochoric(values)
+    assert np.linalg.det(F) == pytest.approx(1.0, rel=1e-12)
+    assert F[0, 0] == pytest.approx(values[0]) if kind != "simple-shear" else F[0, 1] == pytest.approx(values[0])

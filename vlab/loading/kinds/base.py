@@ -88,6 +88,11 @@ class TestKind:
 
         return grip_loading(specimen, X, self.grip_stretches(test.targets), test.grips)
 
+    def isochoric(self, values):
+        """The isochoric (incompressible) deformation gradient (3, 3) at control values ``values``:
+        the path a locking limit is checked on (vlab.materials.card.check_path)."""
+        raise NotImplementedError
+
     def has_oracle(self, shape: str, grips: str) -> bool:
         return self.oracle_setups.get(shape) == grips
 

@@ -36,6 +36,11 @@ class Biaxial(TestKind):
 
         return homogeneous_biaxial(material, *values)
 
+    def isochoric(self, values):
+        import numpy as np
+
+        return np.diag([values[0], values[1], 1.0 / (values[0] * values[1])])  # diag(λx, λy, 1/(λx λy))
+
     def measure(self, curve, window, method):
         from vlab.measure.elastic_constants import biaxial_constants
 

@@ -56,6 +56,11 @@ class Planar(TestKind):
 
         return planar(material, values[0])
 
+    def isochoric(self, values):
+        import numpy as np
+
+        return np.diag([values[0], 1.0, 1.0 / values[0]])  # diag(λ, 1, 1/λ)
+
     def measure(self, curve, window, method):
         from vlab.measure.planar import planar_constants
 

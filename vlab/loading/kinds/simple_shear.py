@@ -95,6 +95,11 @@ class SimpleShear(TestKind):
         make = kinematic_shear if test.grips == "kinematic" else plate_shear
         return make(specimen, X, test.targets[0])
 
+    def isochoric(self, values):
+        F = np.eye(3)
+        F[0, 1] = values[0]  # I + γ e1⊗e2 is isochoric already
+        return F
+
     def areas(self, specimen) -> dict[int, float]:
         return {0: specimen.area0[1]}  # the plate (face normal to y)
 

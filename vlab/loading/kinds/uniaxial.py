@@ -37,6 +37,12 @@ class Uniaxial(TestKind):
 
         return homogeneous_uniaxial(material, values[0])
 
+    def isochoric(self, values):
+        import numpy as np
+
+        lam = values[0]
+        return np.diag([lam, lam**-0.5, lam**-0.5])  # F = diag(λ, λ^(−1/2), λ^(−1/2))
+
     def measure(self, curve, window, method):
         from vlab.measure.elastic_constants import uniaxial_constants
 
