@@ -149,6 +149,8 @@ BAD = [
       "test": {"kind": "planar", "stretch": 1.2}}, "specimen.height must be > 0"),
     ({"specimen": {"shape": "shear", "length": 6.0, "gap": 4.0, "depth": 10.0},
       "test": {"kind": "simple-shear", "shear": 0.2}}, "specimen.length must be >= 2 x specimen.gap = 8 mm"),
+    ({"specimen": {"shape": "double-lap", "length": 20.0, "gap": 4.0, "depth": 10.0, "plate_thickness": 0.0},
+      "test": {"kind": "simple-shear", "shear": 0.2}}, "specimen.plate_thickness must be > 0"),
     ({"specimen": {"shape": "shear", "length": 20.0, "gap": 4.0, "depth": 10.0},
       "test": {"kind": "uniaxial", "stretch": 1.2}}, "test.kind must be one of simple-shear for specimen.shape = 'shear'"),
 ]
@@ -224,3 +226,23 @@ def test_every_kind_names_an_isochoric_path_through_its_target(kind, values):
     F = KINDS[kind].isochoric(values)
     assert np.linalg.det(F) == pytest.approx(1.0, rel=1e-12)
     assert F[0, 0] == pytest.approx(values[0]) if kind != "simple-shear" else F[0, 1] == pytest.approx(values[0])
+
+
+def _plates(shape: str, extra: dict) -> dict:
+    return {"name": shape, "specimen": {"shape": shape, "length": 8.0, "gap": 2.0, "depth": 4.0} | extra,
+            "mesh": {"size": 1.0, "cell": "hex"}, "material": {"model": "neo-hookean", "E": 3.0, "nu": 0.45},
+            "test": {"kind": "simple-shear", "grips": "plates", "shear": 0.4, "steps": 3}}
+
+
+def test_a_double_lap_sandwich_shears_each_layer_as_a_single_lap_specimen():
+    single = result_to_dict(run_scene(parse_scene(_plates("shear", {}))))
+    double = result_to_dict(run_scene(parse_scene(_plates("double-lap", {"plate_thickness": 1.0}))))
+    assert double["converged"] and single["converged"]
+    # the central plate carries both layers over twice the area: the same nominal stress, shear and gauge
+    for key in ("shear_stress", "shear_gauge"):
+        np.testing.assert_allclose(double["curve"][key], single["curve"][key], rtol=1e-7, err_msg=key)
+    np.testing.assert_allclose(double["curve"]["shear_force"], 2 * np.array(single["curve"]["shear_force"]), rtol=1e-7)
+    scale = max(abs(f) for f in double["curve"]["shear_force"])
+    assert max(abs(f) for f in double["curve"]["normal_force"]) < 1e-8 * scale  # the layers' normal forces cancel
+    assert max(abs(f) for f in single["curve"]["normal_force"]) > 1e-3 * scale  # a single lap pulls on its plate
+    assert double["measured"]["G"] == pytest.approx(single["measured"]["G"], rel=1e-7)

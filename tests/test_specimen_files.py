@@ -26,7 +26,8 @@ def coarse(raw: dict) -> dict:
     narrow = {"dogbone": lambda: spec.dimensions.width, "block": lambda: min(spec.size[1:]),
               "sheet": lambda: spec.size[1],
               "cruciform": lambda: spec.dimensions.gauge_region / 2,
-              "planar-tension": lambda: spec.thickness, "shear": lambda: spec.gap}[spec.shape]()
+              "planar-tension": lambda: spec.thickness, "shear": lambda: spec.gap,
+              "double-lap": lambda: spec.gap}[spec.shape]()
     size = raw["mesh"]["size"]
     if "gauge_size" not in raw["mesh"]:
         overrides["mesh.size"] = max(size, min(2 * size, narrow / 2))
@@ -74,7 +75,7 @@ def test_specimen_file_runs_on_a_coarse_mesh(path, folder):
     assert data["mesh"]["quality"]["min_quality"] >= scene.mesh.min_quality
 
 
-@pytest.mark.parametrize("path", [p for p in FILES if p.stem.startswith(("planar-tension", "shear-plates"))],
+@pytest.mark.parametrize("path", [p for p in FILES if p.stem.startswith(("planar-tension", "shear-plates", "double-lap"))],
                          ids=lambda p: p.stem)
 def test_planar_and_shear_specimens_report_their_distance_from_the_homogeneous_state(path, folder):
     scene, _, data = run_coarse(path, folder)

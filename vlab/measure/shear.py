@@ -110,11 +110,20 @@ class ShearFieldProbe:
         return cls(space, material, _core(space, specimen), specimen.area0[1])
 
     def read(self, F: np.ndarray, force: float) -> dict:
+        """Statistics of a state F (3, 3, e, q) with plate force ``force`` (N). Each element's
+        shear is read in its own sense s_e = sign(mean F₁₂ of the element) times the test's sense
+        sign(force), so the two layers of a double lap, sheared in opposite senses, count alike."""
         Fe = F[:, :, self.elements]
         w = self.space.dx[self.elements]
-        shear, P12 = Fe[0, 1], self.material.stress(Fe)[0, 1]
+        test_sense = 1.0 if force >= 0 else -1.0
+        sense = np.sign(np.sum(Fe[0, 1] * w, axis=1, keepdims=True))
+        sense[sense == 0] = 1.0
+        shear = test_sense * sense * Fe[0, 1]
+        P12 = test_sense * sense * self.material.stress(Fe)[0, 1]
         gamma = float(np.sum(shear * w) / np.sum(w))
-        ideal = np.eye(3)[:, :, None, None] + gamma * np.einsum("i,j->ij", np.eye(3)[0], np.eye(3)[1])[:, :, None, None]
+        ideal = np.zeros_like(Fe)
+        ideal[0, 0] = ideal[1, 1] = ideal[2, 2] = 1.0
+        ideal[0, 1] = test_sense * sense * gamma
         distance = float(np.sum(np.linalg.norm((Fe - ideal).reshape(9, *w.shape), axis=0) * w) / np.sum(w))
         nominal = force / self.area0
         centre = float(np.sum(P12 * w) / np.sum(w))

@@ -3,7 +3,8 @@
 Each shape owns its spec dataclass (with ``length`` and ``max_dimension``, mm), its parser, its
 mesh and the test kinds and grips it allows, in its geometry module: block, dogbone (standard or
 explicit dimensions), sheet (2D, plane stress or strain), cruciform, mesh (a user's file),
-planar-tension (a wide strip, width/height ≥ 10) and shear (a layer between rigid plates).
+planar-tension (a wide strip, width/height ≥ 10), shear (a layer between rigid plates) and
+double-lap (two layers between three plates).
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ from vlab.fields import SceneError
 from vlab.geometry.block import BlockSpecimen
 from vlab.geometry.cruciform import CruciformSpecimen
 from vlab.geometry.dogbone import DogboneSpecimen
+from vlab.geometry.double_lap import DoubleLapSpecimen
 from vlab.geometry.imported import MESH_FILE_KEYS, SCENE_DIR, MeshFileSpecimen
 from vlab.geometry.planar import PlanarSpecimen
 from vlab.geometry.shapes import SHAPES
@@ -22,11 +24,11 @@ from vlab.geometry.shear import ShearSpecimen
 from vlab.geometry.sheet import SheetSpecimen
 
 __all__ = ["BlockSpecimen", "DogboneSpecimen", "SheetSpecimen", "CruciformSpecimen", "MeshFileSpecimen",
-           "PlanarSpecimen", "ShearSpecimen", "Specimen", "SHAPES", "SPECIMEN_TESTS", "SYMMETRIC_SHAPES",
+           "PlanarSpecimen", "ShearSpecimen", "DoubleLapSpecimen", "Specimen", "SHAPES", "SPECIMEN_TESTS", "SYMMETRIC_SHAPES",
            "MESH_FILE_KEYS", "SCENE_DIR", "parse_specimen"]
 
 Specimen = (BlockSpecimen | DogboneSpecimen | SheetSpecimen | CruciformSpecimen | MeshFileSpecimen
-            | PlanarSpecimen | ShearSpecimen)
+            | PlanarSpecimen | ShearSpecimen | DoubleLapSpecimen)
 # views of the registry: shape -> {test kind: grips (the first the default)}; mirror-built shapes
 SPECIMEN_TESTS: dict[str, dict[str, tuple[str, ...]]] = {name: s.tests for name, s in SHAPES.items()}
 SYMMETRIC_SHAPES = tuple(name for name, s in SHAPES.items() if s.symmetric)
