@@ -31,7 +31,7 @@ class Snapshot:
     displacement: np.ndarray
     fields: dict[str, np.ndarray]
     marks: dict[str, tuple[np.ndarray, np.ndarray]]
-    control: str = "grip stretch"  # what ``stretch`` holds: the test kind's control (simple shear: "shear γ")
+    control: str = "grip stretch"  # what ``stretch`` holds: the test kind's control ("shear": the amount γ)
 
     @property
     def n_frames(self) -> int:
@@ -85,5 +85,5 @@ def take_snapshot(result) -> Snapshot:
 
     kind = kind_of(result.scene.test)
     stretch = np.array([kind.at(result.scene.test.targets, x)[0] for x in t])
-    control = "grip stretch" if kind.load_key == "stretch" else f"{kind.load_key} γ"
+    control = "grip stretch" if kind.load_key == "stretch" else kind.load_key  # "shear": the amount γ
     return Snapshot(result.scene.material.model, mesh, t, stretch, u, fields, marks, control)
