@@ -67,6 +67,7 @@ log = logging.getLogger(__name__)
 
 
 CHORD_CONTRACTION = 0.1  # a chord step that gains a decade costs ~1/8 of an exact one (dogbone)
+WATCHDOG_STEPS = 3  # Cook's membrane ν = 0.4999: the energy comes back below its reference in 2
 
 
 @dataclass(frozen=True)
@@ -83,6 +84,7 @@ class NewtonOptions:
     chord_secant: bool = True  # BFGS-update the reused factor with the chord steps' (Δu, Δr)
     chord_horizon: float = 3.0  # ... and reaches rtol at that rate within this many more steps
     linear: str = "direct"  # or "cg-amg": exact corrections by CG + AMG (vlab.fe.iterative)
+    watchdog: int = WATCHDOG_STEPS  # full Newton steps allowed without sufficient decrease (0: monotone)
 
 
 @dataclass
@@ -93,6 +95,8 @@ class NewtonRecord:
     updates: list[float] = field(default_factory=list)
     step_lengths: list[float] = field(default_factory=list)
     repairs: int = 0
+    relaxed: int = 0  # full steps taken without sufficient decrease (watchdog)
+    returns: int = 0  # watchdog returns to the reference state (the relaxed steps wasted)
     reused: int = 0  # corrections solved with a tangent factorized before this solve (chord)
     converged: bool = False
     reason: str = ""
@@ -182,12 +186,14 @@ def solve_equilibrium(body: HyperelasticBody, partition: Partition, start: Evalu
         raise NewtonFailure(record.reason, record, ev)
     tangent = last = None
     memory = _SecantMemory(None)
+    watchdog = _Watchdog(options.watchdog)
     chord = False  # was the last correction a chord step
     for k in range(options.max_iterations + 1):
         r = ev.f_int[free]
         scale = max(force_floor, _norm(ev.f_int[partition.prescribed]))
         record.residuals.append(_norm(r) / scale)
-        if record.residuals[-1] <= options.rtol and (k == 0 or record.updates[-1] <= options.utol):
+        if (record.residuals[-1] <= options.rtol and (k == 0 or record.updates[-1] <= options.utol)
+                and getattr(ev, "constraint", 0.0) <= options.rtol):
             record.converged = True
             return ev, record, tangent
         if k == options.max_iterations:
@@ -220,11 +226,13 @@ def solve_equilibrium(body: HyperelasticBody, partition: Partition, start: Evalu
         if not chord and not _dot(r, du) < 0.0:
             du = _repaired_direction(Kff, r)
             record.repairs += 1
-        ev, alpha = _line_search(body, free, ev, du, options)
+        returns = record.returns
+        ev, alpha, du = watchdog.advance(body, free, ev, du, options, record)
         if ev is None:
             record.reason = "line search found no admissible decrease along the Newton direction"
             raise NewtonFailure(record.reason, record, alpha)
-        if chord and options.chord_secant and reusable.factor.backend != "cg-amg":
+        if (chord and options.chord_secant and reusable.factor.backend != "cg-amg"
+                and record.returns == returns):
             memory.add(alpha * du, ev.f_int[free] - r)  # (CG is not a fixed linear K̃⁻¹)
         record.step_lengths.append(alpha)
         record.updates.append(alpha * float(np.max(np.abs(du), initial=0.0)) / length)
@@ -316,21 +324,91 @@ def _repaired_direction(Kff: sp.csr_matrix, r: np.ndarray) -> np.ndarray:
     return -r / d
 
 
+class _Watchdog:
+    """Nonmonotone acceptance of full Newton steps: the watchdog technique (Chamberlain, Powell,
+    Lemaréchal & Pedersen, Math. Prog. Study 16, 1982) on the energy W.
+
+    Near incompressibility a full Newton step raises W although it is a good step: the step is
+    linear in Δu while the volume change it makes is quadratic (a rotation Δu = ω × x changes
+    J by O(ω²)), and the volumetric energy multiplies that by κ ≈ 5000 μ at ν = 0.4999, so
+    W(u + Δu) > W(u) and so does ‖r‖. Backtracking then halves the step and Newton crawls
+    (Cook's membrane ν = 0.4999 Q1/P0 8 × 8: 7 iterations a step, α = ½ first; with full steps
+    4-5, as in FElupe and deal.II, which take full steps always). So from a *reference* state
+    (W_r, slope s_r = r_rᵀΔu_r, ‖r_r‖) the full step is taken even without sufficient
+    decrease, up to ``allowance`` steps in a row; the sequence ends as soon as a state satisfies
+    the sufficient-decrease test against the reference,
+        W ≤ W_r + c s_r   or   ‖r‖ ≤ (1 − c) ‖r_r‖,
+    and if none has after ``allowance`` steps, the iteration returns to the reference state and
+    backtracks along its direction as the monotone line search would (global convergence is
+    kept: at most ``allowance`` wasted steps per return). Inadmissible trials (J ≤ 0) are never
+    accepted, and a sequence starts only while ‖r‖ > chord_band · rtol: below, W and ‖r‖ change
+    by round-off and a full step that does not decrease them would be taken again and again
+    (a P2 tet block at rtol 1e-12 stalled at 6e-11 for 25 iterations). ``allowance`` = 0 is the
+    monotone line search."""
+
+    def __init__(self, allowance: int):
+        self.allowance = allowance
+        self.reference: tuple | None = None  # (evaluation, direction, slope, ‖r‖)
+        self.relaxed = 0
+
+    def advance(self, body, free, ev: Evaluation, du: np.ndarray, options: NewtonOptions,
+                record: NewtonRecord):
+        """(accepted evaluation or None, α, the direction α refers to)."""
+        slope, r0 = _dot(ev.f_int[free], du), _norm(ev.f_int[free])
+        trial = _trial(body, free, ev, du, 1.0)
+        ref = self.reference or (ev, du, slope, r0)
+        if trial.admissible and _sufficient(trial, ref[0].W, ref[2], ref[3], 1.0, free, options):
+            self.reference = None
+            return trial, 1.0, du
+        if self.reference is not None:
+            may_relax = self.relaxed < self.allowance
+        else:  # near rtol W and ‖r‖ stall at round-off: monotone there (a relaxed step would loop)
+            may_relax = self.allowance > 0 and record.residuals[-1] > options.chord_band * options.rtol
+        if trial.admissible and may_relax:
+            if self.reference is None:
+                self.reference, self.relaxed = ref, 0
+            self.relaxed += 1
+            record.relaxed += 1
+            return trial, 1.0, du
+        if self.reference is not None:  # the relaxed steps did not pay: back to the reference
+            ev, du = self.reference[0], self.reference[1]
+            self.reference = None
+            record.returns += 1
+            accepted, alpha = _line_search(body, free, ev, du, options, 0.5)
+        else:
+            accepted, alpha = _line_search(body, free, ev, du, options, 0.5, trial)
+        return accepted, alpha, du
+
+
+def _trial(body, free: np.ndarray, ev: Evaluation, du: np.ndarray, alpha: float) -> Evaluation:
+    """The state u + αΔu; a body with element unknowns of its own (the mixed body's θ) moves
+    them with their Newton update (``body.advance``) where the state carries them."""
+    step = np.zeros_like(ev.u)
+    step[free] = du
+    advance = getattr(body, "advance", None)
+    if advance is not None and getattr(ev, "volume_change", None) is not None:
+        return advance(ev, step, alpha)
+    return body.evaluate(ev.u + alpha * step)
+
+
+def _sufficient(trial: Evaluation, W0: float, slope: float, r0: float, alpha: float,
+                free: np.ndarray, options: NewtonOptions) -> bool:
+    """Armijo on W, or (W changes by less than its round-off near the solution) ‖r‖ cut as much."""
+    c = options.sufficient_decrease
+    return trial.W <= W0 + c * alpha * slope or _norm(trial.f_int[free]) <= (1.0 - c * alpha) * r0
+
+
 def _line_search(body: HyperelasticBody, free: np.ndarray, ev: Evaluation, du: np.ndarray,
-                 options: NewtonOptions):
-    """Backtracking on W; returns (accepted evaluation, α) or (None, last inadmissible trial)."""
+                 options: NewtonOptions, alpha: float = 1.0, last: Evaluation | None = None):
+    """Backtracking on W from step ``alpha`` (halving; ``last``: the trial at 2α, if made);
+    returns (accepted evaluation, α) or (None, last inadmissible trial)."""
     slope = _dot(ev.f_int[free], du)
     r0 = _norm(ev.f_int[free])
-    alpha, last = 1.0, None
-    for _ in range(options.max_backtracks):
-        u = ev.u.copy()
-        u[free] += alpha * du
-        trial = body.evaluate(u)
-        if trial.admissible:
-            decrease = trial.W <= ev.W + options.sufficient_decrease * alpha * slope
-            rn = _norm(trial.f_int[free])
-            if decrease or rn <= (1.0 - options.sufficient_decrease * alpha) * r0:
-                return trial, alpha
+    tries = options.max_backtracks - int(round(math.log2(1.0 / alpha)))
+    for _ in range(tries):
+        trial = _trial(body, free, ev, du, alpha)
+        if trial.admissible and _sufficient(trial, ev.W, slope, r0, alpha, free, options):
+            return trial, alpha
         last = trial
         alpha *= 0.5
     return None, last
