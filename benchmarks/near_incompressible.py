@@ -4,9 +4,9 @@
 
 Problems (ν = 0.4999, 10 equal dead-load steps, ‖r_free‖ / ‖r_prescribed‖ ≤ 1e-9 (vlab) and
 FElupe's relative residual norm ≤ 1e-9):
-* Cook's membrane, de Souza Neto's set-up (vlab/studies/cooks_membrane.py: G = 80.194 MPa,
+* Cook's membrane, de Souza Neto's set-up (vlab/verification/cooks_membrane.py: G = 80.194 MPa,
   100 N over the right edge, plane strain, one element thick), n × n Q1/P0;
-* deal.II step-44's block (vlab/studies/step44_block.py), n³ Q1/P0 on the quarter.
+* deal.II step-44's block (vlab/verification/step44_block.py), n³ Q1/P0 on the quarter.
 Both codes get the same nodes, hexahedra (VTK order for FElupe) and nodal forces (vlab's
 consistent ones, as a FElupe PointLoad), and the same energy: FElupe's isochoric NeoHooke
 (ψ = ½μ(J^(−2/3) I₁ − 3)) in NearlyIncompressible with U = ¼K(J̄² − 1 − 2 ln J̄) (its dUdJ,
@@ -35,9 +35,9 @@ from vlab.fe.newton import NewtonOptions  # noqa: E402
 from vlab.fe.space import DisplacementSpace  # noqa: E402
 from vlab.materials.split import SplitNeoHookean  # noqa: E402
 from vlab.moduli import from_pair  # noqa: E402
-from vlab.studies import cooks_membrane as cook  # noqa: E402
-from vlab.studies import step44_block as block  # noqa: E402
-from vlab.studies.dead_load import ramp  # noqa: E402
+from vlab.verification import cooks_membrane as cook  # noqa: E402
+from vlab.verification import step44_block as block  # noqa: E402
+from vlab.verification.dead_load import ramp  # noqa: E402
 
 RTOL, STEPS = 1e-9, 10
 

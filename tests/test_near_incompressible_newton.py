@@ -7,8 +7,8 @@ answer as Newton on W(u) alone (θ recomputed at every iterate), which needs cut
 import pytest
 
 from vlab.fe.newton import NewtonOptions
-from vlab.studies.cooks_membrane import SOUZA_NETO, CookCase, solve_cook
-from vlab.studies.step44_block import solve_block
+from vlab.verification.cooks_membrane import SOUZA_NETO, CookCase, solve_cook
+from vlab.verification.step44_block import solve_block
 
 MAX_PER_STEP = 6
 

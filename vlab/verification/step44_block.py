@@ -25,7 +25,7 @@ from vlab.fe.newton import NewtonOptions
 from vlab.fe.space import DisplacementSpace
 from vlab.materials.split import SplitNeoHookean
 from vlab.moduli import from_pair
-from vlab.studies.dead_load import ramp
+from vlab.verification.dead_load import ramp
 
 MU = 80.194          # MPa
 NU = 0.4999

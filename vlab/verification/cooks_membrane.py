@@ -38,7 +38,7 @@ from vlab.fe.problem import HyperelasticBody
 from vlab.fe.space import DisplacementSpace
 from vlab.materials.split import SplitNeoHookean
 from vlab.moduli import from_pair
-from vlab.studies.dead_load import ramp
+from vlab.verification.dead_load import ramp
 
 log = logging.getLogger(__name__)
 
