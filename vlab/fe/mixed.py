@@ -18,6 +18,13 @@ a minimisation problem again (so Newton with the energy line search applies unch
             g_m,ai = Σ_q φ_m(q) (∂v/∂F)_iJ dN_a,J dx_q,   H = Σ_q U''(θ_q) φ φᵀ dx_q.
 (Π_e is self-adjoint in the dx-weighted product, which is why p appears as a projection.)
 
+Newton's iteration carries θ as an unknown of its own (:meth:`MixedHyperelasticBody.advance`):
+after a step Δu, θ moves by its linearised update instead of being recomputed from u, and the
+residual is the condensed three-field one (``evaluate``). Recomputing θ = Π_e v(F(u)) gives the
+same solution, but near ν = ½ it puts κ × O(|∇Δu|²) into the pressure after every step and
+Newton crawls (issue 20: Cook's membrane ν = 0.4999 Q1/P0 64², 113 → 38 iterations in 10 steps).
+W(u) above stays the line search's merit function.
+
 Elements (θ space of degree k, stable pairs):
   hex order 1: Q1 / P0 — the mean-dilatation element (Nagtegaal–Parks–Rice; Simo–Taylor–Pister)
   hex order 2: Q2 / P1dc — θ linear in (X − X_c) per element (inf-sup stable)
@@ -169,7 +176,9 @@ class MixedHyperelasticBody:
         return self.evaluate(evaluation.u + alpha * du, x + alpha * step)
 
     def stiffness(self, evaluation: MixedEvaluation) -> sp.csr_matrix:
-        """Consistent tangent K = ∂f_int/∂u = ∂²W/∂u² at an admissible state, N/mm."""
+        """The condensed tangent at the state (u, θ), N/mm: the Schur complement of the
+        three-field Jacobian, K = K_uu(p) + gᵀ M⁻¹ H(θ) M⁻¹ g with p = Π_e U'(θ), so that Newton on
+        (u, θ) converges quadratically; at θ = Π_e v(F) it is ∂²W/∂u² (Taylor-tested both ways)."""
         law, space = self.material, self.space
         F, x, p = evaluation.F, evaluation.volume_change, evaluation.pressure
         A = law.isochoric_tangent(F)
