@@ -222,3 +222,20 @@ def test_carried_volume_change_away_from_the_projection_is_seen_by_the_residual_
     moved = linear.evaluate(u, base.volume_change + 1e-3)
     np.testing.assert_allclose(moved.f_int, base.f_int, atol=1e-9 * np.abs(base.f_int).max())
     assert not np.allclose(shifted.f_int, projected.f_int, atol=0.0, rtol=1e-12)
+
+
+def test_a_dead_load_on_the_mixed_body_stays_in_its_newton_update():
+    """LoadedBody (gravity) hands Newton the inner body's θ update with the load subtracted, and
+    no update at all for a displacement body (which Newton then evaluates directly)."""
+    from vlab.fe.external_load import LoadedBody, body_force_vector
+
+    space = _space("hex", 1)
+    inner = MixedHyperelasticBody(space, SplitNeoHookean(LMBDA, MU))
+    f_ext = body_force_vector(space, [0.0, 0.0, -0.5])
+    loaded = LoadedBody(inner, f_ext)
+    rng = np.random.default_rng(2)
+    u, du = 0.02 * rng.standard_normal(space.n_dofs), 0.01 * rng.standard_normal(space.n_dofs)
+    plain, with_load = inner.advance(inner.evaluate(u), du, 0.5), loaded.advance(loaded.evaluate(u), du, 0.5)
+    np.testing.assert_allclose(with_load.f_int, plain.f_int - f_ext, rtol=0, atol=1e-12)
+    assert with_load.W == pytest.approx(plain.W - f_ext @ (u + 0.5 * du), rel=1e-12)
+    assert LoadedBody(HyperelasticBody(space, NeoHookean(LMBDA, MU)), f_ext).advance is None
