@@ -14,14 +14,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from vlab.report.comparison_plots import colour  # noqa: E402
-from vlab.report.kind_rows import kind_of_data  # noqa: E402
+from vlab.report import figures as plt  # pyplot-free Agg figures
+from vlab.report.comparison_plots import colour
+from vlab.report.kind_rows import kind_of_data
 
 __all__ = ["kind_of_data", "plot_kind", "KIND_CAPTIONS"]
 
