@@ -31,6 +31,7 @@ test kinds and grips it allows in ``SPECIMEN_TESTS``).
 from __future__ import annotations
 
 import copy
+import dataclasses
 import hashlib
 import json
 import re
@@ -159,6 +160,7 @@ class MeshSpec:
     min_quality: float = 0.15  # smallest acceptable element quality (geometry/quality.py)
     formulation: str = "displacement"  # or "mixed": condensed θ/p per element (vlab/fe/mixed.py)
     symmetry: str = "none"  # none | half | quarter | eighth (geometry/symmetry.py)
+    max_dofs: int | None = None  # size budget (vlab/geometry/budget.py); None = its default
 
 
 @dataclass(frozen=True)
@@ -380,9 +382,12 @@ def _parse_specimen(raw: Any) -> Specimen:
 
 
 def _parse_mesh(raw: Any, specimen: Specimen) -> MeshSpec:
-    t = fields.Table("mesh", raw, ("size", "order", "cell", "gauge_size", "min_quality", "symmetry", "formulation"))
+    t = fields.Table("mesh", raw, ("size", "order", "cell", "gauge_size", "min_quality", "symmetry", "formulation",
+                                   "max_dofs"))
+    max_dofs = t.get("max_dofs", None)
+    max_dofs = None if max_dofs is None else fields.integer(t.field("max_dofs"), max_dofs, 1, 10**12)
     if specimen.shape == "mesh":
-        return _parse_mesh_of_file(t, specimen)
+        return dataclasses.replace(_parse_mesh_of_file(t, specimen), max_dofs=max_dofs)
     size = t.number("size", gt=0, le=specimen.max_dimension, note=" (the largest specimen dimension)")
     gauge_size = t.number("gauge_size", default=None, gt=0, le=size, note=" (mesh.size)")
     if gauge_size is not None and specimen.shape not in _FINE_MESH_SHAPES:
@@ -396,7 +401,7 @@ def _parse_mesh(raw: Any, specimen: Specimen) -> MeshSpec:
     return MeshSpec(size=size, order=t.integer("order", 1, 2, default=1),
                     cell=t.choice("cell", cells, default=cells[0]), gauge_size=gauge_size,
                     min_quality=t.number("min_quality", default=0.15, gt=0, lt=1), symmetry=symmetry,
-                    formulation=t.choice("formulation", FORMULATIONS, default="displacement"))
+                    formulation=t.choice("formulation", FORMULATIONS, default="displacement"), max_dofs=max_dofs)
 
 
 def _parse_mesh_of_file(t: fields.Table, specimen: MeshFileSpecimen) -> MeshSpec:
@@ -711,7 +716,8 @@ def _parse_effects(raw: Any, material: MaterialSpec, test: TestSpec) -> tuple:
 def parse_scene(data: dict, origin: str = "<scene>", base_dir: str | Path | None = None) -> Scene:
     """Validate a parsed scene dict; errors are ``SceneError("<origin>: <message>")``. Relative
     paths in the scene (specimen.file) are taken from ``base_dir`` (default: the current folder)."""
-    token = _BASE_DIR.set(Path(base_dir) if base_dir is not None else Path("."))
+    # absolute: the scene may be run from another folder later (a Dask worker, a companion solve)
+    token = _BASE_DIR.set(Path(base_dir if base_dir is not None else ".").resolve())
     try:
         return _parse(data)
     except SceneError as exc:
@@ -722,16 +728,20 @@ def parse_scene(data: dict, origin: str = "<scene>", base_dir: str | Path | None
 
 def load_scene(path: str | Path) -> Scene:
     """Read and validate a scene TOML file; every error message starts with the file name."""
+    return load_scene_text(path)[0]
+
+
+def load_scene_text(path: str | Path) -> tuple[Scene, str]:
+    """The validated scene and the text it was read from (read once, bounded: vlab.scene_file)."""
+    from vlab.scene_file import read_scene_file
+
     path = Path(path)
+    text = read_scene_file(path)
     try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise SceneError(f"{path}: cannot read scene file ({exc.strerror or exc})") from None
-    except UnicodeDecodeError as exc:
-        raise SceneError(f"{path}: scene file is not UTF-8 ({exc})") from None
+        data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise SceneError(f"{path}: TOML syntax error: {exc}") from None
-    return parse_scene(data, origin=str(path), base_dir=path.parent)
+    return parse_scene(data, origin=str(path), base_dir=path.parent), text
 
 
 def apply_overrides(data: Mapping[str, Any], overrides: Mapping[str, object]) -> dict:

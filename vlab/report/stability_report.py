@@ -9,7 +9,7 @@ import json
 from pathlib import Path
 
 from vlab.report.results import _clean
-from vlab.report.writer import atomic_folder
+from vlab.report.folder import destination, report_folder
 from vlab.run import vlab_version
 
 STYLE = """body{font-family:sans-serif;margin:1.5em;max-width:1250px}table{border-collapse:collapse;
@@ -31,7 +31,7 @@ def suite_dict(results, mode: str, total_seconds: float) -> dict:
 def write_stability_report(results, out: Path, mode: str, total_seconds: float, figures_dir: Path) -> dict:
     """Write results.json, index.html and the case figures (from ``figures_dir``) into ``out``."""
     data = suite_dict(results, mode, total_seconds)
-    with atomic_folder(out) as tmp:
+    with report_folder(out, "stability") as tmp:
         for case in data["cases"]:
             for name in case["figures"]:
                 (tmp / name).write_bytes((figures_dir / name).read_bytes())

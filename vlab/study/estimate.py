@@ -33,7 +33,8 @@ def companion_scene(scene: Scene, factor: float = COARSENING) -> Scene:
     over: dict = {"mesh.size": size}
     if scene.mesh.gauge_size is not None:
         over["mesh.gauge_size"] = min(scene.mesh.gauge_size * factor, size)
-    return parse_scene(apply_overrides(scene.source, over), origin="accuracy-estimate companion")
+    return parse_scene(apply_overrides(scene.source, over), origin="accuracy-estimate companion",
+                       base_dir=scene.base_dir)
 
 
 def _values(result) -> dict:
