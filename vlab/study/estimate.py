@@ -57,6 +57,8 @@ def accuracy_estimate(result) -> dict:
            "assumed_order": scene.mesh.order, "available": False}
     if not result.converged:
         return out | {"reason": "the run itself did not complete"}
+    if scene.specimen.shape == "mesh":
+        return out | {"reason": "the mesh is imported (specimen.shape = 'mesh'): vlab cannot coarsen a user's mesh"}
     start = time.perf_counter()
     try:
         coarse_scene = companion_scene(scene)
