@@ -6,7 +6,8 @@ Counts (no array is allocated; every count is arithmetic on the dimensions):
   side and mirrored for a symmetry-reduced block, which meshes 1/2, 1/4, 1/8 of it;
 - dogbone: the structured mapper's divisions: along x ceil(l_fine / h_g) + ceil(l_tabs / h) with
   l_fine = parallel length + 2 × transition, across 2 ceil(w / 2 h_g), through 2 ceil(t / 2 min(h, h_g));
-- cruciform: its bounding square (2 × arm end) × thickness at min(h, h_g): an upper bound;
+- cruciform: the mapper's octant (central square and two arms, breakpoints at slits, fillets and
+  ramps counted as extra divisions), mirrored;
 - sheet: n_x n_y quadrilaterals (two triangles each);
 - imported mesh: its own nodes and cells (order 2 adds one node per edge, and per face and cell
   for hexahedra).
@@ -14,9 +15,13 @@ Structured hexahedra: elements E = Π n_i; vertices Π(n_i + 1); order 2 (Q2, an
 split, which adds the same face and body diagonals' midpoints) Π(2 n_i + 1) nodes. Tetrahedra: 6E
 (Kuhn split). DOFs = nodes × dimension.
 
-Memory (bytes) ≈ BASE_BYTES + BYTES_PER_DOF[(cell, order)] × DOFs, fitted on peak RSS of
-``vlab run`` on blocks of 4,000–60,000 DOFs (PARDISO, numba kernels; see the table in the README
-and tests/test_budget.py): the factorization of K and the per-quadrature-point tangents dominate.
+Memory (bytes) ≈ BASE_BYTES + A[(cell, order)] × DOFs^(4/3): the sparse direct factorization (every
+converged state is factorized for the stability check, also when CG + AMG solves the Newton
+corrections) fills in as n^(4/3) for a 3D mesh under nested dissection, and dominates; the
+coefficients are fitted on the peak RSS (/usr/bin/time) of ``vlab run --no-render --no-estimate``
+on a 40 × 20 × 10 mm block at 28,413 DOFs (PARDISO, numba kernels, 2-core machine): hex order 1
+844 MB, order 2 1,094 MB; tet order 1 729 MB, order 2 866 MB; base 400 MB (4,158 DOFs: 425 MB).
+Checked at 84,960 DOFs (hex order 1): measured 2,180 MB, estimated 2,320 MB (+6 %).
 
 Limits: DOFs ≤ mesh.max_dofs (default DEFAULT_MAX_DOFS) and estimated memory ≤ the memory
 available now (psutil), with the numbers in the message.
@@ -29,10 +34,15 @@ from dataclasses import dataclass
 
 from vlab.fields import SceneError
 
+#: 2 million DOFs is ≈ 130 GB by the memory model below (hex order 1): beyond any one machine
+#: vlab is meant for, so on real machines the memory check binds first; the fixed cap keeps a
+#: scene's validity from depending only on how much memory happens to be free.
 DEFAULT_MAX_DOFS = 2_000_000
-BASE_BYTES = 450e6  # python, numpy/scipy, numba, VTK loaded
-BYTES_PER_DOF = {("hex", 1): 15e3, ("hex", 2): 15e3, ("tet", 1): 15e3, ("tet", 2): 15e3,
-                 ("quad", 1): 4e3, ("quad", 2): 4e3, ("tri", 1): 4e3, ("tri", 2): 4e3}
+BASE_BYTES = 400e6  # python, numpy/scipy, numba, VTK loaded
+FILL_EXPONENT = 4.0 / 3.0
+#: bytes / DOF^(4/3), fitted at 28,413 DOFs (module docstring); 2D (sheets) fills far less
+FILL_BYTES = {("hex", 1): 513.0, ("hex", 2): 801.0, ("tet", 1): 380.0, ("tet", 2): 538.0,
+              ("quad", 1): 60.0, ("quad", 2): 90.0, ("tri", 1): 45.0, ("tri", 2): 65.0}
 
 
 @dataclass(frozen=True)
@@ -44,8 +54,18 @@ class SizeEstimate:
     how: str  # which rule counted (for the message)
 
     def describe(self) -> str:
-        return (f"≈ {self.elements:,} elements, {self.nodes:,} nodes, {self.dofs:,} DOFs, "
+        return (f"≈ {_count(self.elements)} elements, {_count(self.nodes)} nodes, {_count(self.dofs)} DOFs, "
                 f"≈ {self.memory_bytes / 1e9:.3g} GB ({self.how})")
+
+
+def _count(n: int) -> str:
+    """1,234,567 below 10^12; 1.23e+15 or 10^906 above (a count may exceed any float)."""
+    if n < 10**12:
+        return f"{n:,}"
+    return f"{float(n):.3g}" if n < 10**300 else f"10^{len(str(n)) - 1}"
+
+
+_CUT = {"none": 0, "half": 1, "quarter": 2, "eighth": 3}  # mesh.symmetry: planes cut (x, y, z in turn)
 
 
 def _div(length: float, size: float) -> int:
@@ -62,8 +82,8 @@ def _structured(n: tuple[int, ...], cell: str, order: int) -> tuple[int, int]:
 def _divisions(scene) -> tuple[tuple[int, ...], str]:
     spec, mesh = scene.specimen, scene.mesh
     h, hg = mesh.size, mesh.gauge_size or mesh.size
+    cut = _CUT.get(mesh.symmetry, 0)
     if spec.shape == "block":
-        cut = {"none": 0, "half": 1, "quarter": 2, "eighth": 3}.get(mesh.symmetry, 0)
         n = tuple(_div(s / 2, h) * (1 if a < cut else 2) if cut else _div(s, h) for a, s in enumerate(spec.size))
         return n, "block divisions"
     if spec.shape == "dogbone":
@@ -71,13 +91,26 @@ def _divisions(scene) -> tuple[tuple[int, ...], str]:
         fine = min(d.overall_length, d.parallel_length + 2 * d.transition_length)
         n = (_div(fine, hg) + _div(max(d.overall_length - fine, 0.0), h) if d.overall_length > fine else _div(fine, hg),
              2 * _div(d.width / 2, hg), 2 * _div(d.thickness / 2, min(h, hg)))
-        return n, "dogbone mapper divisions"
-    if spec.shape == "cruciform":
-        d, hm = spec.dimensions, min(h, hg)
-        return (_div(2 * d.arm_end, hm), _div(2 * d.arm_end, hm), _div(d.thickness, hm)), "cruciform bounding box"
+        return tuple(-(-k // 2) if a < cut else k for a, k in enumerate(n)), "dogbone mapper divisions"
     if spec.shape == "sheet":
         return (_div(spec.size[0], h), _div(spec.size[1], h)), "sheet divisions"
     raise ValueError(spec.shape)
+
+
+def _cruciform(scene) -> tuple[int, int]:
+    """The mapper's octant: a central square of n_e × n_e cells and two arms of n_x × n_e, n_z
+    layers, mirrored 8 times (module docstring)."""
+    d, mesh = scene.specimen.dimensions, scene.mesh
+    h, hg, k = mesh.size, mesh.gauge_size or mesh.size, 2 if mesh.order == 2 else 1
+    a, r = d.arm_width / 2, d.fillet_radius
+    n_e = _div(a, hg) + 2 * d.slit_count + 2  # breakpoints: gauge region, slit edges, thinning ramp
+    n_x = _div(max(r, 1e-300), hg) + _div(max(d.arm_end - a - r, 1e-300), h) + 3
+    n_z = _div(d.centre_thickness / 2, min(h, hg))
+    cut = _CUT.get(mesh.symmetry, 0)  # planes cut (x, then y, then z): the octant is mirrored across the rest
+    copies_plane, copies_z = 4 // (2 ** min(cut, 2)), 1 if cut == 3 else 2
+    cells = copies_plane * copies_z * (n_e * n_e + 2 * n_x * n_e) * n_z * (6 if mesh.cell == "tet" else 1)
+    plane = copies_plane * ((k * n_e + 1) ** 2 + 2 * k * n_x * (k * n_e + 1))
+    return cells, plane * (copies_z * k * n_z + 1)
 
 
 def _imported(scene) -> tuple[int, int]:
@@ -100,12 +133,16 @@ def estimate(scene) -> SizeEstimate:
     if scene.specimen.shape == "mesh":
         elements, nodes = _imported(scene)
         how, dim = "the file's own cells", 3
+    elif scene.specimen.shape == "cruciform":
+        elements, nodes = _cruciform(scene)
+        how, dim = "cruciform mapper divisions", 3
     else:
         n, how = _divisions(scene)
         elements, nodes = _structured(n, mesh.cell, mesh.order)
         dim = len(n)
     dofs = dim * nodes
-    memory = BASE_BYTES + BYTES_PER_DOF.get((mesh.cell, mesh.order), 15e3) * dofs
+    fill = FILL_BYTES.get((mesh.cell, mesh.order), 801.0)
+    memory = BASE_BYTES + fill * float(dofs) ** FILL_EXPONENT if dofs < 10**15 else math.inf
     return SizeEstimate(elements, nodes, dofs, memory, how)
 
 
