@@ -120,6 +120,50 @@ def test_many_random_command_lines_keep_the_error_contract(case):
     OUTCOMES[run_case(case)] += 1
 
 
+@pytest.fixture(scope="module")
+def scheduler():
+    from distributed import LocalCluster
+
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=":0",
+                      scheduler_port=0) as local:
+        yield local.scheduler_address
+
+
+@pytest.fixture(scope="module")
+def clean_sweep(tmp_path_factory, scheduler):
+    """A two-point sweep of the fuzz block and its cache, computed once."""
+    from fuzz_cli_cases import BLOCK
+
+    root = tmp_path_factory.mktemp("sweep")
+    (root / "scene.toml").write_text(BLOCK)
+    result = runner.invoke(app, ["sweep", str(root / "scene.toml"), "--set", "material.nu=0.3,0.4", "--scheduler",
+                                 scheduler, "--cache", str(root / "cache"), "--out", str(root / "out"), "-q"])
+    assert result.exit_code == 0, result.output
+    runs = json.loads((root / "out" / "sweep.json").read_text())["runs"]
+    return root, [r["measured"] for r in runs]
+
+
+@pytest.mark.slow
+@settings(max_examples=25, deadline=None, suppress_health_check=list(HealthCheck))
+@given(st.sampled_from(["edit", "nan", "bytes", "folder", "key", "[]", "{}", "null"]), st.integers(0, 10**6))
+def test_a_sweep_over_a_randomly_corrupted_cache_recomputes_what_is_not_valid(clean_sweep, scheduler, how, seed):
+    import shutil
+
+    root, measured = clean_sweep
+    with tempfile.TemporaryDirectory() as top:
+        cache = Path(top) / "cache"
+        shutil.copytree(root / "cache", cache)
+        rng = random.Random(seed)
+        _corrupt(rng.choice(sorted(cache.glob("*/*.json"))), how, rng)
+        result = runner.invoke(app, ["sweep", str(root / "scene.toml"), "--set", "material.nu=0.3,0.4",
+                                     "--scheduler", scheduler, "--cache", str(cache), "--out", f"{top}/out", "-q"])
+        assert result.exit_code == 0 and "Traceback" not in result.output, (result.output, result.exception)
+        data = json.loads(Path(f"{top}/out/sweep.json").read_text())
+        assert [r["measured"] for r in data["runs"]] == measured
+        assert data["meta"]["computed"] == 1 and data["meta"]["cache_hits"] == 1
+        OUTCOMES[f"sweep, cache entry corrupted ({how}): recomputed"] += 1
+
+
 @pytest.mark.slow
 def test_zz_print_the_outcome_counts():
     print("\nCLI fuzz outcomes:", dict(sorted(OUTCOMES.items())))
