@@ -68,10 +68,25 @@ def _entry(cache: Path) -> Path:
     return entry
 
 
-@pytest.mark.parametrize("corrupt", ["E=12345", "NaN", "[]", "{}", "folder", "truncated"])
-def test_a_corrupted_cache_entry_is_recomputed_never_served(project, scheduler, corrupt):
-    result, first = _sweep(project, scheduler)
+@pytest.fixture(scope="module")
+def first_sweep(tmp_path_factory, scheduler):
+    """The project's one-point sweep computed once: (project, cache folder, its measured values)."""
+    top = tmp_path_factory.mktemp("first")
+    root = top / "project"
+    shutil.copytree(SPECIMENS / "meshes", root / "meshes")
+    text = (SPECIMENS / "mesh-import-bar.toml").read_text().replace("steps = 4", "steps = 1")
+    (root / "bar.toml").write_text(text.replace("stretch = 1.1", "stretch = 1.01"))
+    result = runner.invoke(app, ["sweep", str(root / "bar.toml"), "--set", "material.nu=0.3", "--scheduler",
+                                 scheduler, "--cache", str(top / "cache"), "--out", str(top / "sweep"), "-q"])
     assert result.exit_code == 0, result.output
+    return root, top / "cache", json.loads((top / "sweep" / "sweep.json").read_text())["runs"][0]["measured"]
+
+
+@pytest.mark.parametrize("corrupt", ["E=12345", "NaN", "[]", "{}", "folder", "truncated"])
+def test_a_corrupted_cache_entry_is_recomputed_never_served(first_sweep, tmp_path, monkeypatch, scheduler, corrupt):
+    root, clean, measured = first_sweep
+    monkeypatch.chdir(tmp_path)
+    shutil.copytree(clean, "cache")
     entry = _entry(Path("cache"))
     data = json.loads(entry.read_text())
     if corrupt == "E=12345":
@@ -86,10 +101,10 @@ def test_a_corrupted_cache_entry_is_recomputed_never_served(project, scheduler, 
         entry.write_text(entry.read_text()[:100])
     else:
         entry.write_text(corrupt)
-    result, again = _sweep(project, scheduler, "sweep2")
+    result, again = _sweep(root, scheduler, "sweep2")
     assert result.exit_code == 0, (result.output, result.exception)
     run = again["runs"][0]
-    assert not run["cache_hit"] and run["measured"] == first["runs"][0]["measured"]
+    assert not run["cache_hit"] and run["measured"] == measured
 
 
 def test_cache_that_is_a_file_is_exit_2(project, scheduler):
