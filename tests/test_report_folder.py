@@ -143,3 +143,14 @@ def test_orphans_of_a_killed_run_are_removed_on_the_next_run_and_nothing_else(la
     assert not orphan.exists()
     assert unmarked.exists() and alive.exists()
     assert clean_orphans(lab) == []
+
+
+def test_force_never_replaces_the_home_folder_or_one_that_contains_it(lab, monkeypatch):
+    home = lab / "home" / "me"
+    home.mkdir(parents=True)
+    (home / "notes.txt").write_text("mine")
+    monkeypatch.setenv("HOME", str(home))
+    for target in (str(home), str(lab / "home")):
+        result = _run("--out", target, "--force")
+        assert result.exit_code == 2 and "home folder" in result.output, result.output
+    assert (home / "notes.txt").read_text() == "mine"
