@@ -50,21 +50,19 @@ from vlab.geometry.imported import ImportedMesh, MeshImport, MeshImportError, re
 from vlab.geometry.symmetry import SYMMETRY_LEVELS
 from vlab.geometry.standards import standard_dimensions, standard_names
 from vlab.loading.protocol import HOLDS, PROTOCOLS, ProtocolSpec
-from vlab.materials.split import SPLIT_LAWS
-from vlab.moduli import ALIASES, KEYS as MODULI_KEYS, Moduli, ModuliError, from_pair
+from vlab.materials.card import MaterialSpec, check_path, parse_material
+from vlab.materials.registry import MODELS as MODEL_REGISTRY
 
 __all__ = ["SceneError", "Scene", "BlockSpecimen", "DogboneSpecimen", "SheetSpecimen", "CruciformSpecimen", "MeshSpec", "MaterialSpec", "TestSpec",
            "MeasureSpec", "SolverSpec", "load_scene", "parse_scene", "apply_overrides",
            "SPECIMEN_SHAPES", "MODELS"]
 
 SPRING_NETWORK = "spring-network"  # not a material law: mesh edges as springs (vlab.fe.spring_network)
-MODELS = ("linear", "stvk", "stvk-volumetric", "neo-hookean", SPRING_NETWORK)
+MODELS = tuple(MODEL_REGISTRY)  # the model registry's names (vlab.materials.registry)
 FORMULATIONS = ("displacement", "mixed")  # mesh.formulation
-SECTIONS = ("specimen", "mesh", "material", "test", "measure", "solver", "effects")
+SECTIONS = ("specimen", "mesh", "material", "test", "measure", "solver", "effects", "compare")
 TOP_KEYS = ("name", "description") + SECTIONS
-_MODULI_NAMES = MODULI_KEYS + tuple(ALIASES)  # E, nu, lambda, mu, K, M, G, lmbda
 _NAME_RE = re.compile(r"[A-Za-z0-9._-]+")
-KG_PER_M3 = 1e-12  # t/mm³: the mass unit of the N, mm, s system is the tonne (1 N = 1 t·mm/s²)
 PROTOCOL_KEYS = ("protocol", "amplitudes", "min_stretch", "strain_rate", "ramp_time", "hold_time",
                  "hold_steps", "force")
 
@@ -159,14 +157,6 @@ class MeshSpec:
     min_quality: float = 0.15  # smallest acceptable element quality (geometry/quality.py)
     formulation: str = "displacement"  # or "mixed": condensed θ/p per element (vlab/fe/mixed.py)
     symmetry: str = "none"  # none | half | quarter | eighth (geometry/symmetry.py)
-
-
-@dataclass(frozen=True)
-class MaterialSpec:
-    model: str
-    moduli: Moduli
-    given: dict[str, float]  # the two constants as given, canonical names (G -> mu)
-    density: float | None = None  # t/mm³ (given in kg/m³: 1 kg/m³ = 1e-12 t/mm³); gravity needs it
 
 
 @dataclass(frozen=True)
@@ -425,10 +415,11 @@ def _check_formulation(mesh: MeshSpec, model: str) -> None:
     """The mixed formulation needs a split law and an element pair that does not lock."""
     if mesh.formulation != "mixed":
         return
-    if model not in SPLIT_LAWS:
+    if MODEL_REGISTRY[model].split is None:
+        split = ", ".join(n for n, m in MODEL_REGISTRY.items() if m.split is not None)
         raise SceneError(f"mesh.formulation = 'mixed' needs a material with a volumetric–isochoric "
                          f"split; material.model {model!r} has none (allowed with 'mixed': "
-                         f"{', '.join(SPLIT_LAWS)}; or use mesh.formulation = 'displacement')")
+                         f"{split}; or use mesh.formulation = 'displacement')")
     if mesh.cell in ("tri", "quad"):
         raise SceneError("mesh.formulation = 'mixed' is for 3D solids (hex, or order-2 tet); a sheet "
                          "in plane stress has no volumetric locking (the thickness is free), so use "
@@ -440,20 +431,20 @@ def _check_formulation(mesh: MeshSpec, model: str) -> None:
 
 
 def _parse_material(raw: Any) -> MaterialSpec:
-    t = fields.Table("material", raw, ("model", "root", "density") + _MODULI_NAMES)
-    model = t.choice("model", MODELS)
-    root = t.choice("root", ("plus", "minus"), default="plus")
-    values = {k: t.number(k) for k in _MODULI_NAMES if k in t.raw}
-    try:
-        moduli = from_pair(values, root=root)
-    except ModuliError as exc:
-        msg = str(exc)
-        raise SceneError(msg if "material." in msg
-                         else f"[material]: {msg}") from None
-    given = {ALIASES.get(k, k): v for k, v in values.items()}
-    density = t.number("density", default=None, gt=0, le=30000, note=" kg/m³")
-    return MaterialSpec(model=model, moduli=moduli, given=given,
-                        density=None if density is None else density * KG_PER_M3)
+    """[material]: the card grammar of the model registry (vlab.materials.card)."""
+    return parse_material(raw, "material")
+
+
+def _parse_compare(raw: Any) -> dict[str, MaterialSpec]:
+    """[compare.<label>] tables: one material card each, run side by side by ``vlab compare``."""
+    if not isinstance(raw, dict):
+        raise SceneError(f"[compare] must be a table of material cards [compare.<label>], got {fields.show(raw)}")
+    cards = {}
+    for label, card in raw.items():
+        if not _NAME_RE.fullmatch(label):
+            raise SceneError(f"compare.{label}: a label must match [A-Za-z0-9._-]+ (it names a report folder)")
+        cards[label] = parse_material(card, f"compare.{label}")
+    return cards
 
 
 def _stretch_value(field: str, v: Any) -> float:
@@ -644,13 +635,16 @@ def _parse(data: Mapping[str, Any]) -> Scene:
     specimen = _parse_specimen(data["specimen"])
     mesh, material = _parse_mesh(data["mesh"], specimen), _parse_material(data["material"])
     _check_formulation(mesh, material.model)
-    if material.model == SPRING_NETWORK and mesh.order != 1:
+    _parse_compare(data.get("compare", {}))
+    if not MODEL_REGISTRY[material.model].continuum and mesh.order != 1:
         raise SceneError(f"material.model {SPRING_NETWORK!r} joins mesh vertices by springs and needs "
                          f"mesh.order = 1, got {mesh.order}")
-    if material.model == SPRING_NETWORK and specimen.shape == "sheet":
+    if not MODEL_REGISTRY[material.model].continuum and specimen.shape == "sheet":
         raise SceneError(f"material.model {SPRING_NETWORK!r} is a 3D network of mesh edges; "
                          f"specimen.shape = 'sheet' needs a continuum model (not {SPRING_NETWORK!r})")
     test = _parse_test(data["test"], specimen.shape)
+    if MODEL_REGISTRY[material.model].continuum:
+        check_path(material, [test.stretch])  # the test's extreme grip stretch
     _check_symmetry(mesh, test, specimen)
     _check_effects_scope(data.get("effects", {}), specimen.shape, mesh, material.model)
     return Scene(name=name, description=description, specimen=specimen,
@@ -666,8 +660,8 @@ def _check_effects_scope(raw: Any, shape: str, mesh: MeshSpec, model: str) -> No
     if not raw or not isinstance(raw, dict):
         return
     name = f"effects.{next(iter(raw))}"
-    if model == SPRING_NETWORK:
-        raise SceneError(f"{name}: material.model {SPRING_NETWORK!r} is a network of springs without "
+    if not MODEL_REGISTRY[model].continuum:
+        raise SceneError(f"{name}: material.model {model!r} is a network of springs without "
                          f"effects; use a continuum model with [effects]")
     if shape == "sheet":
         raise SceneError(f"{name}: [effects] are not available on specimen.shape = 'sheet' (2D) in "

@@ -1,0 +1,95 @@
+"""Ogden (N terms): ψ = Σₚ 2μₚ/αₚ² (λ̄₁^αₚ + λ̄₂^αₚ + λ̄₃^αₚ − 3) + U(J), μ0 = Σₚ μₚ.
+
+μₚ (MPa) and αₚ ≠ 0 (dimensionless), Abaqus' convention; λ̄_A = J^(−1/3) λ_A the isochoric
+principal stretches. Written in the principal log strains ε_A = ln λ_A, ē_A = ε_A − ⅓ Σ ε_B
+(so λ̄_A = exp ē_A and Σ ē_A = 0), with s_p = Σ_C λ̄_C^αₚ:
+
+    ψ_iso   = Σₚ 2μₚ/αₚ² Σ_A expm1(αₚ ē_A)
+    τ_A     = ∂ψ_iso/∂ε_A = Σₚ 2μₚ/αₚ (λ̄_A^αₚ − s_p/3)                      (Kirchhoff, MPa)
+    c_AB    = ∂τ_A/∂ε_B  = Σₚ 2μₚ (λ̄_A^αₚ (δ_AB − ⅓) − ⅓ λ̄_B^αₚ + s_p/9)
+    g_AB    = (τ_A − τ_B)/(ε_A − ε_B) = Σₚ 2μₚ/αₚ λ̄_B^αₚ expm1(αₚ d)/d,   d = ε_A − ε_B,
+              with the limit Σₚ 2μₚ λ̄_B^αₚ (1 + αₚ d/2) for |αₚ d| < 1e-8 (exactly c_AA − c_AB at d = 0)
+
+and P_iso, A_iso from vlab.materials.principal (the coalescence-safe assembly: every
+difference quotient is evaluated through g and the log quotient, so F = I, equibiaxial states
+and stretches equal to 1e−8 lose no digits). The volumetric part U(J) adds, in this form,
+τ_A += J U'(J) and c_AB += J U' + J² U''; it is added in the F form of
+vlab.materials.isochoric. The compiled tangent kernel does not take this form (the tangent is
+the 9×9 product Q D Qᵀ of the principal frame); Ogden runs on the numpy kernels.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+
+from vlab.materials.hencky import admissible_part
+from vlab.materials.isochoric import IsochoricVolumetric
+from vlab.materials.principal import principal_frame, principal_stress, principal_tangent
+from vlab.tensor import as_tensor_field
+
+__all__ = ["Ogden"]
+
+
+@dataclass(frozen=True, kw_only=True)
+class Ogden(IsochoricVolumetric):
+    mus: tuple[float, ...]     # μₚ, MPa (card key mu)
+    alphas: tuple[float, ...]  # αₚ (card key alpha)
+
+    name: ClassVar[str] = "ogden"
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "mus", tuple(float(m) for m in self.mus))
+        object.__setattr__(self, "alphas", tuple(float(a) for a in self.alphas))
+        if len(self.mus) != len(self.alphas) or not self.mus:
+            raise ValueError(f"ogden: mu and alpha need the same, nonzero length, got "
+                             f"{len(self.mus)} and {len(self.alphas)}")
+        if any(a == 0.0 for a in self.alphas):
+            raise ValueError(f"ogden: every alpha must be != 0, got {self.alphas}")
+        super().__post_init__()
+
+    @property
+    def mu0(self) -> float:
+        return float(sum(self.mus))
+
+    def principal_iso(self, eps: np.ndarray) -> tuple[np.ndarray, ...]:
+        """(ψ_iso, τ_A, c_AB, g_AB) from the principal log strains ε (3,*batch) (module docstring)."""
+        e = eps - eps.mean(axis=0)                                   # ē_A
+        batch = eps.shape[1:]
+        psi, tau = np.zeros(batch), np.zeros(eps.shape)
+        c, g = np.zeros((3, 3) + batch), np.zeros((3, 3) + batch)
+        d = eps[:, None] - eps[None, :]                              # ε_A − ε_B
+        eye = np.eye(3).reshape((3, 3) + (1,) * len(batch))
+        for mu, al in zip(self.mus, self.alphas):
+            lam = np.exp(al * e)                                     # λ̄_A^α
+            s = lam.sum(axis=0)
+            psi += 2.0 * mu / al**2 * np.expm1(al * e).sum(axis=0)
+            tau += 2.0 * mu / al * (lam - s / 3.0)
+            c += 2.0 * mu * (lam[:, None] * (eye - 1.0 / 3.0) - lam[None, :] / 3.0 + s / 9.0)
+            x = al * d
+            small = np.abs(x) < 1e-8
+            quotient = np.where(small, al * (1.0 + 0.5 * x), np.expm1(x) / np.where(small, 1.0, d))
+            g += 2.0 * mu / al * lam[None, :] * quotient
+        return psi, tau, c, g
+
+    def _frame(self, F):
+        Fa, ok = admissible_part(as_tensor_field(F))
+        frame = principal_frame(Fa)
+        return frame, ok, self.principal_iso(frame.eps)
+
+    def isochoric_energy(self, F) -> np.ndarray:
+        """ψ_iso, +inf where J <= 0, MPa."""
+        _, ok, (psi, *_) = self._frame(F)
+        return np.where(ok, psi, np.inf)
+
+    def isochoric_stress(self, F) -> np.ndarray:
+        """P_iso = Σ_A τ_A/λ_A n_A ⊗ N_A, nan where J <= 0, MPa."""
+        frame, ok, (_, tau, _, _) = self._frame(F)
+        return np.where(ok, principal_stress(frame, tau), np.nan)
+
+    def isochoric_tangent(self, F) -> np.ndarray:
+        """A_iso from (τ, c, g) in the principal frame, nan where J <= 0, MPa."""
+        frame, ok, (_, tau, c, g) = self._frame(F)
+        return np.where(ok, principal_tangent(frame, tau, c, g), np.nan)
