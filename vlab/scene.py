@@ -13,7 +13,7 @@ vlab/data/standards/) and/or the explicit keys of ``DIMENSION_KEYS`` (explicit k
 uniaxially between clamped grips. ``[mesh] gauge_size`` refines a dogbone's parallel section and
 fillets; ``[mesh] min_quality`` (default 0.15) is the worst element quality a run accepts.
 ``[mesh] formulation`` = "displacement" (default) or "mixed" (locking-free for ν → ½; needs a
-model with a volumetric–isochoric split, ``SPLIT_LAWS``, and hexes or order-2 tets).
+model with a ``split`` in the model registry, and hexes or order-2 tets).
 
 Sheets: ``[specimen] shape = "sheet"`` with ``size = [length, width]``, ``thickness`` (mm) and
 ``plane = "stress"`` (default) or ``"strain"``; meshed in 2D with ``mesh.cell = "tri" | "quad"``.
