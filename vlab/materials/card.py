@@ -8,8 +8,8 @@ take ``density`` (kg/m³). Every error is a SceneError naming ``<section>.<key>`
 range and what was got; a card whose initial tangent A(I) is not positive definite on symmetric
 strains (shear 2μ0, bulk 3K) is refused with the eigenvalue that fails.
 
-``check_path(spec, stretches)`` refuses a test whose homogeneous state locks a model with a
-locking limit (Gent: Ī₁ − 3 → Jm), naming the limit and the stretch where it is reached.
+``check_path(spec, stretches)`` refuses a test whose isochoric (incompressible) path passes a
+model's locking limit (Gent: Ī₁ − 3 → Jm), naming the limit and the stretch where it is reached.
 """
 
 from __future__ import annotations
@@ -191,22 +191,22 @@ def build_split_law(spec) -> Any:
 
 
 def check_path(spec, stretches) -> None:
-    """Refuse grip stretches whose homogeneous state passes a model's locking limit."""
+    """Refuse grip stretches past a model's locking limit on the test's isochoric path (the
+    incompressible path: a compressible card only passes it by a large dilatation)."""
     law = build_material(spec)
     note = getattr(law, "locking_note", None)
     if note is None:
         return
-    from vlab.materials.homogeneous import InadmissibleState, homogeneous_state
+    from vlab.materials.homogeneous import isochoric_path_limit
 
     for stretch in stretches:
-        try:
-            homogeneous_state(law, tuple(stretch))
-        except InadmissibleState as exc:
-            limit = str(exc).split("no admissible state beyond stretch ")[1].split(" (")[0].split(" for")[0]
-            raise SceneError(f"test.stretch: {note} (material.Jm); the homogeneous test reaches it at "
-                             f"stretch {limit}, so stretch {_show(stretch)} has no admissible state; "
-                             f"lower the stretch or raise material.Jm") from None
+        s = isochoric_path_limit(law, tuple(stretch))
+        if s is not None:
+            limit = tuple(1.0 + s * (v - 1.0) for v in stretch)
+            raise SceneError(f"test.stretch: {note} (material.Jm); the isochoric path of the test "
+                             f"reaches it at stretch {_show(limit)}, so stretch {_show(stretch)} is "
+                             f"past the locking limit; lower the stretch or raise material.Jm")
 
 
 def _show(stretch) -> str:
-    return f"{stretch[0]:g}" if len(stretch) == 1 else "[" + ", ".join(f"{s:g}" for s in stretch) + "]"
+    return ", ".join(f"{s:.6g}" for s in stretch)
