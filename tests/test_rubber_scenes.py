@@ -5,6 +5,7 @@ what results.json reports."""
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -162,3 +163,51 @@ def test_results_json_reports_mu0_K_and_the_small_strain_E_and_nu(tmp_path):
     assert small["E"] == pytest.approx(m.youngs_modulus) and small["nu"] == pytest.approx(m.poisson_ratio)
     assert data["input"]["parameters"] == {"mu": [0.63, 0.0012, -0.01], "alpha": [1.3, 5.0, -2.0]}
     assert data["input"]["volumetric"] == "quadratic" and data["input"]["bulk_as_given"] == {"D1": 0.002}
+
+
+# --- vlab compare: any set of cards side by side -----------------------------------------------
+
+def _compare_scene(tmp_path) -> Path:
+    text = (Path(__file__).resolve().parents[1] / "specimens" / "block-rubber-compare.toml").read_text()
+    path = tmp_path / "cmp.toml"
+    path.write_text(text.replace("steps = 10", "steps = 2").replace("stretch = 3.0", "stretch = 1.5"))
+    return path
+
+
+def test_compare_runs_the_scene_cards_side_by_side_under_their_labels(tmp_path):
+    out = tmp_path / "out"
+    res = CliRunner().invoke(app, ["compare", str(_compare_scene(tmp_path)), "--models", "ogden,gent",
+                                   "--out", str(out), "-q", "-j", "1", "--no-render"])
+    assert res.exit_code == 0, res.output
+    summary = json.loads((out / "comparison.json").read_text())
+    assert summary["models"] == ["ogden", "gent"]
+    for label, model in (("ogden", "ogden"), ("gent", "gent")):
+        data = json.loads((out / label / "results.json").read_text())
+        assert data["input"]["model"] == model and data["input"]["label"] == label
+        assert data["input"]["small_strain"]["mu0"] == pytest.approx(0.6)
+        np.testing.assert_allclose(data["curve"]["stress"], data["reference"]["stress_x"], rtol=1e-6)
+
+
+def test_compare_without_models_runs_every_card_of_the_scene():
+    from vlab.compare import compare_labels
+    from vlab.scene import load_scene
+
+    scene = load_scene(Path(__file__).resolve().parents[1] / "specimens" / "block-rubber-compare.toml")
+    assert compare_labels(scene) == ("neo-hookean", "mooney-rivlin", "yeoh", "ogden", "gent", "arruda-boyce")
+
+
+def test_compare_refuses_a_card_model_without_its_card_and_a_bad_card(tmp_path):
+    path = _compare_scene(tmp_path)
+    res = CliRunner().invoke(app, ["compare", str(path), "--models", "linear,nope", "--out",
+                                   str(tmp_path / "o1"), "-q"])
+    assert res.exit_code == 2 and "'nope'" in res.output and not (tmp_path / "o1").exists()
+    bad = tmp_path / "bad.toml"
+    bad.write_text(path.read_text().replace("Jm = 20.0", "Jm = -1.0"))
+    res = CliRunner().invoke(app, ["compare", str(bad), "--out", str(tmp_path / "o2"), "-q"])
+    assert res.exit_code == 2 and "compare.gent.Jm must be > 0" in res.output
+    assert not (tmp_path / "o2").exists()
+    with pytest.raises(SceneError, match="takes its own constants"):
+        from vlab.compare import scene_for_model
+        from vlab.scene import load_scene
+        scene_for_model(load_scene(Path(__file__).resolve().parents[1] / "specimens" / "block-neo-hookean.toml"),
+                        "yeoh")

@@ -8,6 +8,7 @@ progress display (the library itself never prints).
 
 from __future__ import annotations
 
+import copy
 import logging
 import multiprocessing as mp
 import os
@@ -21,7 +22,7 @@ import numpy as np
 from vlab.loading.schedule import monotonic_schedule
 from vlab.post.snapshot import Snapshot
 from vlab.materials.registry import MODELS
-from vlab.scene import Scene, apply_overrides, parse_scene
+from vlab.scene import Scene, SceneError, apply_overrides, parse_scene
 
 log = logging.getLogger(__name__)
 
@@ -43,8 +44,28 @@ class ModelOutcome:
     critical_mode: object = None  # eigenvector of the first loss of stability (full DOF vector), if any
 
 
+def compare_labels(scene: Scene) -> tuple[str, ...]:
+    """The labels of the scene's ``[compare.<label>]`` material cards (may be empty)."""
+    return tuple(scene.source.get("compare", {}))
+
+
 def scene_for_model(scene: Scene, model: str) -> Scene:
-    """The same scene with ``material.model`` replaced (validated like a scene file)."""
+    """The scene with the material ``model`` names (validated like a scene file): a
+    ``[compare.<label>]`` card replaces the whole [material] table (keeping its density unless
+    the card gives one); a registry model name replaces ``material.model`` only, so the scene's
+    own constants must fit that model's grammar (a card model needs a [compare] card)."""
+    cards = scene.source.get("compare", {})
+    if model in cards:
+        source = copy.deepcopy(scene.source)
+        card = dict(cards[model])
+        if "density" in source["material"] and "density" not in card:
+            card["density"] = source["material"]["density"]
+        source["material"] = card
+        return parse_scene(source, origin=f"compare.{model}", base_dir=scene.base_dir)
+    if model in MODELS and MODELS[model].constants is not None and scene.material.model != model:
+        raise SceneError(f"--models {model}: material.model {model!r} takes its own constants "
+                         f"({', '.join(MODELS[model].keys)} and K | D1 | nu); give them in a "
+                         f"[compare.<label>] table with model = {model!r} and name the label")
     return parse_scene(apply_overrides(scene.source, {"material.model": model}), origin=f"model {model}",
                        base_dir=scene.base_dir)
 
@@ -78,16 +99,22 @@ def run_model(scene: Scene, model: str, on_level: Callable[[int], None] | None =
         if on_level is not None:
             on_level(count[0])
 
-    return outcome_of(run_scene(scene, on_level=observe))
+    return outcome_of(run_scene(scene, on_level=observe), label=model)
 
 
-def outcome_of(result) -> ModelOutcome:
-    """Package a RunResult for the reports."""
+def outcome_of(result, label: str | None = None) -> ModelOutcome:
+    """Package a RunResult for the reports; ``label`` (default: the model name) names the
+    outcome, its folder and its curves (results.json → input.label)."""
+    from dataclasses import replace
+
     from vlab.post.snapshot import take_snapshot
     from vlab.report.results import result_to_dict
 
+    label = label or result.scene.material.model
+    data = result_to_dict(result)
+    data["input"]["label"] = label
     critical = result.extra.get("critical_state")
-    return ModelOutcome(result.scene.material.model, result_to_dict(result), take_snapshot(result),
+    return ModelOutcome(label, data, replace(take_snapshot(result), model=label),
                         _model_checks(result), None if critical is None else critical.mode)
 
 
