@@ -132,3 +132,25 @@ def test_the_small_strain_constants_follow_mu0_and_K():
                                           + 42039 / (67375 * lm**8)), rel=1e-14)
     assert law("ogden").mu0 == pytest.approx(0.6212) and law("yeoh").mu0 == pytest.approx(0.8)
     assert law("gent").mu0 == 0.5
+
+
+def _full(form, batch) -> np.ndarray:
+    """An IsotropicTangent as the full (3,3,3,3,*batch) array (the kernel's formula, written out)."""
+    from vlab.materials.structure import TangentTerms
+
+    kron = [(float(form.c0), 1.0)] if form.c0 else []
+    kron += [(1.0, form.S)] if form.S is not None else []
+    kron += [(form.B, 1.0)] if form.B is not None else []
+    alpha = np.broadcast_to(form.alpha, batch)
+    beta = np.broadcast_to(form.beta, batch)
+    return TangentTerms(batch, kron=kron, dyad=[((alpha, form.X), form.X)],
+                        cross=[((beta, form.X), form.X)]).full()
+
+
+@pytest.mark.parametrize("name", [n for n in NAMES if n != "ogden"])
+def test_the_compiled_forms_sum_to_the_tangent(name):
+    m = law(name)
+    F = np.stack([states(np.random.default_rng(s))[k] for s, k in
+                  enumerate(("random", "identity", "equibiaxial", "random"))], axis=-1)
+    total = sum(_full(f, F.shape[2:]) for f in m.tangent_forms(F))
+    np.testing.assert_allclose(total, m.tangent(F), atol=1e-12 * np.abs(m.tangent(F)).max())

@@ -102,6 +102,9 @@ class HyperelasticBody:
         the full (3,3,3,3,e,q) tangent: in the isotropic form of the three hyperelastic models
         the compiled kernel (vlab.fe.compiled) assembles it, otherwise it is pulled back term by
         term (vlab.fe.assembly)."""
+        forms = getattr(self.material, "tangent_forms", None)
+        if self._compiled is not None and forms is not None:  # a sum of isotropic forms (rubber models)
+            return self._compiled.matrix(forms(evaluation.F))
         terms = getattr(self.material, "tangent_terms", None)
         A = terms(evaluation.F) if terms is not None else self.material.tangent(evaluation.F)
         if self._compiled is not None and (form := A.isotropic()) is not None:

@@ -15,7 +15,8 @@ G = F⁻ᵀ, a = J^(−2/3), D = 2(I₁F − FC) = ∂I₂/∂F:
 at C̄ = I. ``tangent_terms`` returns A (with the volumetric part of vlab.materials.isochoric) as
 the outer products of vlab.materials.structure: the dyads gathered on the basis {F, G, D},
 Σ_a X_a ⊗ (Σ_b M_ab X_b), so two (three with Ī₂) dyads, two crosses and two krons per point;
-the numpy kernel pulls them back without forming the 81-entry tangent.
+the numpy kernel pulls them back without forming the 81-entry tangent. ``tangent_forms`` gives
+the same tangent as a short sum of the compiled kernel's isotropic forms (vlab.fe.compiled).
 """
 
 from __future__ import annotations
@@ -26,7 +27,7 @@ from typing import ClassVar
 import numpy as np
 
 from vlab.materials.isochoric import IsochoricVolumetric
-from vlab.materials.structure import TangentTerms
+from vlab.materials.structure import IsotropicTangent, TangentTerms
 from vlab.tensor import as_tensor_field, dot, inv_transpose, transpose
 
 __all__ = ["InvariantModel"]
@@ -87,6 +88,41 @@ class InvariantModel(IsochoricVolumetric):
     def tangent_terms(self, F, volumetric: bool = True) -> TangentTerms:
         """A as dyads on the basis {F, G(, D)}, crosses G_iL G_kJ, F_iL F_kJ and δ-krons."""
         F = as_tensor_field(F)
+        return self._terms(F, *self._coefficients(F, volumetric))
+
+    def tangent_forms(self, F) -> list[IsotropicTangent]:
+        """A as a sum of the compiled kernel's isotropic forms (vlab.fe.compiled): the dyads
+        Σ_ab M_ab X_a ⊗ X_b diagonalised per point (M symmetric: Σ_c m_c Z_c ⊗ Z_c,
+        Z_c = Σ_a V_ac X_a), the δ-krons carried by the first, then one form per cross
+        (β G_iL G_kJ, and −2W₂a² F_iL F_kJ with Ī₂): 3 kernel passes, 5 with Ī₂."""
+        F = as_tensor_field(F)
+        k, basis, M, c_GG, s, W2 = self._coefficients(F, True)
+        batch = F.shape[2:]
+        n = len(basis)
+        with np.errstate(all="ignore"):
+            Mf = np.empty(batch + (n, n))
+            for r in range(n):
+                for q in range(n):
+                    Mf[..., r, q] = M[r][q]
+            m, V = np.linalg.eigh(Mf)
+            eye = np.eye(3).reshape((3, 3) + (1,) * len(batch))
+            S, B = s * eye + np.zeros_like(F), None
+            if self.uses_I2:
+                w = 2.0 * W2 * k["a"] ** 2
+                S, B = S - w * k["C"], -w * k["b"] + np.zeros_like(F)
+            forms = []
+            for c in range(n):
+                Z = sum(V[..., a, c] * basis[a] for a in range(n))
+                forms.append(IsotropicTangent(Z, m[..., c], 0.0, 0.0, S if c == 0 else None,
+                                              B if c == 0 else None))
+            forms.append(IsotropicTangent(k["G"], 0.0, c_GG + np.zeros(batch), 0.0, None, None))
+            if self.uses_I2:
+                forms.append(IsotropicTangent(F, 0.0, -w + np.zeros(batch), 0.0, None, None))
+        return forms
+
+    def _coefficients(self, F, volumetric: bool):
+        """(kinematics, basis {F, G(, D)}, dyad coefficients M_ab, cross coefficient of
+        G_iL G_kJ, δ_ik δ_JL coefficient, W₂) of the tangent (module docstring)."""
         k = self._kinematics(F)
         with np.errstate(all="ignore"):
             _, W1, W2, W11, W12, W22 = self.W(k["x1"], k["x2"])
@@ -116,7 +152,7 @@ class InvariantModel(IsochoricVolumetric):
                 x, J = self.volume(F), k["J"]
                 M[1][1] = M[1][1] + J * J * self.d2U(x) + J * self.dU(x)
                 c_GG = c_GG - J * self.dU(x)
-            return self._terms(F, k, basis, M, c_GG, s, W2)
+        return k, basis, M, c_GG, s, W2
 
     def _terms(self, F, k, basis, M, c_GG, s, W2) -> TangentTerms:
         """Assemble the TangentTerms of ``tangent_terms`` from its coefficient fields."""
