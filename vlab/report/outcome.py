@@ -32,7 +32,8 @@ def outcome_of(result, label: str | None = None) -> ModelOutcome:
 
     label = label or result.scene.material.model
     data = result_to_dict(result)
-    data["input"]["label"] = label
+    if label != result.scene.material.model:
+        data["input"]["label"] = label
     critical = result.extra.get("critical_state")
     return ModelOutcome(label, data, replace(take_snapshot(result), model=label),
                         _model_checks(result), None if critical is None else critical.mode)
