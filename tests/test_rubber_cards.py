@@ -6,6 +6,8 @@ from __future__ import annotations
 import pytest
 from typer.testing import CliRunner
 
+import numpy as np
+
 from rubber_cards import card
 from scenes import scene_dict
 from vlab.cli import app
@@ -87,3 +89,43 @@ def test_nu_with_the_card_gives_the_bulk_modulus_of_mu0():
     m = parse_scene(raw).material
     assert m.moduli.mu == pytest.approx(0.76) and m.moduli.nu == pytest.approx(0.45)
     assert m.moduli.K == pytest.approx(2 * 0.76 * 1.45 / (3 * 0.1))
+
+
+def test_every_layer_reads_the_one_model_registry():
+    from vlab.effects import EFFECTS
+    from vlab.materials import CARD_MODELS, LAME_MODELS, MODELS as REGISTRY
+    from vlab.scene import MODELS as SCENE_MODELS
+
+    assert SCENE_MODELS == tuple(REGISTRY)
+    assert set(CARD_MODELS) == {"mooney-rivlin", "yeoh", "ogden", "gent", "arruda-boyce"}
+    assert EFFECTS["viscoelastic"].models == ("neo-hookean",) + CARD_MODELS
+    assert EFFECTS["mullins"].models == LAME_MODELS + CARD_MODELS
+    assert EFFECTS["plasticity"].models == LAME_MODELS
+    for name in CARD_MODELS:
+        entry = REGISTRY[name]
+        assert entry.split is not None and entry.isochoric and entry.continuum and entry.formula
+        assert all(c.unit in ("MPa", "-") and c.doc for c in entry.constants)
+
+
+@pytest.mark.parametrize("model", ["stvk", "stvk-volumetric"])
+def test_the_mixed_formulation_is_refused_for_a_model_without_a_split(model):
+    raw = scene_dict(material={"model": model, "E": 10.0, "nu": 0.3}, mesh={"formulation": "mixed"})
+    with pytest.raises(SceneError, match="allowed with 'mixed': linear, neo-hookean, mooney-rivlin, yeoh, "
+                                         "ogden, gent, arruda-boyce"):
+        parse_scene(raw)
+
+
+def test_a_card_whose_initial_tangent_is_not_positive_definite_is_refused_with_the_eigenvalue():
+    from vlab.materials.card import _check_initial_tangent
+    from vlab.materials.registry import MODELS as REGISTRY
+
+    class Unstable:  # a law whose A(I) has a negative bulk response: A = μ(δδ + δδᵀ) − 2 I⊗I
+        def tangent(self, F):
+            I = np.eye(3)
+            A = (np.einsum("ik,jl->ijkl", I, I) + np.einsum("il,jk->ijkl", I, I)
+                 - 2.0 * np.einsum("ij,kl->ijkl", I, I))
+            return A[..., None]
+
+    with pytest.raises(SceneError, match="initial tangent is not positive definite on symmetric strains "
+                                         r"\(smallest eigenvalue -4 MPa"):
+        _check_initial_tangent(Unstable(), "material", REGISTRY["mooney-rivlin"])

@@ -149,7 +149,9 @@ def _limit_along(admissible: Callable[[float], bool]) -> float:
 def _describe(material) -> str:
     nu = getattr(material, "poisson_ratio", None)
     name = getattr(material, "name", type(material).__name__)
-    return f"{name} with nu={nu:.4g}" if nu is not None else str(name)
+    note = getattr(material, "locking_note", None)  # e.g. Gent: where the chains lock
+    text = f"{name} with nu={nu:.4g}" if nu is not None else str(name)
+    return f"{text}; {note}" if note else text
 
 
 def _check_stretch(value: float, label: str) -> float:
