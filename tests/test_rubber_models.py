@@ -147,10 +147,10 @@ def _full(form, batch) -> np.ndarray:
                         cross=[((beta, form.X), form.X)]).full()
 
 
-@pytest.mark.parametrize("name", [n for n in NAMES if n != "ogden"])
+@pytest.mark.parametrize("name", NAMES)
 def test_the_compiled_forms_sum_to_the_tangent(name):
     m = law(name)
     F = np.stack([states(np.random.default_rng(s))[k] for s, k in
-                  enumerate(("random", "identity", "equibiaxial", "random"))], axis=-1)
+                  enumerate(("random", "identity", "equibiaxial", "nearly-equal"))], axis=-1)
     total = sum(_full(f, F.shape[2:]) for f in m.tangent_forms(F))
     np.testing.assert_allclose(total, m.tangent(F), atol=1e-12 * np.abs(m.tangent(F)).max())

@@ -60,10 +60,10 @@ class HyperelasticBody:
         self.pattern = SparsityPattern.build(space.element_nodes, space.dim)
         self._compiled = None
         applies = (space.dim == 3 and space.reference_dN is not None
-                   and hasattr(material, "tangent_terms"))
+                   and (hasattr(material, "tangent_terms") or hasattr(material, "tangent_forms")))
         if kernel == "compiled" and not (applies and compiled.available()):
             raise ValueError("the compiled tangent kernel needs numba, a 3D isoparametric "
-                             "space and a material with tangent_terms")
+                             "space and a material with tangent_terms or tangent_forms")
         if kernel != "numpy" and applies and compiled.available():
             self._compiled = compiled.CompiledKernels(space, self.pattern)
             self._compiled.prepare()   # set-up once per mesh, like the pattern

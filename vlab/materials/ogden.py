@@ -14,8 +14,8 @@ and P_iso, A_iso from vlab.materials.principal (the coalescence-safe assembly: e
 difference quotient is evaluated through g and the log quotient, so F = I, equibiaxial states
 and stretches equal to 1e−8 lose no digits). The volumetric part U(J) adds, in this form,
 τ_A += J U'(J) and c_AB += J U' + J² U''; it is added in the F form of
-vlab.materials.isochoric. The compiled tangent kernel does not take this form (the tangent is
-the 9×9 product Q D Qᵀ of the principal frame); Ogden runs on the numpy kernels.
+vlab.materials.isochoric. For the compiled tangent kernel ``tangent_forms`` writes the same
+tangent as nine isotropic forms α X ⊗ X (the principal basis diagonalises it blockwise).
 """
 
 from __future__ import annotations
@@ -27,7 +27,9 @@ import numpy as np
 
 from vlab.materials.hencky import admissible_part
 from vlab.materials.isochoric import IsochoricVolumetric
-from vlab.materials.principal import principal_frame, principal_stress, principal_tangent
+from vlab.materials.principal import (principal_coefficients, principal_frame, principal_stress,
+                                      principal_tangent)
+from vlab.materials.structure import IsotropicTangent
 from vlab.tensor import as_tensor_field
 
 __all__ = ["Ogden"]
@@ -88,6 +90,32 @@ class Ogden(IsochoricVolumetric):
         """P_iso = Σ_A τ_A/λ_A n_A ⊗ N_A, nan where J <= 0, MPa."""
         frame, ok, (_, tau, _, _) = self._frame(F)
         return np.where(ok, principal_stress(frame, tau), np.nan)
+
+    def tangent_forms(self, F) -> list[IsotropicTangent]:
+        """A (isochoric + volumetric) as nine isotropic forms α X ⊗ X of the compiled kernel: in
+        the orthonormal basis M_AB = n_A ⊗ N_B the tangent is block diagonal (vlab.materials.
+        principal), the 3×3 block w_AB on M_AA diagonalised per point (3 forms) and each pair
+        block [[t1, t2], [t2, t1]] on (M_AB, M_BA) split into a = t1 + t2 on (M_AB + M_BA)/√2
+        and b = t1 − t2 on (M_AB − M_BA)/√2 (6 forms). J ≤ 0 is never assembled (the solver
+        rejects such states before asking for a tangent)."""
+        F = as_tensor_field(F)
+        frame, ok, (_, tau, c, g) = self._frame(F)
+        lam, n, N = frame.lam, frame.n, frame.N
+        J = np.prod(lam, axis=0)
+        x = self.volume(F)
+        tau = tau + J * self.dU(x)
+        c = c + J * self.dU(x) + J * J * self.d2U(x)
+        w, a, b = principal_coefficients(frame, tau, c, g)
+        M = [[np.einsum("i...,J...->iJ...", n[:, A], N[:, B]) for B in range(3)] for A in range(3)]
+        Wm = np.moveaxis(w, (0, 1), (-2, -1))
+        m, V = np.linalg.eigh(Wm)
+        forms = [IsotropicTangent(sum(V[..., A, k] * M[A][A] for A in range(3)), m[..., k], 0.0, 0.0,
+                                  None, None) for k in range(3)]
+        root = np.sqrt(0.5)
+        for A, B in ((0, 1), (0, 2), (1, 2)):
+            forms.append(IsotropicTangent(root * (M[A][B] + M[B][A]), a[A, B], 0.0, 0.0, None, None))
+            forms.append(IsotropicTangent(root * (M[A][B] - M[B][A]), b[A, B], 0.0, 0.0, None, None))
+        return forms
 
     def isochoric_tangent(self, F) -> np.ndarray:
         """A_iso from (τ, c, g) in the principal frame, nan where J <= 0, MPa."""
