@@ -48,16 +48,12 @@ def parse_material(raw: Any, section: str = "material") -> MaterialSpec:
     """Validate one material card (module docstring)."""
     if not isinstance(raw, dict):
         raise SceneError(f"[{section}] must be a table, got {fields.show(raw)}")
-    name = fields.choice(f"{section}.model", raw.get("model", fields.REQUIRED) if "model" in raw
-                         else _missing(section), tuple(MODELS))
-    entry = MODELS[name]
+    if "model" not in raw:
+        raise SceneError(f"missing required key {section}.model (allowed: {', '.join(MODELS)})")
+    entry = MODELS[fields.choice(f"{section}.model", raw["model"], tuple(MODELS))]
     if entry.constants is None:
         return _parse_pair(raw, section, entry)
     return _parse_card(raw, section, entry)
-
-
-def _missing(section: str):
-    raise SceneError(f"missing required key {section}.model (allowed: {', '.join(MODELS)})")
 
 
 def _density(t: fields.Table) -> float | None:
