@@ -34,6 +34,8 @@ from vlab.tensor import as_tensor_field
 
 __all__ = ["Ogden"]
 
+_LAST: dict = {}  # the last (law, F) -> frame, mask, principal quantities (see Ogden._frame)
+
 
 @dataclass(frozen=True, kw_only=True)
 class Ogden(IsochoricVolumetric):
@@ -77,9 +79,18 @@ class Ogden(IsochoricVolumetric):
         return psi, tau, c, g
 
     def _frame(self, F):
-        Fa, ok = admissible_part(as_tensor_field(F))
+        """(principal frame, mask J > 0, principal_iso) of F; the last F's are kept, because
+        the solver asks for ψ, P and the tangent of the same F in turn and the batched eigh of
+        C costs ~7× an invariant model's whole energy (one entry, checked by value, not id)."""
+        F = as_tensor_field(F)
+        hit = _LAST.get("key")
+        if hit is not None and hit[0] == self and hit[1].shape == F.shape and np.array_equal(hit[1], F):
+            return _LAST["value"]
+        Fa, ok = admissible_part(F)
         frame = principal_frame(Fa)
-        return frame, ok, self.principal_iso(frame.eps)
+        value = (frame, ok, self.principal_iso(frame.eps))
+        _LAST["key"], _LAST["value"] = (self, F.copy()), value
+        return value
 
     def isochoric_energy(self, F) -> np.ndarray:
         """ψ_iso, +inf where J <= 0, MPa."""
