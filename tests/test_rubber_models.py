@@ -4,6 +4,7 @@ major symmetry; the small-strain E and ν each card implies."""
 
 from __future__ import annotations
 
+import zlib
 from dataclasses import replace
 
 import numpy as np
@@ -14,7 +15,7 @@ from rubber_cards import NAMES, law
 from vlab.materials.homogeneous import uniaxial
 from vlab.materials.volumetric import VOLUMETRIC
 
-HS = 1e-2 * 0.5 ** np.arange(5)
+HS = 5e-3 * 0.5 ** np.arange(6)
 
 
 def _rotated(diag, rng) -> np.ndarray:
@@ -32,7 +33,10 @@ def states(rng) -> dict[str, np.ndarray]:
 
 
 def slope(rs) -> float:
-    return float(np.polyfit(np.log(HS), np.log(np.maximum(rs, 1e-300)), 1)[0])
+    """Observed order over the three smallest h. A direction with a small second-order
+    coefficient shows order 3 (h³ dominates) before order 2: both mean consistent; an
+    inconsistent stress or tangent shows order 1."""
+    return float(np.polyfit(np.log(HS[-3:]), np.log(np.maximum(rs[-3:], 1e-300)), 1)[0])
 
 
 def remainders(m, F, dF):
@@ -48,12 +52,12 @@ def remainders(m, F, dF):
 @pytest.mark.parametrize("volumetric", list(VOLUMETRIC))
 @pytest.mark.parametrize("name", NAMES)
 def test_stress_and_tangent_pass_the_taylor_test_of_order_two(name, volumetric, state):
-    rng = np.random.default_rng(hash((name, state)) % 2**32)
+    rng = np.random.default_rng(zlib.crc32(f"{name}/{state}".encode()))  # hash() is salted per process
     m = replace(law(name, K=15.0), volumetric=volumetric)
     F = states(rng)[state]
     r_stress, r_tangent = remainders(m, F, rng.standard_normal((3, 3)))
-    assert slope(r_stress) == pytest.approx(2.0, abs=0.1), r_stress
-    assert slope(r_tangent) == pytest.approx(2.0, abs=0.1), r_tangent
+    assert 1.75 < slope(r_stress) < 3.3, r_stress
+    assert 1.75 < slope(r_tangent) < 3.3, r_tangent
 
 
 @pytest.mark.parametrize("name", NAMES)
