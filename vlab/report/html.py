@@ -48,7 +48,8 @@ def summary_rows(data: dict) -> list[tuple[str, str]]:
         ("E from crosshead strain [MPa]", _fmt(m.get("E_crosshead"))),
     ] if kind.measures_E else []
     rows = [
-        ("model", inp["model"]),
+        ("model", inp["model"] if inp.get("label", inp["model"]) == inp["model"]
+                  else f"{inp['label']} ({inp['model']})"),
         *elastic,
         *((name, cells[0]) for name, cells in kind_rows([data])),
         ("force at last level [N]", _fmt(data["curve"][force][-1] if data["curve"][force] else None)),
@@ -184,7 +185,7 @@ def comparison_rows(page: ReportPage) -> list[tuple[str, list[str]]]:
         return _fmt(max(errors), 3) if errors else "—"
 
     def departure(key):
-        return lambda d: _fmt((page.departures.get(d["input"]["model"]) or {}).get(key), 4)
+        return lambda d: _fmt((page.departures.get(d["input"].get("label", d["input"]["model"])) or {}).get(key), 4)
 
     elastic = [
         ("E measured [MPa]", per(lambda d: _fmt(d["measured"]["E"]))),
@@ -219,7 +220,7 @@ def comparison_rows(page: ReportPage) -> list[tuple[str, list[str]]]:
             conf = next(c for c in cells if c)["confidence"]
             rows.append((f"{name} {100 * conf:g} % interval (noisy instruments)",
                          [f"[{_fmt(c['low'])}, {_fmt(c['high'])}]" if c else "—" for c in cells]))
-    taylor = [page.checks.get(d["input"]["model"], {}).get("taylor") for d in page.models]
+    taylor = [page.checks.get(d["input"].get("label", d["input"]["model"]), {}).get("taylor") for d in page.models]
     if any(taylor):
         rows.append(("Taylor test order: energy / force (2 = consistent)",
                      [f"{t['energy_order']:.3f} / {t['force_order']:.3f}" if t else "—" for t in taylor]))

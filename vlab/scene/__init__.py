@@ -15,19 +15,21 @@ vlab.geometry, test kinds in vlab.loading, models in vlab.materials, effects in 
 from __future__ import annotations
 
 from vlab.fields import SceneError
-from vlab.scene.load import SECTIONS, TOP_KEYS, Scene, load_scene, parse_scene
+from vlab.scene.load import SECTIONS, TOP_KEYS, Scene, load_scene, load_scene_text, parse_scene
 from vlab.scene.material import KG_PER_M3, MODELS, SPRING_NETWORK, MaterialSpec
 from vlab.scene.measure import MeasureSpec
 from vlab.scene.mesh import FORMULATIONS, MeshSpec
 from vlab.scene.overrides import apply_overrides
 from vlab.scene.solver import SolverSpec
-from vlab.scene.specimen import (MESH_FILE_KEYS, SHAPES, SPECIMEN_TESTS, SYMMETRIC_SHAPES, BlockSpecimen,
+from vlab.scene.specimen import (MESH_FILE_KEYS, SHAPES, SPECIMEN_TESTS, SYMMETRIC_SHAPES, BlockSpecimen, DoubleLapSpecimen,
                                  CruciformSpecimen, DogboneSpecimen, MeshFileSpecimen, PlanarSpecimen, SheetSpecimen,
                                  ShearSpecimen, Specimen)
 from vlab.scene.test import GRIP_KINDS, PROTOCOL_KEYS, TestSpec
 
 __all__ = ["SceneError", "Scene", "BlockSpecimen", "DogboneSpecimen", "SheetSpecimen", "CruciformSpecimen",
-           "MeshFileSpecimen", "PlanarSpecimen", "ShearSpecimen", "Specimen", "MeshSpec", "MaterialSpec", "TestSpec", "MeasureSpec", "SolverSpec",
-           "load_scene", "parse_scene", "apply_overrides", "SHAPES", "SPECIMEN_TESTS", "SYMMETRIC_SHAPES",
-           "MESH_FILE_KEYS", "MODELS", "SPRING_NETWORK", "KG_PER_M3", "FORMULATIONS", "GRIP_KINDS", "PROTOCOL_KEYS", "SECTIONS",
+           "MeshFileSpecimen", "PlanarSpecimen", "ShearSpecimen", "DoubleLapSpecimen", "Specimen", "MeshSpec",
+           "MaterialSpec", "TestSpec", "MeasureSpec", "SolverSpec",
+           "load_scene", "load_scene_text", "parse_scene", "apply_overrides", "SHAPES", "SPECIMEN_TESTS",
+           "SYMMETRIC_SHAPES", "MESH_FILE_KEYS", "MODELS", "SPRING_NETWORK", "KG_PER_M3", "FORMULATIONS", "GRIP_KINDS",
+           "PROTOCOL_KEYS", "SECTIONS",
            "TOP_KEYS"]
