@@ -246,3 +246,14 @@ def test_a_double_lap_sandwich_shears_each_layer_as_a_single_lap_specimen():
     assert max(abs(f) for f in double["curve"]["normal_force"]) < 1e-8 * scale  # the layers' normal forces cancel
     assert max(abs(f) for f in single["curve"]["normal_force"]) > 1e-3 * scale  # a single lap pulls on its plate
     assert double["measured"]["G"] == pytest.approx(single["measured"]["G"], rel=1e-7)
+
+
+@pytest.mark.skipif("gent" not in MODELS, reason="needs the Gent model")
+@pytest.mark.parametrize("test,where", [({"kind": "simple-shear", "shear": 4.0}, "at shear 3.4641"),
+                                        ({"kind": "planar", "stretch": 4.5}, "at stretch 3.73205")])
+def test_a_gent_card_is_refused_past_its_locking_limit_on_the_kind_s_isochoric_path(test, where):
+    # simple shear: Ī1 − 3 = γ² = Jm; pure shear: λ² + λ⁻² − 2 = Jm (Jm = 12)
+    raw = block_scene("gent", test, {"mu": 0.5, "Jm": 12.0, "K": 20.0})
+    with pytest.raises(SceneError) as err:
+        parse_scene(raw)
+    assert where in str(err.value) and f"test.{'shear' if 'shear' in test else 'stretch'}:" in str(err.value)
