@@ -140,7 +140,7 @@ def run_vlab(problem: str) -> dict:
     out = {"dofs": int(result.space.n_dofs), "iterations": int(iterations), "total": total,
            "newton": scene.solver.newton,
            "factorizations": int(result.history.factorizations),
-           "kernel": result.extra.get("tangent_kernel"),
+           "kernel": result.diagnostics.tangent_kernel,
            "force": float(result.curve.force[0][-1]), "solver": linsolve.solver_in_use(),
            **clock.seconds}
     out["other"] = total - sum(clock.seconds.values())

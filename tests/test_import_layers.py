@@ -11,7 +11,7 @@ Layers, bottom to top (a module may import its own layer and any layer below):
     5 measure      instruments, recorder, fits
     6 post, render cell fields, snapshots, VTU; off-screen renders
     7 report       results.json, CSV, PNG, HTML
-    8 run          the one sequencer
+    8 run          the one sequencer, and its stages (vlab.pipeline: prepare, solve, measure)
     9 compare, study, verification
    10 cli          (and vlab.__main__)
 
@@ -42,7 +42,7 @@ LAYERS = {
     "vlab.measure": 5,
     "vlab.post": 6, "vlab.render": 6,
     "vlab.report": 7,
-    "vlab.run": 8,
+    "vlab.run": 8, "vlab.pipeline": 8,
     "vlab.compare": 9, "vlab.study": 9, "vlab.verification": 9,
     "vlab.cli": 10, "vlab.__main__": 10,
 }

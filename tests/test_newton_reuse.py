@@ -96,7 +96,7 @@ def test_the_extrapolating_predictors_start_a_load_step_much_nearer_equilibrium(
                                    test={"stretch": 1.5, "steps": 5, "grips": "clamped"},
                                    measure={"modulus_points": 0}))
     result = run_scene(scene)
-    body, partition = result.extra["body"], result.extra["partition"]
+    body, partition = result.solver.body, result.solver.partition
     u_hat = grip_loading(result.specimen, result.space.node_coordinates, scene.test.stretch,
                          scene.test.grips).u_hat
     before, now = result.history.levels[-3], result.history.levels[-2]

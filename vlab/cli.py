@@ -82,7 +82,7 @@ def run(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (defa
     if estimate:
         from vlab.study.estimate import accuracy_estimate
 
-        result.extra["accuracy_estimate"] = accuracy_estimate(result)
+        result.diagnostics.accuracy_estimate = accuracy_estimate(result)
     data = write_run(result, out, text, options)
     _print_summary(data)
     _print_estimate(data.get("accuracy_estimate"))

@@ -61,8 +61,8 @@ def _in_3d(x: np.ndarray) -> np.ndarray:
 
 
 def take_snapshot(result) -> Snapshot:
-    """Snapshot of a RunResult (its body is ``result.extra['body']``)."""
-    body, space, mesh = result.extra["body"], result.space, result.specimen.mesh
+    """Snapshot of a RunResult (its body is ``result.solver.body``)."""
+    body, space, mesh = result.solver.body, result.space, result.specimen.mesh
     states = [body.evaluate(np.zeros(space.n_dofs))] + [lv.evaluation for lv in result.history.levels]
     n_vertices = mesh.nvertices
     d = space.dim

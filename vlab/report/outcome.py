@@ -27,7 +27,7 @@ def outcome_of(result) -> ModelOutcome:
     from vlab.post.snapshot import take_snapshot
     from vlab.report.results import result_to_dict
 
-    critical = result.extra.get("critical_state")
+    critical = result.solver.critical_state
     return ModelOutcome(result.scene.material.model, result_to_dict(result), take_snapshot(result),
                         _model_checks(result), None if critical is None else critical.mode)
 
@@ -39,7 +39,7 @@ def _model_checks(result) -> dict:
         return {}
     from vlab.fe.taylor import random_state, taylor_test
 
-    body = result.extra["body"]
+    body = result.solver.body
     u, v = random_state(body, 0.02 * min(body.L))
     check = taylor_test(body, u, v, h0=0.05 * min(body.L)).as_dict()
     return {"taylor": check, "springs": body.n_springs, "stiffness_factor": 6.0}

@@ -83,7 +83,7 @@ def curve_columns(result: RunResult) -> dict[str, list[float]]:
 
 
 def result_to_dict(result: RunResult) -> dict:
-    scene, history, const = result.scene, result.history, result.constants
+    scene, history, const, d = result.scene, result.history, result.constants, result.diagnostics
     levels = history.levels
     residuals = [[x for rec in lv.newton for x in rec.residuals] for lv in levels]
     space = result.space
@@ -95,10 +95,10 @@ def result_to_dict(result: RunResult) -> dict:
         "measured": {
             "E": const.E, "nu": const.nu, "E_fit": const.E_fit, "nu_fit": const.nu_fit,
             "axes": const.per_axis, "note": const.note,
-            "E_crosshead": (result.extra.get("crosshead") or {}).get("E"),
-            "E_crosshead_fit": (result.extra.get("crosshead") or {}).get("fit"),
+            "E_crosshead": (d.crosshead or {}).get("E"),
+            "E_crosshead_fit": (d.crosshead or {}).get("fit"),
             "window": list(scene.measure.modulus_window),  # |extensometer strain| of the E, nu fits
-            "uncertainty": result.extra.get("uncertainty"),  # effects.noise: intervals, noiseless E, nu
+            "uncertainty": d.uncertainty,  # effects.noise: intervals, noiseless E, nu
             "units": {"E": "MPa", "nu": "1"},
         },
         "input": {"model": scene.material.model, **scene.material.moduli.as_dict()},
@@ -109,8 +109,8 @@ def result_to_dict(result: RunResult) -> dict:
                       "time": "s"},
         },
         "reference": result.reference,
-        "homogeneity": result.extra.get("homogeneity"),
-        "cruciform": result.extra.get("cruciform"),
+        "homogeneity": d.homogeneity,
+        "cruciform": d.cruciform,
         "solver": {
             "newton_iterations": [lv.iterations for lv in levels],
             "cutbacks": [lv.cutbacks for lv in levels],
@@ -120,8 +120,8 @@ def result_to_dict(result: RunResult) -> dict:
             "newton": scene.solver.newton,
             "exact_iterations": [sum(r.exact for r in lv.newton) for lv in levels],
             "factorizations": history.factorizations,
-            "linear": result.extra.get("linear_solver"),
-            "tangent_kernel": result.extra.get("tangent_kernel"),
+            "linear": d.linear_solver,
+            "tangent_kernel": d.tangent_kernel,
             "rtol": scene.solver.rtol,
         },
         "timing": result.timing,
@@ -130,16 +130,15 @@ def result_to_dict(result: RunResult) -> dict:
             "formulation": scene.mesh.formulation,
             "symmetry": scene.mesh.symmetry,
             "elements": int(space.basis.nelems), "nodes": int(space.n_nodes), "dofs": int(space.n_dofs),
-            "quality": result.extra.get("mesh_quality"),
+            "quality": d.mesh_quality,
         },
-        "stability": result.extra.get("stability", []),
-        "effects": result.extra.get("effects"),
-        "critical": result.extra.get("critical"),  # first loss of stability (buckling or not)
-        "lateral_deflection": result.extra.get("lateral_deflection", []),  # mm, per level
-        "imperfection": (None if "imperfection" not in result.extra else
-                         {"amplitude_over_thickness": scene.test.imperfection,
-                          "perfect_critical": result.extra["imperfection"]["perfect_critical"]}),
-        "warnings": result.extra.get("warnings", []),
+        "stability": d.stability,
+        "effects": d.effects,
+        "critical": d.critical,  # first loss of stability (buckling or not)
+        "lateral_deflection": d.lateral_deflection,  # mm, per level
+        "imperfection": (None if d.imperfection is None else
+                         {"amplitude_over_thickness": scene.test.imperfection, **d.imperfection}),
+        "warnings": d.warnings,
         "failure": None if history.failure is None else failure_dict(scene, history.failure),
-        "accuracy_estimate": result.extra.get("accuracy_estimate"),  # vlab.study.estimate; None if off
+        "accuracy_estimate": d.accuracy_estimate,  # vlab.study.estimate; None if off
     })

@@ -261,7 +261,7 @@ def _render_mode(result, context: CaseContext, name: str, label: str) -> str | N
     from vlab.render.offscreen import RenderUnavailable
 
     try:
-        render_mode(result.specimen.mesh, result.final_displacement, result.extra["critical_state"].mode,
+        render_mode(result.specimen.mesh, result.final_displacement, result.solver.critical_state.mode,
                     context.out / name, label)
     except RenderUnavailable:
         return None
