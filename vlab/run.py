@@ -95,7 +95,7 @@ def _diagnostics(prepared: Prepared, solved: Solved, measured: Measured, monitor
         mesh_quality=prepared.quality.as_dict(),
         linear_solver={"requested": scene.solver.linear, "newton": solved.linear_solver,
                        "direct": solver_in_use()},
-        tangent_kernel=getattr(body, "tangent_kernel", "numpy"),
+        tangent_kernel=body.tangent_kernel,
         warnings=_warnings(scene), crosshead=measured.crosshead, uncertainty=measured.uncertainty,
         cruciform=measured.cruciform, homogeneity=measured.homogeneity,
         stability=[r.as_dict() for r in monitor.records], lateral_deflection=deflection,

@@ -75,6 +75,8 @@ class Factorization:
 
     backend = "abstract"
     negative_pivots: int | None = None
+    cholesky: bool = False  # True: a Cholesky LLᵀ, so the matrix is positive definite
+    pivots: np.ndarray | None = None  # diag D of an unpivoted LDLᵀ, where the backend gives it
 
     def solve(self, b: np.ndarray) -> np.ndarray:  # pragma: no cover - abstract
         raise NotImplementedError

@@ -128,7 +128,7 @@ class TangentCache:
         self.factorizations = 0
         self._state: Evaluation | None = None
         self._tangent: Tangent | None = None
-        self._constant = bool(getattr(getattr(body, "material", None), "is_linear", False))
+        self._constant = body.material is not None and bool(body.material.is_linear)
 
     def at(self, evaluation: Evaluation) -> Tangent:
         """K, K_ff factorized and K_fp at ``evaluation`` (raises SingularSystem)."""

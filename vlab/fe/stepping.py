@@ -22,7 +22,7 @@ Time and history (only when a scene asks for them; the elastic loop does none of
 may carry a physical time (``Stepping.times``, s). A substep covering the fraction [s, s'] of a
 level's segment advances the time by (s' − s)(τ_k − τ_{k−1}), so a cut-back substep also halves
 the time step; a hold (t constant, time advancing) is a segment like any other. A body with
-history (``has_history``) is told the substep's time step before the solve and commits its state
+history (``body.history``, vlab.fe.body.HistoryCapability) is told the substep's time step before the solve and commits its state
 only after the substep converged and was accepted. Levels flagged in ``Stepping.force_held`` hold
 the moving grip's force instead of its position (creep; vlab.fe.force_control): t is then solved
 for, at the force reached when the hold began or, with ``Stepping.force_targets`` (N), at a
@@ -128,11 +128,11 @@ def run_schedule(body: HyperelasticBody, partition: Partition, u_hat: np.ndarray
     history = SolveHistory()
     u = np.zeros(body.space.n_dofs)
     current = body.evaluate(u)
-    timed = bool(getattr(body, "has_history", False))
+    timed = body.history is not None
     travel = float(u_hat[np.argmax(np.abs(u_hat))])  # û_m (signed), mm: Q = û_m × grip force
     cache = stepping.tangents or TangentCache(body, partition)
     try:
-        if getattr(body, "f_ext", None) is not None:  # settle under a dead load (self-weight) first
+        if body.f_ext is not None:  # settle under a dead load (self-weight) first
             current = _settled(body, partition, current, stepping, scales, timed)
         tangent = cache.at(current)
         _check_restrained(tangent, partition)
@@ -164,7 +164,7 @@ def run_schedule(body: HyperelasticBody, partition: Partition, u_hat: np.ndarray
             s_try = 1.0 if 1.0 - s <= ds * (1 + 1e-12) else s + ds
             t_try = target if s_try == 1.0 else t0 + s_try * (target - t0)
             if timed:
-                body.begin_increment((s_try - s) * span)
+                body.history.begin_increment((s_try - s) * span)
             try:
                 if held:
                     candidate, t_try, record, new_tangent = solve_force_controlled(  # from the
@@ -190,7 +190,7 @@ def run_schedule(body: HyperelasticBody, partition: Partition, u_hat: np.ndarray
                     return _finish(history, start, cache, newton_factorizations)
                 continue
             if timed:
-                body.commit(current)
+                body.history.commit(current)
             records.append(record)
             newton_factorizations += record.exact
             tangent = cache.holds(current) or new_tangent or tangent
@@ -292,10 +292,10 @@ def path_increment(h: float, dt: float, u_prev: np.ndarray, u_now: np.ndarray, v
 def _settled(body, partition, current: Evaluation, stepping: Stepping, scales, timed: bool) -> Evaluation:
     """Equilibrium under the dead load alone, grips at rest (t = 0)."""
     if timed:
-        body.begin_increment(0.0)
+        body.history.begin_increment(0.0)
     settled = solve_equilibrium(body, partition, current, scales, stepping.newton)[0]
     if timed:
-        body.commit(settled)
+        body.history.commit(settled)
     return settled
 
 

@@ -38,8 +38,8 @@ class Instruments:
     def __call__(self, level: Level) -> None:
         t = time.perf_counter()
         self.recorder(level)
-        if hasattr(self.body, "keep_cells"):  # a history body keeps its cells' state per level
-            self.body.keep_cells(level.evaluation)
+        if self.body.history is not None:  # a history body keeps its cells' state per level
+            self.body.history.keep_cells(level.evaluation)
         if self.probe is not None:
             self.homogeneity.append(self.probe.read(level.evaluation.F, self.recorder.curve.force[0][-1]))
         self.seconds += time.perf_counter() - t

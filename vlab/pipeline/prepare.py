@@ -58,8 +58,8 @@ def prepare(scene: Scene, specimen: Specimen | None = None) -> Prepared:
     quality = checked_quality(scene, specimen)
     space = DisplacementSpace.build(specimen.mesh, scene.mesh.order, specimen.sheet_thickness or 1.0)
     body = make_body(scene, space)
-    material = getattr(body, "material", None)  # None for the spring network: no analytic oracle
-    ground = getattr(material, "elastic", material)  # a history law's elastic ground law
+    material = body.material  # None for the spring network: no analytic oracle
+    ground = material.elastic if isinstance(material, HistoryMaterial) else material  # its ground law
     oracle = material
     if isinstance(material, HistoryMaterial) or scene.effect("gravity") is not None:
         oracle = None  # a history law or a dead load: the elastic homogeneous oracles do not apply
