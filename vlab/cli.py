@@ -21,12 +21,24 @@ EXIT_OK, EXIT_FAILED, EXIT_INVALID = 0, 1, 2
 
 
 @app.callback()
-def _environment() -> None:
-    """Refuse a bad VLAB_ASSEMBLY_THREADS before any command starts work."""
-    from vlab.jit import requested_threads  # numba itself is started only by the solver
+def _environment(
+    kernel: Optional[str] = typer.Option(None, "--kernel", help="auto | numpy (default: VLAB_KERNEL, else auto)"),
+    threads: Optional[int] = typer.Option(None, "--threads",
+                                          help="assembly threads (default: VLAB_ASSEMBLY_THREADS, else all cores)"),
+    linear_solver: Optional[str] = typer.Option(None, "--linear-solver",
+                                                help="auto | pardiso | superlu (default: VLAB_LINEAR_SOLVER, else auto)"),
+) -> None:
+    """Fill the process-wide settings (vlab.settings) from the flags, else the environment,
+    refusing a bad value (VLAB_KERNEL, VLAB_ASSEMBLY_THREADS, VLAB_LINEAR_SOLVER or its flag)
+    before any command starts work."""
+    import dataclasses
+
+    from vlab import settings  # numba itself is started only by the solver
 
     try:
-        requested_threads()
+        chosen = settings.Settings.from_environment()
+        flags = {"kernel": kernel, "assembly_threads": threads, "linear_solver": linear_solver}
+        settings.use(dataclasses.replace(chosen, **{k: v for k, v in flags.items() if v is not None}))
     except ValueError as exc:
         console.print(f"[red]invalid environment[/red] {exc}", highlight=False)
         raise typer.Exit(EXIT_INVALID)

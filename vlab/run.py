@@ -29,6 +29,7 @@ from vlab.pipeline.result import Diagnostics, RunResult, SolverObjects
 from vlab.pipeline.solve import Observer, Solved, solve, stability_monitor
 from vlab.report.results import failure_dict, observed_order  # noqa: F401  (moved there; kept importable here)
 from vlab.scene import Scene
+from vlab.settings import Settings, using
 
 __all__ = ["RunResult", "Diagnostics", "SolverObjects", "MeshQualityError", "run_scene", "build_specimen",
            "checked_quality", "make_body", "specimen_thickness"]
@@ -37,13 +38,21 @@ log = logging.getLogger(__name__)
 LOCKING_NU = 0.45  # above this, displacement-only elements lock on non-uniform fields
 
 
-def run_scene(scene: Scene, on_level=None, specimen: Specimen | None = None) -> RunResult:
+def run_scene(scene: Scene, on_level=None, specimen: Specimen | None = None,
+              settings: Settings | None = None) -> RunResult:
     """Run the test a scene describes; never raises for solver trouble (see history.failure).
 
     ``specimen`` replaces the one the scene would build (same shape; e.g. a perturbed mesh).
     Raises MeshQualityError (a SceneError) before solving if the mesh is below mesh.min_quality.
     ``timing`` splits the wall time: mesh_s, solve_s (of which assembly_s and linear_solve_s,
-    factorizations + back-substitutions, exclusive of each other) and measure_s."""
+    factorizations + back-substitutions, exclusive of each other) and measure_s. ``settings``
+    (kernel, assembly threads, direct solver; vlab.settings) apply for this run only; None: the
+    process's installed ones."""
+    with using(settings):
+        return _timed_run(scene, on_level, specimen)
+
+
+def _timed_run(scene: Scene, on_level, specimen: Specimen | None) -> RunResult:
     jit.available()  # numba's one-time start-up (~0.3 s), before the clocks: no import starts it
     with phase_clock() as phases:
         result = _run_scene(scene, on_level, specimen)
