@@ -110,6 +110,7 @@ def test_hanging_block_under_self_weight_stretches_by_the_bar_solution():
     from vlab.fe.assembly import Partition
     from vlab.fe.space import DisplacementSpace
     from vlab.fe.stepping import Stepping, run_schedule
+    from vlab.fe.system import System
     from vlab.loading.grips import grip_loading
     from vlab.run import build_specimen, make_body
 
@@ -120,7 +121,7 @@ def test_hanging_block_under_self_weight_stretches_by_the_bar_solution():
     loading = grip_loading(specimen, space.node_coordinates, s.test.stretch, s.test.grips)
     partition = Partition.build(body.pattern, loading.prescribed)
     hanging = Stepping(schedule=np.array([1.0]), force_held=np.array([True]), force_targets=np.array([0.0]))
-    history = run_schedule(body, partition, loading.u_hat, hanging, (1e-12, 10.0))
+    history = run_schedule(System(body, partition, loading.u_hat, (1e-12, 10.0)), hanging)
     assert history.failure is None, history.failure
     u = history.levels[-1].evaluation.u.reshape(-1, 3)
     x = space.node_coordinates[:, 0] if space.node_coordinates.shape[1] == 3 else space.node_coordinates[0]

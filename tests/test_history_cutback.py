@@ -16,7 +16,9 @@ def test_a_rejected_plastic_substep_leaves_the_history_state_untouched(monkeypat
     seen = {"calls": 0}
     original = stepping_module.run_schedule
 
-    def forcing_a_cutback(body, partition, u_hat, stepping, scales, on_level=None):
+    def forcing_a_cutback(system, stepping, on_level=None):
+        body = system.body
+
         def accept(candidate, t):
             seen["calls"] += 1
             if seen["calls"] == 1:  # the first converged substep (into the plastic range): reject it
@@ -26,8 +28,7 @@ def test_a_rejected_plastic_substep_leaves_the_history_state_untouched(monkeypat
             if seen["calls"] == 2:  # the retry with half the increment sees the old state
                 seen["at_retry"] = {k: v.copy() for k, v in body.state.items()}
             return stepping.accept(candidate, t) if stepping.accept else None
-        return original(body, partition, u_hat, stepping.__class__(**{**stepping.__dict__, "accept": accept}),
-                        scales, on_level)
+        return original(system, stepping.__class__(**{**stepping.__dict__, "accept": accept}), on_level)
 
     monkeypatch.setattr("vlab.pipeline.solve.run_schedule", forcing_a_cutback)
     r = run_scene(s)

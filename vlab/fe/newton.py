@@ -61,6 +61,7 @@ from vlab.fe.assembly import Partition
 from vlab.fe.iterative import (AMGConjugateGradient, IterativeSolveFailed, forcing_term,
                                rigid_body_modes)
 from vlab.fe.linsolve import Factorization, SingularSystem, factorize
+from vlab.fe.system import System
 from vlab.fe.problem import Evaluation, HyperelasticBody
 
 log = logging.getLogger(__name__)
@@ -160,20 +161,28 @@ def tangent_at(body: HyperelasticBody, partition: Partition, evaluation: Evaluat
     return Tangent(factorize(Kff), Kfp)
 
 
-def solve_equilibrium(body: HyperelasticBody, partition: Partition, start: Evaluation,
-                      scales: tuple[float, float], options: NewtonOptions,
-                      first: Tangent | None = None,
-                      ) -> tuple[Evaluation, NewtonRecord, Tangent | None]:
+@dataclass(frozen=True)
+class Equilibrium:
+    """A converged Newton solve: the state, its record, the last tangent factorized (None if no
+    iteration was needed)."""
+
+    evaluation: Evaluation
+    record: NewtonRecord
+    tangent: Tangent | None
+
+
+def solve_equilibrium(system: System, start: Evaluation, options: NewtonOptions,
+                      first: Tangent | None = None) -> Equilibrium:
     """Newton iterations from the evaluated state ``start`` (prescribed DOFs at their targets).
 
-    ``scales`` = (force scale floor in N, length scale in mm). ``first``: a positive definite
-    factorized tangent near ``start`` for the first correction (chord step; see the module
-    docstring), or None. Returns the converged evaluation, its record and the last tangent
-    factorized (None if no iteration was needed). Raises NewtonFailure with the record on
-    divergence, inadmissible states or singular tangents.
+    ``system.scales`` = (force scale floor in N, length scale in mm). ``first``: a positive
+    definite factorized tangent near ``start`` for the first correction (chord step; see the
+    module docstring), or None. Raises NewtonFailure with the record on divergence,
+    inadmissible states or singular tangents.
     """
+    body, partition = system.body, system.partition
     record = NewtonRecord()
-    force_floor, length = scales
+    force_floor, length = system.scales
     free = partition.free
     ev = start
     if not ev.admissible:
@@ -189,7 +198,7 @@ def solve_equilibrium(body: HyperelasticBody, partition: Partition, start: Evalu
         record.residuals.append(_norm(r) / scale)
         if record.residuals[-1] <= options.rtol and (k == 0 or record.updates[-1] <= options.utol):
             record.converged = True
-            return ev, record, tangent
+            return Equilibrium(ev, record, tangent)
         if k == options.max_iterations:
             break
         if k == 0 and options.reuse_first_tangent:

@@ -18,6 +18,7 @@ from vlab.effects import EFFECTS
 from vlab.fe.iterative import choose as choose_linear
 from vlab.fe.linsolve import solver_in_use
 from vlab.fe.newton import CHORD_CONTRACTION, NewtonOptions
+from vlab.fe.system import System
 from vlab.fe.stepping import Failure, Level, SolveHistory, Stepping, run_schedule
 from vlab.loading.protocol import protocol_levels
 from vlab.loading.restraint import under_constrained_message, unrestrained_modes
@@ -58,9 +59,9 @@ def solve(prepared: Prepared, monitor: StabilityMonitor, observers: list[Observe
         for observer in observers:
             observer(level)
 
-    history = run_schedule(prepared.body, prepared.partition, prepared.loading.u_hat,
-                           _stepping(scene, monitor, linear_solver), (force_floor, specimen.length_scale),
-                           observe)
+    system = System(prepared.body, prepared.partition, prepared.loading.u_hat,
+                    (force_floor, specimen.length_scale))
+    history = run_schedule(system, _stepping(scene, monitor, linear_solver), observe)
     return Solved(history, linear_solver)
 
 

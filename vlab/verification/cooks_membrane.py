@@ -35,6 +35,7 @@ from vlab.fe.assembly import Partition
 from vlab.fe.mixed import MixedHyperelasticBody
 from vlab.fe.newton import NewtonFailure, NewtonOptions, solve_equilibrium
 from vlab.fe.problem import HyperelasticBody
+from vlab.fe.system import System
 from vlab.fe.space import DisplacementSpace
 from vlab.materials.split import SplitNeoHookean
 from vlab.moduli import from_pair
@@ -147,7 +148,8 @@ def solve_cook(case: CookCase) -> CookResult:
         target = min(1.0, load + step)
         body = DeadLoad(inner, target * f_total)
         try:
-            ev, record, _ = solve_equilibrium(body, partition, body.evaluate(u), (1e-12, 48.0), options)
+            found = solve_equilibrium(System(body, partition, None, (1e-12, 48.0)), body.evaluate(u), options)
+            ev, record = found.evaluation, found.record
         except NewtonFailure as exc:
             iterations += exc.record.iterations
             step /= 2.0
