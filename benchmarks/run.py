@@ -54,7 +54,9 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-import vlab  # noqa: E402,F401  before numpy, as in the CLI: numpy's BLAS serial (vlab/__init__.py)
+import vlab  # noqa: E402  before numpy, as in the CLI: numpy's BLAS serial (vlab/__init__.py)
+
+vlab.serial_blas_process()
 import numpy as np  # noqa: E402
 
 E, NU, STRETCH, STEPS, RTOL = 10.0, 0.3, 1.5, 10, 1e-8

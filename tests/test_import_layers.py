@@ -209,6 +209,21 @@ def test_no_import_of_the_package_starts_numba():
     assert out.strip() == "False"
 
 
+def test_importing_vlab_writes_no_environment_variable_and_the_cli_makes_blas_serial():
+    import os
+
+    env = {k: v for k, v in os.environ.items() if k != "OPENBLAS_NUM_THREADS"}
+    code = ("import os, vlab, vlab.scene, vlab.run; print(os.environ.get('OPENBLAS_NUM_THREADS'), "
+            "vlab.SERIAL_BLAS)")
+    library = subprocess.run([sys.executable, "-c", code], cwd=PACKAGE.parent, capture_output=True, text=True,
+                             check=True, env=env).stdout
+    assert library.split() == ["None", "False"]
+    code = "import os, vlab.cli, vlab; print(os.environ.get('OPENBLAS_NUM_THREADS'), vlab.SERIAL_BLAS)"
+    cli = subprocess.run([sys.executable, "-c", code], cwd=PACKAGE.parent, capture_output=True, text=True,
+                         check=True, env=env).stdout
+    assert cli.split() == ["1", "True"]
+
+
 def test_the_checker_sees_an_upward_import_and_a_cycle():
     graph = {"vlab.fe.a": {"vlab.report.b"}, "vlab.report.b": {"vlab.fe.a"}}
     assert upward(graph) == [("vlab.fe.a", "vlab.report.b")]

@@ -2,7 +2,11 @@
 
 from __future__ import annotations
 
-from importlib import resources
+import vlab
+
+vlab.serial_blas_process()  # the CLI owns its process: numpy's BLAS serial from the start (before numpy)
+
+from importlib import resources  # noqa: E402
 from pathlib import Path
 from typing import Optional
 
