@@ -201,15 +201,7 @@ def solve_equilibrium(system: System, start: Evaluation, options: NewtonOptions,
             return Equilibrium(ev, record, tangent)
         if k == options.max_iterations:
             break
-        if k == 0 and options.reuse_first_tangent:
-            reusable = first
-        elif k > 0 and options.reuse_last_tangent and (
-                record.residuals[-1] <= options.rtol
-                or (record.residuals[-1] <= options.chord_band * options.rtol and not chord)
-                or (chord and _chord_pays(record.residuals, options))):
-            reusable = last
-        else:
-            reusable = None
+        reusable = _reusable(k, record, options, first, last, chord)
         chord = reusable is not None and (reusable.factor.negative_pivots == 0
                                           or reusable.factor.backend == "cg-amg")
         eta = forcing_term(record.residuals[-1], options.rtol)
@@ -229,16 +221,39 @@ def solve_equilibrium(system: System, start: Evaluation, options: NewtonOptions,
         if not chord and not _dot(r, du) < 0.0:
             du = _repaired_direction(Kff, r)
             record.repairs += 1
-        ev, alpha = _line_search(body, free, ev, du, options)
-        if ev is None:
-            record.reason = "line search found no admissible decrease along the Newton direction"
-            raise NewtonFailure(record.reason, record, alpha)
-        if chord and options.chord_secant and reusable.factor.backend != "cg-amg":
-            memory.add(alpha * du, ev.f_int[free] - r)  # (CG is not a fixed linear K̃⁻¹)
-        record.step_lengths.append(alpha)
-        record.updates.append(alpha * float(np.max(np.abs(du), initial=0.0)) / length)
+        ev = _advance(body, free, ev, r, du, record, options, length,
+                      memory if chord and options.chord_secant and reusable.factor.backend != "cg-amg" else None)
     record.reason = f"no convergence in {options.max_iterations} iterations"
     raise NewtonFailure(record.reason, record, ev)
+
+
+def _reusable(k: int, record: NewtonRecord, options: NewtonOptions, first: Tangent | None,
+              last: Tangent | None, chord: bool) -> Tangent | None:
+    """The factorized tangent iteration k may reuse (a chord step), or None (factorize anew):
+    ``first`` for the first correction; later the last one while it pays (module docstring)."""
+    if k == 0 and options.reuse_first_tangent:
+        return first
+    if k > 0 and options.reuse_last_tangent and (
+            record.residuals[-1] <= options.rtol
+            or (record.residuals[-1] <= options.chord_band * options.rtol and not chord)
+            or (chord and _chord_pays(record.residuals, options))):
+        return last
+    return None
+
+
+def _advance(body, free: np.ndarray, ev: Evaluation, r: np.ndarray, du: np.ndarray, record: NewtonRecord,
+             options: NewtonOptions, length: float, memory: "_SecantMemory | None") -> Evaluation:
+    """The line search along du; records the step; feeds a chord step's BFGS ``memory`` (not for
+    CG, which is no fixed linear K̃⁻¹). NewtonFailure if no admissible decrease exists."""
+    new, alpha = _line_search(body, free, ev, du, options)
+    if new is None:
+        record.reason = "line search found no admissible decrease along the Newton direction"
+        raise NewtonFailure(record.reason, record, alpha)
+    if memory is not None:
+        memory.add(alpha * du, new.f_int[free] - r)
+    record.step_lengths.append(alpha)
+    record.updates.append(alpha * float(np.max(np.abs(du), initial=0.0)) / length)
+    return new
 
 
 class _SecantMemory:

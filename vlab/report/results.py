@@ -83,55 +83,22 @@ def curve_columns(result: RunResult) -> dict[str, list[float]]:
 
 
 def result_to_dict(result: RunResult) -> dict:
-    scene, history, const, d = result.scene, result.history, result.constants, result.diagnostics
-    levels = history.levels
-    residuals = [[x for rec in lv.newton for x in rec.residuals] for lv in levels]
-    space = result.space
+    """The results.json dict of a run (JSON-safe: NaN/inf as None)."""
+    scene, history, d = result.scene, result.history, result.diagnostics
     return _clean({
         "vlab_version": __version__,
         "date": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
         "scene": {"name": scene.name, "hash": scene.content_hash(), "source": scene.source},
         "converged": result.converged,
-        "measured": {
-            "E": const.E, "nu": const.nu, "E_fit": const.E_fit, "nu_fit": const.nu_fit,
-            "axes": const.per_axis, "note": const.note,
-            "E_crosshead": (d.crosshead or {}).get("E"),
-            "E_crosshead_fit": (d.crosshead or {}).get("fit"),
-            "window": list(scene.measure.modulus_window),  # |extensometer strain| of the E, nu fits
-            "uncertainty": d.uncertainty,  # effects.noise: intervals, noiseless E, nu
-            "units": {"E": "MPa", "nu": "1"},
-        },
+        "measured": _measured(result),
         "input": {"model": scene.material.model, **scene.material.moduli.as_dict()},
-        "curve": curve_columns(result) | {
-            "units": {"stretch": "1 (grip)", "strain": "1 (extensometer, engineering)",
-                      "stress": "MPa (engineering)", "force": "N", "true_stress": "MPa",
-                      "crosshead_strain": "1 (grip separation change / initial grip separation)",
-                      "time": "s"},
-        },
+        "curve": curve_columns(result) | {"units": CURVE_UNITS},
         "reference": result.reference,
         "homogeneity": d.homogeneity,
         "cruciform": d.cruciform,
-        "solver": {
-            "newton_iterations": [lv.iterations for lv in levels],
-            "cutbacks": [lv.cutbacks for lv in levels],
-            "repairs": [sum(r.repairs for r in lv.newton) for lv in levels],
-            "residual_history": residuals,
-            "observed_order": [observed_order(r.residuals) for lv in levels for r in lv.newton[-1:]],
-            "newton": scene.solver.newton,
-            "exact_iterations": [sum(r.exact for r in lv.newton) for lv in levels],
-            "factorizations": history.factorizations,
-            "linear": d.linear_solver,
-            "tangent_kernel": d.tangent_kernel,
-            "rtol": scene.solver.rtol,
-        },
+        "solver": _solver(result),
         "timing": result.timing,
-        "mesh": {
-            "cell": scene.mesh.cell, "order": scene.mesh.order, "size": scene.mesh.size,
-            "formulation": scene.mesh.formulation,
-            "symmetry": scene.mesh.symmetry,
-            "elements": int(space.basis.nelems), "nodes": int(space.n_nodes), "dofs": int(space.n_dofs),
-            "quality": d.mesh_quality,
-        },
+        "mesh": _mesh(result),
         "stability": d.stability,
         "effects": d.effects,
         "critical": d.critical,  # first loss of stability (buckling or not)
@@ -142,3 +109,49 @@ def result_to_dict(result: RunResult) -> dict:
         "failure": None if history.failure is None else failure_dict(scene, history.failure),
         "accuracy_estimate": d.accuracy_estimate,  # vlab.study.estimate; None if off
     })
+
+
+CURVE_UNITS = {"stretch": "1 (grip)", "strain": "1 (extensometer, engineering)",
+               "stress": "MPa (engineering)", "force": "N", "true_stress": "MPa",
+               "crosshead_strain": "1 (grip separation change / initial grip separation)", "time": "s"}
+
+
+def _measured(result: RunResult) -> dict:
+    const, d = result.constants, result.diagnostics
+    return {
+        "E": const.E, "nu": const.nu, "E_fit": const.E_fit, "nu_fit": const.nu_fit,
+        "axes": const.per_axis, "note": const.note,
+        "E_crosshead": (d.crosshead or {}).get("E"),
+        "E_crosshead_fit": (d.crosshead or {}).get("fit"),
+        "window": list(result.scene.measure.modulus_window),  # |extensometer strain| of the E, nu fits
+        "uncertainty": d.uncertainty,  # effects.noise: intervals, noiseless E, nu
+        "units": {"E": "MPa", "nu": "1"},
+    }
+
+
+def _solver(result: RunResult) -> dict:
+    levels, solver = result.history.levels, result.scene.solver
+    return {
+        "newton_iterations": [lv.iterations for lv in levels],
+        "cutbacks": [lv.cutbacks for lv in levels],
+        "repairs": [sum(r.repairs for r in lv.newton) for lv in levels],
+        "residual_history": [[x for rec in lv.newton for x in rec.residuals] for lv in levels],
+        "observed_order": [observed_order(r.residuals) for lv in levels for r in lv.newton[-1:]],
+        "newton": solver.newton,
+        "exact_iterations": [sum(r.exact for r in lv.newton) for lv in levels],
+        "factorizations": result.history.factorizations,
+        "linear": result.diagnostics.linear_solver,
+        "tangent_kernel": result.diagnostics.tangent_kernel,
+        "rtol": solver.rtol,
+    }
+
+
+def _mesh(result: RunResult) -> dict:
+    mesh, space = result.scene.mesh, result.space
+    return {
+        "cell": mesh.cell, "order": mesh.order, "size": mesh.size,
+        "formulation": mesh.formulation,
+        "symmetry": mesh.symmetry,
+        "elements": int(space.basis.nelems), "nodes": int(space.n_nodes), "dofs": int(space.n_dofs),
+        "quality": result.diagnostics.mesh_quality,
+    }
