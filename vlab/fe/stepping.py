@@ -302,15 +302,7 @@ def _substep(system: System, current: Evaluation, tangent: Tangent, t0, t1, step
     du_p = dt * u_hat[prescribed]
     predicted = -tangent.factor.solve(tangent.Kfp @ du_p)
     here = PathPoint(t0, current.u, predicted / dt if converged_tangent is not None and dt else None)
-    h = None if previous is None else t0 - previous.t
-    if h and 0.0 < dt / h <= MAX_EXTRAPOLATION:
-        exact_slopes = here.velocity is not None and previous.velocity is not None
-        linear, limit = predicted, CURVATURE_TRUST * np.linalg.norm(predicted)
-        for v_prev in ((previous.velocity,) if exact_slopes else ()) + (None,):  # cubic, quadratic
-            candidate = path_increment(h, dt, previous.u[free], current.u[free], linear / dt, v_prev)
-            if np.linalg.norm(candidate - linear) <= limit:
-                predicted = candidate
-                break
+    predicted = _extrapolated(predicted, here, previous, free, dt)
     for scale in (1.0, 0.5, 0.25, 0.0):
         u = current.u.copy()
         u[prescribed] += du_p
@@ -320,6 +312,22 @@ def _substep(system: System, current: Evaluation, tangent: Tangent, t0, t1, step
             break
     found = solve_equilibrium(system, start, stepping.newton, converged_tangent)
     return _Step(found.evaluation, t1, found.record, found.tangent, here)
+
+
+def _extrapolated(linear: np.ndarray, here: PathPoint, previous: PathPoint | None, free: np.ndarray,
+                  dt: float) -> np.ndarray:
+    """The tangent step ``linear`` (free DOFs, mm) replaced by the cubic, else the quadratic,
+    extrapolation of the path through ``previous`` and ``here`` where ``_substep`` trusts it."""
+    h = None if previous is None else here.t - previous.t
+    if not (h and 0.0 < dt / h <= MAX_EXTRAPOLATION):
+        return linear
+    exact_slopes = here.velocity is not None and previous.velocity is not None
+    limit = CURVATURE_TRUST * np.linalg.norm(linear)
+    for v_prev in ((previous.velocity,) if exact_slopes else ()) + (None,):  # cubic, quadratic
+        candidate = path_increment(h, dt, previous.u[free], here.u[free], linear / dt, v_prev)
+        if np.linalg.norm(candidate - linear) <= limit:
+            return candidate
+    return linear
 
 
 def path_increment(h: float, dt: float, u_prev: np.ndarray, u_now: np.ndarray, v_now: np.ndarray,
