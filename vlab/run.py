@@ -21,7 +21,7 @@ from vlab.fe.linsolve import solver_in_use
 from vlab.fe.stepping import Level
 from vlab.fe.timers import phase_clock
 from vlab.geometry.specimen import Specimen
-from vlab.materials.split import SPLIT_LAWS
+from vlab.materials import MODELS
 from vlab.moduli import MIXED_NU_LIMIT
 from vlab.pipeline.measure import Instruments, Measured, measure
 from vlab.pipeline.prepare import MeshQualityError, Prepared, build_specimen, checked_quality, make_body, prepare
@@ -156,9 +156,9 @@ def _warnings(scene: Scene) -> list[str]:
         found += effect_warnings(scene)
     if nu > LOCKING_NU and scene.mesh.formulation == "displacement":
         cure = (f'use mesh.formulation = "mixed" (locking-free up to nu = {MIXED_NU_LIMIT:g})'
-                if scene.material.model in SPLIT_LAWS else
+                if MODELS[scene.material.model].split is not None else
                 f'mesh.formulation = "mixed" would cure it but needs material.model in '
-                f'{", ".join(SPLIT_LAWS)}')
+                f'{", ".join(n for n, m in MODELS.items() if m.split is not None)}')
         found.append(f"material.nu = {nu:g} > {LOCKING_NU:g} with the displacement-only formulation: "
                      "expect volumetric locking (too stiff) wherever the field is not uniform, e.g. "
                      f"with clamped grips; homogeneous roller tests are unaffected; {cure}")

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 
 from vlab.effects.registry import Effect
 from vlab.materials.base import Material
+from vlab.materials.registry import models_where
 from vlab.fields import SceneError, Table
 from vlab.materials.hencky import Hencky
 from vlab.materials.plasticity import J2Plasticity
@@ -85,4 +86,5 @@ def warnings(spec: PlasticitySpec, material, test) -> list[str]:
 
 EFFECT = Effect(name="plasticity", keys=PARAM_KEYS, parse=parse, role="material", build=build,
                 protocols=("monotonic", "load-unload", "cyclic"), warnings=warnings,
+                models=models_where(lambda m: m.hencky),  # Hencky with the card's E, ν is their small-strain law
                 doc="finite-strain J2 plasticity with isotropic hardening (permanent set)")

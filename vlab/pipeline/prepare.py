@@ -19,12 +19,11 @@ from vlab.geometry.quality import MeshQuality, mesh_quality
 from vlab.geometry.sheet import sheet_specimen
 from vlab.geometry.specimen import Specimen
 from vlab.loading.grips import GripLoading, grip_loading
-from vlab.materials import make_material
+from vlab.materials import MODELS, build_material, build_split_law
 from vlab.materials.base import Material
 from vlab.materials.history import HistoryMaterial
 from vlab.materials.plane import plane_model
-from vlab.materials.split import make_split_law
-from vlab.scene import SPRING_NETWORK, Scene, SceneError
+from vlab.scene import Scene, SceneError
 
 __all__ = ["Prepared", "MeshQualityError", "prepare", "build_specimen", "checked_quality", "make_body"]
 
@@ -69,6 +68,10 @@ def prepare(scene: Scene, specimen: Specimen | None = None) -> Prepared:
 
 
 def build_specimen(scene: Scene) -> Specimen:
+    """The specimen mesh; first the size budget (SceneError before anything is allocated)."""
+    from vlab.geometry.budget import check_budget
+
+    check_budget(scene)
     spec = scene.specimen
     mesh = scene.mesh
     if spec.shape == "block":
@@ -107,11 +110,11 @@ def make_body(scene: Scene, space: DisplacementSpace):
     (displacement-only or mixed θ/p condensed per element), on a 2D space (a sheet) the
     material's plane-stress or plane-strain reduction, or the spring network."""
     moduli = scene.material.moduli
-    if scene.material.model == SPRING_NETWORK:
+    if not MODELS[scene.material.model].continuum:
         return SpringNetwork(space, moduli.E)
     if scene.mesh.formulation == "mixed":
-        return MixedHyperelasticBody(space, make_split_law(scene.material.model, moduli.lmbda, moduli.mu))
-    elastic = make_material(scene.material.model, moduli.lmbda, moduli.mu)
+        return MixedHyperelasticBody(space, build_split_law(scene.material))
+    elastic = build_material(scene.material)
     if space.dim == 2:
         elastic = plane_model(elastic, scene.specimen.plane)
     if not scene.effects:  # the elastic path: nothing else is built or assembled

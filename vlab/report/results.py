@@ -91,7 +91,7 @@ def result_to_dict(result: RunResult) -> dict:
         "scene": {"name": scene.name, "hash": scene.content_hash(), "source": scene.source},
         "converged": result.converged,
         "measured": _measured(result),
-        "input": {"model": scene.material.model, **scene.material.moduli.as_dict()},
+        "input": material_input(scene.material),
         "curve": curve_columns(result) | {"units": CURVE_UNITS},
         "reference": result.reference,
         "homogeneity": d.homogeneity,
@@ -155,3 +155,18 @@ def _mesh(result: RunResult) -> dict:
         "elements": int(space.basis.nelems), "nodes": int(space.n_nodes), "dofs": int(space.n_dofs),
         "quality": result.diagnostics.mesh_quality,
     }
+
+
+def material_input(material) -> dict:
+    """results.json → input: the model, its card (constants, volumetric form) and the small-strain
+    constants every model implies (μ0, K, E, ν; a Lamé-pair model's μ0 is its μ)."""
+    m = material.moduli
+    out = {"model": material.model, **m.as_dict(),
+           "small_strain": {"mu0": m.mu, "K": m.K, "E": m.E, "nu": m.nu,
+                            "units": {"mu0": "MPa", "K": "MPa", "E": "MPa", "nu": "1"}}}
+    if material.params:
+        out["parameters"] = {k: list(v) if isinstance(v, tuple) else v for k, v in material.params.items()}
+        out["bulk_as_given"] = dict(material.given)
+        out["volumetric"] = material.volumetric
+    return out
+
