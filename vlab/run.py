@@ -239,10 +239,11 @@ def _run_scene(scene: Scene, on_level, specimen: Specimen | None) -> RunResult:
     reference = None
     if material is not None and specimen.shape in ("block", "sheet") and scene.test.grips == "roller":
         reference = homogeneous_curve(material, curve.stretch)
-        for axis in curve.axes:
-            key = f"stress_{'xy'[axis]}"
+        keys = [f"stress_{'xy'[axis]}" for axis in curve.axes]
+        scale = max((float(np.max(np.abs(reference[k]))) for k in keys if len(reference[k])), default=0.0)
+        for axis, key in zip(curve.axes, keys):
             reference[f"max_relative_error_{'xy'[axis]}"] = relative_error(
-                curve.column("stress", axis), reference[key])
+                curve.column("stress", axis), reference[key], scale)
     extra = {"mesh_quality": quality.as_dict(),
              "crosshead": crosshead_modulus(first_loading(curve) if scene.test.protocol.unloads else curve,
                                             scene.measure.modulus_window, scene.measure.fit)}
