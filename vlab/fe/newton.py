@@ -60,6 +60,7 @@ import scipy.sparse as sp
 from vlab.fe.assembly import Partition
 from vlab.fe.iterative import (AMGConjugateGradient, IterativeSolveFailed, forcing_term,
                                rigid_body_modes)
+from vlab.fe.roundoff import roundoff_floor, stall_explanation
 from vlab.fe.linsolve import Factorization, SingularSystem, factorize
 from vlab.fe.problem import Evaluation, HyperelasticBody
 
@@ -228,7 +229,9 @@ def solve_equilibrium(body: HyperelasticBody, partition: Partition, start: Evalu
             memory.add(alpha * du, ev.f_int[free] - r)  # (CG is not a fixed linear K̃⁻¹)
         record.step_lengths.append(alpha)
         record.updates.append(alpha * float(np.max(np.abs(du), initial=0.0)) / length)
-    record.reason = f"no convergence in {options.max_iterations} iterations"
+    floor = roundoff_floor(body, partition, ev, scale)
+    record.reason = (f"no convergence in {options.max_iterations} iterations"
+                     + stall_explanation(record.residuals, options.rtol, floor))
     raise NewtonFailure(record.reason, record, ev)
 
 
@@ -299,7 +302,14 @@ def _dot(a: np.ndarray, b: np.ndarray) -> float:
 
 
 def _norm(a: np.ndarray) -> float:
-    return math.sqrt(_dot(a, a))
+    """‖a‖₂; where aᵀa under- or overflows (forces ~1e-160 N or ~1e160 N) the scaled norm,
+    so that a residual is never read as 0 (or inf) for want of exponent range."""
+    n = math.sqrt(_dot(a, a))
+    if (n < 1e-150 or not math.isfinite(n)) and a.size:
+        peak = float(np.max(np.abs(a)))
+        if peak > 0.0 and math.isfinite(peak):
+            return peak * math.sqrt(_dot(a / peak, a / peak))
+    return n
 
 
 def _repaired_direction(Kff: sp.csr_matrix, r: np.ndarray) -> np.ndarray:
