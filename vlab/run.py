@@ -266,7 +266,24 @@ def _run_scene(scene: Scene, on_level, specimen: Specimen | None) -> RunResult:
     if scene.effects or scene.test.protocol.name != "monotonic":
         from vlab.effects.report import effects_summary
         extra["effects"] = effects_summary(scene, body, history.levels)
+        constants = _screen_yield(scene, fitted, constants, extra)
     return RunResult(scene, specimen, space, curve, constants, history, timing, reference, extra)
+
+
+def _screen_yield(scene: Scene, fitted, constants: ElasticConstants, extra: dict) -> ElasticConstants:
+    """E, ν (and the crosshead modulus) withdrawn when plasticity set in before the window ends."""
+    plastic = scene.effect("plasticity")
+    if plastic is None:
+        return constants
+    from vlab.measure.yielding import withdrawn_if_yielded
+
+    alpha = extra["effects"]["history"].get("plastic_strain_max")
+    args = (alpha, scene.measure.modulus_window, plastic.yield_stress, scene.material.moduli.E)
+    screened = withdrawn_if_yielded(constants, fitted.strain[0], *args)
+    crosshead = extra.get("crosshead")
+    if screened is not constants and crosshead and crosshead.get("E") is not None:
+        extra["crosshead"] = crosshead | {"E": None, "note": screened.note}
+    return screened
 
 
 @dataclass

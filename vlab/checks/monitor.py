@@ -102,6 +102,7 @@ class StabilityMonitor:
         self._accepted: LevelStability | None = None
         self._accepted_Kff = None  # (K_ff, K_ff⁻¹) of the last stable state, for its eigenvalue
         self.critical: CriticalState | None = None
+        self._trial_plastic_strain: float | None = None  # largest α of the last unstable trial
 
     def stretch_at(self, t: float) -> list[float]:
         return [1.0 + t * (s - 1.0) for s in self.target]
@@ -131,6 +132,7 @@ class StabilityMonitor:
         self.records.append(record)
         if unstable:
             self.critical = self._critical_state(record, pair, ev)
+            self._trial_plastic_strain = _plastic_strain(self.body, ev)
             return self._instability_message(record)
         return self._limit_message(record)
 
@@ -222,7 +224,8 @@ class StabilityMonitor:
                 else f"{r.zero_eigenvalues} zero eigenvalue(s)")
         return (f"no stable state beyond stretch {self._previous_stretch()}: loss of stability "
                 f"at stretch {_fmt(r.stretch)} — the tangent on the free DOFs has {what}, so the "
-                f"converged state is not an energy minimum ({self.model}; {self._kind(c)})")
+                f"converged state is not an energy minimum ({self.model}; {self._kind(c)}"
+                f"{self._yield_note()})")
 
     @staticmethod
     def _kind(c: CriticalState | None) -> str:
@@ -231,7 +234,19 @@ class StabilityMonitor:
         if c.non_elliptic_fraction:
             return (f"loss of ellipticity: the material tangent admits a deformation band at "
                     f"{100 * c.non_elliptic_fraction:.3g} % of the quadrature points, a material instability")
+        if c.sideways:
+            return (f"a bifurcation in tension: the mode moves whole cross-sections sideways (lateral "
+                    f"fraction {c.lateral_fraction:.2f}), but no grip compresses the specimen, so it "
+                    f"is not buckling and no imperfection can follow it")
         return "a structural bifurcation whose mode is local, not a sideways buckle"
+
+    def _yield_note(self) -> str:
+        """What a history law measured at the unstable state: its largest plastic strain."""
+        alpha = self._trial_plastic_strain
+        if alpha is None or not alpha > 0.0:
+            return ""
+        return (f"; the material has yielded: accumulated plastic strain up to {alpha:.3g} at this "
+                f"state, where a plastic material's tangent stiffness is only its hardening")
 
 
     def _limit_message(self, r: LevelStability) -> str:
@@ -245,6 +260,16 @@ class StabilityMonitor:
         return (f"load limit point beyond stretch {self._previous_stretch()}: the grip load along the "
                 f"prescribed path (Q = ûᵀf, the work-conjugate of the grip travel) peaked at stretch "
                 f"{_fmt(r.stretch)}: {measured}{advice}")
+
+
+def _plastic_strain(body, ev: Evaluation) -> float | None:
+    """Largest accumulated plastic strain α of the (uncommitted) trial state ``ev``, or None."""
+    material = getattr(body, "material", None)
+    if not getattr(body, "has_history", False) or not hasattr(material, "history_fields"):
+        return None
+    trial = material.update(ev.F, body.state, body.dt)
+    alpha = material.history_fields(trial, ev.F).get("plastic_strain")
+    return None if alpha is None else float(np.max(alpha))
 
 
 def _fmt(stretch: list[float]) -> str:
