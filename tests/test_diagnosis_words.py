@@ -62,3 +62,15 @@ def test_a_material_that_stays_elastic_in_the_window_keeps_its_modulus():
     raw["test"]["grips"] = "roller"
     data = result_to_dict(run_scene(parse_scene(raw)))
     assert data["measured"]["E"] == pytest.approx(10.0, rel=0.01)  # yield strain 0.1 > 0.0025
+
+
+def test_a_clamped_dogbone_a_micron_thick_is_diagnosed_as_ill_conditioned_not_free():
+    raw = {"name": "thin", "specimen": {"shape": "dogbone", "standard": "ISO 527-2 1BA", "thickness": 0.001},
+           "mesh": {"size": 2.5, "min_quality": 1e-4}, "material": {"model": "neo-hookean", "E": 10.0, "nu": 0.3},
+           "test": {"kind": "uniaxial", "grips": "clamped", "stretch": 1.2, "steps": 2}}
+    reason = result_to_dict(run_scene(parse_scene(raw)))["failure"]["reason"]
+    assert "grips leave the specimen free" not in reason
+    assert "although the grips restrain every rigid-body mode" in reason and "ill-conditioning by scale" in reason
+    lowest = float(reason.split("its lowest eigenvalue is ")[1].split()[0])
+    assert 0 < lowest < 1e-10  # measured: positive, but below the zero tolerance
+    assert "along z" in reason and "0.001 mm" in reason and 'specimen.shape = "sheet"' in reason

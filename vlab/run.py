@@ -22,7 +22,7 @@ from vlab.fe.mixed import MixedHyperelasticBody
 from vlab.fe.problem import HyperelasticBody
 from vlab.fe.space import DisplacementSpace
 from vlab.fe.spring_network import SpringNetwork
-from vlab.fe.stepping import Failure, SolveHistory, Stepping, run_schedule
+from vlab.fe.stepping import UNLOADED_SINGULAR, Failure, SolveHistory, Stepping, run_schedule
 from vlab.fe.timers import phase_clock
 from vlab.geometry.block import block_specimen
 from vlab.geometry.cruciform import cruciform_specimen
@@ -227,6 +227,7 @@ def _run_scene(scene: Scene, on_level, specimen: Specimen | None) -> RunResult:
     else:
         history = run_schedule(body, partition, loading.u_hat, stepping,
                                (force_floor, specimen.length_scale), observe)
+        history = _restrained_but_singular(history, body, partition, space)
     timing["measure_s"] = measure_time[0]
     timing["solve_s"] = clock() - t1 - measure_time[0]
 
@@ -377,6 +378,22 @@ def _warnings(scene: Scene) -> list[str]:
     for text in found:
         log.warning(text)
     return found
+
+
+def _restrained_but_singular(history: SolveHistory, body, partition: Partition,
+                             space: DisplacementSpace) -> SolveHistory:
+    """The grips passed the geometric restraint check (_refusal), so a singular unloaded tangent
+    is ill-conditioning, not a free specimen: say so, with what was measured."""
+    failure = history.failure
+    if failure is None or not failure.reason.startswith(UNLOADED_SINGULAR) or failure.level != 0:
+        return history
+    from vlab.checks.conditioning import conditioning_diagnosis
+
+    detail = failure.reason[len(UNLOADED_SINGULAR):].strip()
+    detail = detail[1:-1] if detail.startswith("(") and detail.endswith(")") else detail
+    reason = conditioning_diagnosis(body, partition, space.node_coordinates, detail)
+    history.failure = dataclasses.replace(failure, reason=reason)
+    return history
 
 
 def _refusal(material, scene: Scene, space: DisplacementSpace, prescribed) -> str | None:
