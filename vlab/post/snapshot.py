@@ -2,27 +2,34 @@
 
 A Snapshot holds the reference mesh, the displacement of its vertices and the per-cell fields at
 the unloaded state and at every recorded level, and the current positions of the gauge marks.
-For order-2 spaces only the vertex values are kept (vertices are the first scalar DOFs), so the
-pictures show the straight-sided cells of the mesh. A 2D sheet is stored in 3D with z = 0 (its
+The renders use the vertex values (vertices are the first scalar DOFs: straight-sided cells);
+the VTU files get every node of the space (``vtk``: an order-2 space as quadratic VTK cells with
+their mid-nodes, vlab.post.vtk_cells), the displacement of every node, and per cell the Cauchy
+stress and Green–Lagrange strain tensors (``tensors``). A 2D sheet is stored in 3D with z = 0 (its
 displacement has no z component) and without the thickness marks, which sit over the same point.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import skfem
 
 from vlab.geometry.symmetry import reflection
 from vlab.post.fields import FIELDS, cell_fields
+from vlab.post.vtk_cells import vtk_cells
 
 
 @dataclass(frozen=True)
 class Snapshot:
     """model: name; t: (n_frames,) load levels, frame 0 unloaded (t = 1 is the target); stretch:
     (n_frames,) grip stretch along x; displacement: (n_frames, n_vertices, 3) mm; fields: name ->
-    (n_frames, n_cells); marks: name -> (reference (2, 3), current (n_frames, 2, 3)) mm."""
+    (n_frames, n_cells); marks: name -> (reference (2, 3), current (n_frames, 2, 3)) mm.
+    For the VTU files: vtk = (points (n_nodes, 3) mm, meshio cell type, connectivity);
+    nodal_displacement (n_frames, n_nodes, 3) mm; tensors: name -> (n_frames, n_cells, 3, 3)
+    ("cauchy" MPa, "green_lagrange" 1); time: (n_frames,) s, or None (quasi-static);
+    grip_stretch: (n_frames, n_axes)."""
 
     model: str
     mesh: skfem.Mesh
@@ -31,6 +38,11 @@ class Snapshot:
     displacement: np.ndarray
     fields: dict[str, np.ndarray]
     marks: dict[str, tuple[np.ndarray, np.ndarray]]
+    vtk: tuple[np.ndarray, str, np.ndarray] | None = None
+    nodal_displacement: np.ndarray | None = None
+    tensors: dict[str, np.ndarray] = field(default_factory=dict)
+    time: np.ndarray | None = None
+    grip_stretch: np.ndarray | None = None
 
     @property
     def n_frames(self) -> int:
@@ -81,4 +93,11 @@ def take_snapshot(result) -> Snapshot:
         marks[name] = (_in_3d(X), np.stack([_in_3d(X + probe @ ev.u.reshape(-1, d)) for ev in states]))
     t = np.array([0.0] + [lv.t for lv in result.history.levels])
     stretch = 1.0 + t * (result.scene.test.stretch[0] - 1.0)
-    return Snapshot(result.scene.material.model, mesh, t, stretch, u, fields, marks)
+    grip = 1.0 + t[:, None] * (np.asarray(result.scene.test.stretch) - 1.0)
+    times = [lv.time for lv in result.history.levels]
+    time = None if any(x is None for x in times) else np.array([0.0] + times)
+    tensors = {name: np.stack([np.moveaxis(getattr(cf, name), -1, 0) for cf in per_state])
+               for name in ("cauchy", "green_lagrange")}
+    nodal = np.stack([_in_3d(ev.u.reshape(-1, d)) for ev in states])
+    return Snapshot(result.scene.material.model, mesh, t, stretch, u, fields, marks, vtk_cells(space),
+                    nodal, tensors, time, grip)
