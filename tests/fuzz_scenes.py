@@ -35,6 +35,15 @@ def scenes(draw, mixed_only: bool = False) -> dict:
     return raw
 
 
+@st.composite
+def linear_scenes(draw) -> dict:
+    """Blocks and sheets of the linear model, biaxial with any ratio in [-1, 1] or uniaxial."""
+    raw = draw(sheet_scenes()) if draw(st.booleans()) else draw(block_scenes())
+    raw["material"]["model"] = "linear"
+    raw["mesh"]["formulation"] = "displacement"
+    return raw
+
+
 # block weighted highest (the original fuzz); the new shapes and options where they are cheap
 FAMILIES = ("block", "block", "block", "sheet", "symmetry", "history")
 
