@@ -258,8 +258,8 @@ class StabilityMonitor:
                     if r.path_stiffness is not None and r.path_stiffness <= 0.0 else
                     f"Q fell from {last.path_load:.6g} to {r.path_load:.6g} N·mm")
         return (f"load limit point beyond stretch {self._previous_stretch()}: the grip load along the "
-                f"prescribed path (Q = ûᵀf, the work-conjugate of the grip travel) peaked at stretch "
-                f"{_fmt(r.stretch)}: {measured}{advice}")
+                f"prescribed path (Q = ûᵀf, the work-conjugate of the grip travel) no longer rises at "
+                f"stretch {_fmt(r.stretch)}: {measured}{advice}")
 
 
 def _plastic_strain(body, ev: Evaluation) -> float | None:
