@@ -22,7 +22,7 @@ from vlab.fe.mixed import MixedHyperelasticBody
 from vlab.fe.problem import HyperelasticBody
 from vlab.fe.space import DisplacementSpace
 from vlab.fe.spring_network import SpringNetwork
-from vlab.fe.stepping import UNLOADED_SINGULAR, Failure, SolveHistory, Stepping, run_schedule
+from vlab.fe.stepping import Failure, SolveHistory, Stepping, run_schedule
 from vlab.fe.timers import phase_clock
 from vlab.geometry.block import block_specimen
 from vlab.geometry.cruciform import cruciform_specimen
@@ -58,6 +58,7 @@ from vlab.checks.admissibility import inadmissible_request
 from vlab.loading.restraint import under_constrained_message, unrestrained_modes
 from vlab.checks.buckling import lateral_deflection
 from vlab.checks.imperfection import imperfect_specimen
+from vlab.checks.conditioning import restrained_but_singular
 from vlab.checks.monitor import MonitorOptions, StabilityMonitor
 
 
@@ -227,7 +228,7 @@ def _run_scene(scene: Scene, on_level, specimen: Specimen | None) -> RunResult:
     else:
         history = run_schedule(body, partition, loading.u_hat, stepping,
                                (force_floor, specimen.length_scale), observe)
-        history = _restrained_but_singular(history, body, partition, space)
+        history = restrained_but_singular(history, body, partition, space)
     timing["measure_s"] = measure_time[0]
     timing["solve_s"] = clock() - t1 - measure_time[0]
 
@@ -267,24 +268,9 @@ def _run_scene(scene: Scene, on_level, specimen: Specimen | None) -> RunResult:
     if scene.effects or scene.test.protocol.name != "monotonic":
         from vlab.effects.report import effects_summary
         extra["effects"] = effects_summary(scene, body, history.levels)
-        constants = _screen_yield(scene, fitted, constants, extra)
+        from vlab.measure.yielding import screen_yield
+        constants = screen_yield(scene, fitted, constants, extra)
     return RunResult(scene, specimen, space, curve, constants, history, timing, reference, extra)
-
-
-def _screen_yield(scene: Scene, fitted, constants: ElasticConstants, extra: dict) -> ElasticConstants:
-    """E, ν (and the crosshead modulus) withdrawn when plasticity set in before the window ends."""
-    plastic = scene.effect("plasticity")
-    if plastic is None:
-        return constants
-    from vlab.measure.yielding import withdrawn_if_yielded
-
-    alpha = extra["effects"]["history"].get("plastic_strain_max")
-    args = (alpha, scene.measure.modulus_window, plastic.yield_stress, scene.material.moduli.E)
-    screened = withdrawn_if_yielded(constants, fitted.strain[0], *args)
-    crosshead = extra.get("crosshead")
-    if screened is not constants and crosshead and crosshead.get("E") is not None:
-        extra["crosshead"] = crosshead | {"E": None, "note": screened.note}
-    return screened
 
 
 @dataclass
@@ -378,22 +364,6 @@ def _warnings(scene: Scene) -> list[str]:
     for text in found:
         log.warning(text)
     return found
-
-
-def _restrained_but_singular(history: SolveHistory, body, partition: Partition,
-                             space: DisplacementSpace) -> SolveHistory:
-    """The grips passed the geometric restraint check (_refusal), so a singular unloaded tangent
-    is ill-conditioning, not a free specimen: say so, with what was measured."""
-    failure = history.failure
-    if failure is None or not failure.reason.startswith(UNLOADED_SINGULAR) or failure.level != 0:
-        return history
-    from vlab.checks.conditioning import conditioning_diagnosis
-
-    detail = failure.reason[len(UNLOADED_SINGULAR):].strip()
-    detail = detail[1:-1] if detail.startswith("(") and detail.endswith(")") else detail
-    reason = conditioning_diagnosis(body, partition, space.node_coordinates, detail)
-    history.failure = dataclasses.replace(failure, reason=reason)
-    return history
 
 
 def _refusal(material, scene: Scene, space: DisplacementSpace, prescribed) -> str | None:

@@ -12,9 +12,12 @@ measured: that ratio, the direction the softest mode moves in, and the specimen'
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 from vlab.fe.inertia import ZERO_TOL, EigenpairNotFound, lowest_eigenpair
+from vlab.fe.stepping import UNLOADED_SINGULAR, SolveHistory
 
 
 def conditioning_diagnosis(body, partition, X: np.ndarray, detail: str) -> str:
@@ -41,3 +44,15 @@ def conditioning_diagnosis(body, partition, X: np.ndarray, detail: str) -> str:
             f"{extents.max() / max(extents[thin], 1e-300):.2g})"
             + (f", so a specimen this thin along {'xyz'[thin]} is a sheet: specimen.shape = \"sheet\" "
                f"(plane stress), or a thicker specimen" if axis == thin else ""))
+
+
+def restrained_but_singular(history: SolveHistory, body, partition, space) -> SolveHistory:
+    """``history`` with its failure reworded when the unloaded tangent read as singular although
+    the grips passed the geometric restraint check (vlab.run refuses before solving otherwise)."""
+    failure = history.failure
+    if failure is None or not failure.reason.startswith(UNLOADED_SINGULAR) or failure.level != 0:
+        return history
+    detail = failure.reason[len(UNLOADED_SINGULAR):].strip()
+    detail = detail[1:-1] if detail.startswith("(") and detail.endswith(")") else detail
+    reason = conditioning_diagnosis(body, partition, space.node_coordinates, detail)
+    return dataclasses.replace(history, failure=dataclasses.replace(failure, reason=reason))

@@ -48,3 +48,18 @@ def yield_note(found: tuple[float, float], window: tuple[float, float], yield_st
             f"σ_y0/E = {yield_stress / E_input:.3g}); the slope there mixes elastic and plastic "
             f"flow, so it is not E (E is read only where the curve is elastic: a modulus window "
             f"below the yield strain)")
+
+
+def screen_yield(scene, fitted, constants: ElasticConstants, extra: dict) -> ElasticConstants:
+    """A run's E, ν (and crosshead modulus in ``extra``) withdrawn when plasticity set in before
+    the window ends; ``extra["effects"]`` carries the per-level plastic strain maxima."""
+    plastic = scene.effect("plasticity")
+    if plastic is None:
+        return constants
+    alpha = extra["effects"]["history"].get("plastic_strain_max")
+    args = (alpha, scene.measure.modulus_window, plastic.yield_stress, scene.material.moduli.E)
+    screened = withdrawn_if_yielded(constants, fitted.strain[0], *args)
+    crosshead = extra.get("crosshead")
+    if screened is not constants and crosshead and crosshead.get("E") is not None:
+        extra["crosshead"] = crosshead | {"E": None, "note": screened.note}
+    return screened
