@@ -36,7 +36,8 @@ def withdrawn_if_yielded(constants: ElasticConstants, strain: list[float], plast
     found = yield_before_window(strain, plastic_max, window)
     if found is None or constants.E is None:
         return constants
-    return dataclasses.replace(constants, E=None, nu=None, note=yield_note(found, window, yield_stress, E_input))
+    return dataclasses.replace(constants, E=None, nu=None, E_fit=None, nu_fit=None, per_axis=[],
+                               note=yield_note(found, window, yield_stress, E_input))
 
 
 def yield_note(found: tuple[float, float], window: tuple[float, float], yield_stress: float,
@@ -61,5 +62,5 @@ def screen_yield(scene, fitted, constants: ElasticConstants, extra: dict) -> Ela
     screened = withdrawn_if_yielded(constants, fitted.strain[0], *args)
     crosshead = extra.get("crosshead")
     if screened is not constants and crosshead and crosshead.get("E") is not None:
-        extra["crosshead"] = crosshead | {"E": None, "note": screened.note}
+        extra["crosshead"] = crosshead | {"E": None, "fit": None, "note": screened.note}
     return screened
