@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any, Mapping
 from vlab import fields
 from vlab.fields import SceneError
 from vlab.scene.effects import check_effects_scope, parse_effects
-from vlab.scene.material import SPRING_NETWORK, parse_material
+from vlab.scene.material import check_path, continuum, parse_compare, parse_material
 from vlab.scene.measure import parse_measure
 from vlab.scene.mesh import check_formulation, check_symmetry, parse_mesh
 from vlab.scene.solver import parse_solver
@@ -31,10 +31,10 @@ if TYPE_CHECKING:
     from vlab.scene.specimen import Specimen
     from vlab.scene.test import TestSpec
 
-__all__ = ["Scene", "SECTIONS", "TOP_KEYS", "parse_scene", "load_scene"]
+__all__ = ["Scene", "SECTIONS", "TOP_KEYS", "parse_scene", "load_scene", "load_scene_text"]
 
 
-SECTIONS = ("specimen", "mesh", "material", "test", "measure", "solver", "effects")
+SECTIONS = ("specimen", "mesh", "material", "test", "measure", "solver", "effects", "compare")
 
 
 TOP_KEYS = ("name", "description") + SECTIONS
@@ -91,13 +91,17 @@ def _parse(data: Mapping[str, Any]) -> Scene:
     specimen = parse_specimen(data["specimen"])
     mesh, material = parse_mesh(data["mesh"], specimen), parse_material(data["material"])
     check_formulation(mesh, material.model)
-    if material.model == SPRING_NETWORK and mesh.order != 1:
-        raise SceneError(f"material.model {SPRING_NETWORK!r} joins mesh vertices by springs and needs "
+    parse_compare(data.get("compare", {}))  # every [compare.<label>] card, validated now
+    model = material.model
+    if not continuum(model) and mesh.order != 1:
+        raise SceneError(f"material.model {model!r} joins mesh vertices by springs and needs "
                          f"mesh.order = 1, got {mesh.order}")
-    if material.model == SPRING_NETWORK and specimen.shape == "sheet":
-        raise SceneError(f"material.model {SPRING_NETWORK!r} is a 3D network of mesh edges; "
-                         f"specimen.shape = 'sheet' needs a continuum model (not {SPRING_NETWORK!r})")
+    if not continuum(model) and specimen.shape == "sheet":
+        raise SceneError(f"material.model {model!r} is a 3D network of mesh edges; "
+                         f"specimen.shape = 'sheet' needs a continuum model (not {model!r})")
     test = parse_test(data["test"], specimen.shape)
+    if continuum(model):
+        check_path(material, [test.stretch])  # a locking limit on the test's path (Gent)
     check_symmetry(mesh, test, specimen)
     check_effects_scope(data.get("effects", {}), specimen.shape, mesh, material.model)
     return Scene(name=name, description=description, specimen=specimen,
@@ -111,7 +115,8 @@ def _parse(data: Mapping[str, Any]) -> Scene:
 def parse_scene(data: dict, origin: str = "<scene>", base_dir: str | Path | None = None) -> Scene:
     """Validate a parsed scene dict; errors are ``SceneError("<origin>: <message>")``. Relative
     paths in the scene (specimen.file) are taken from ``base_dir`` (default: the current folder)."""
-    token = _BASE_DIR.set(Path(base_dir) if base_dir is not None else Path("."))
+    # absolute: the scene may be run from another folder later (a Dask worker, a companion solve)
+    token = _BASE_DIR.set(Path(base_dir if base_dir is not None else ".").resolve())
     try:
         return _parse(data)
     except SceneError as exc:
@@ -122,13 +127,17 @@ def parse_scene(data: dict, origin: str = "<scene>", base_dir: str | Path | None
 
 def load_scene(path: str | Path) -> Scene:
     """Read and validate a scene TOML file; every error message starts with the file name."""
+    return load_scene_text(path)[0]
+
+
+def load_scene_text(path: str | Path) -> tuple[Scene, str]:
+    """The validated scene and the text it was read from (read once, bounded: vlab.scene.file)."""
+    from vlab.scene.file import read_scene_file
+
     path = Path(path)
+    text = read_scene_file(path)
     try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise SceneError(f"{path}: cannot read scene file ({exc.strerror or exc})") from None
-    except UnicodeDecodeError as exc:
-        raise SceneError(f"{path}: scene file is not UTF-8 ({exc})") from None
+        data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise SceneError(f"{path}: TOML syntax error: {exc}") from None
-    return parse_scene(data, origin=str(path), base_dir=path.parent)
+    return parse_scene(data, origin=str(path), base_dir=path.parent), text

@@ -1,13 +1,15 @@
 """``[mesh]``: element size, order, cell, gauge refinement, quality floor, formulation, symmetry.
 
 Defaults: order = 1, cell = the specimen's first (tet; tri for a sheet), min_quality = 0.15,
-formulation = "displacement", symmetry = "none". ``formulation = "mixed"`` (locking-free for
-ν → ½) needs a model with a volumetric–isochoric split (``SPLIT_LAWS``) and hexes or order-2 tets.
+formulation = "displacement", symmetry = "none", max_dofs = none (the size budget's default,
+vlab/geometry/budget.py, checked before meshing). ``formulation = "mixed"`` (locking-free for
+ν → ½) needs a model with a volumetric–isochoric split (``split`` in vlab.materials.registry) and hexes or order-2 tets.
 An imported mesh is meshed already: its size is the mean edge length of its cells.
 """
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -16,7 +18,7 @@ import numpy as np
 from vlab import fields
 from vlab.fields import SceneError
 from vlab.geometry.symmetry import SYMMETRY_LEVELS
-from vlab.materials.split import SPLIT_LAWS
+from vlab.materials.registry import MODELS as REGISTRY
 from vlab.scene.specimen import _FINE_MESH_SHAPES, SYMMETRIC_SHAPES, MeshFileSpecimen, Specimen
 
 if TYPE_CHECKING:
@@ -37,12 +39,16 @@ class MeshSpec:
     min_quality: float = 0.15  # smallest acceptable element quality (geometry/quality.py)
     formulation: str = "displacement"  # or "mixed": condensed θ/p per element (vlab/fe/mixed.py)
     symmetry: str = "none"  # none | half | quarter | eighth (geometry/symmetry.py)
+    max_dofs: int | None = None  # size budget (vlab/geometry/budget.py); None = its default
 
 
 def parse_mesh(raw: Any, specimen: Specimen) -> MeshSpec:
-    t = fields.Table("mesh", raw, ("size", "order", "cell", "gauge_size", "min_quality", "symmetry", "formulation"))
+    t = fields.Table("mesh", raw, ("size", "order", "cell", "gauge_size", "min_quality", "symmetry", "formulation",
+                                   "max_dofs"))
+    max_dofs = t.get("max_dofs", None)
+    max_dofs = None if max_dofs is None else fields.integer(t.field("max_dofs"), max_dofs, 1, 10**12)
     if specimen.shape == "mesh":
-        return _parse_mesh_of_file(t, specimen)
+        return dataclasses.replace(_parse_mesh_of_file(t, specimen), max_dofs=max_dofs)
     size = t.number("size", gt=0, le=specimen.max_dimension, note=" (the largest specimen dimension)")
     gauge_size = t.number("gauge_size", default=None, gt=0, le=size, note=" (mesh.size)")
     if gauge_size is not None and specimen.shape not in _FINE_MESH_SHAPES:
@@ -56,7 +62,7 @@ def parse_mesh(raw: Any, specimen: Specimen) -> MeshSpec:
     return MeshSpec(size=size, order=t.integer("order", 1, 2, default=1),
                     cell=t.choice("cell", cells, default=cells[0]), gauge_size=gauge_size,
                     min_quality=t.number("min_quality", default=0.15, gt=0, lt=1), symmetry=symmetry,
-                    formulation=t.choice("formulation", FORMULATIONS, default="displacement"))
+                    formulation=t.choice("formulation", FORMULATIONS, default="displacement"), max_dofs=max_dofs)
 
 
 def _parse_mesh_of_file(t: fields.Table, specimen: MeshFileSpecimen) -> MeshSpec:
@@ -85,10 +91,11 @@ def check_formulation(mesh: MeshSpec, model: str) -> None:
     """The mixed formulation needs a split law and an element pair that does not lock."""
     if mesh.formulation != "mixed":
         return
-    if model not in SPLIT_LAWS:
+    if REGISTRY[model].split is None:
+        split = ", ".join(n for n, m in REGISTRY.items() if m.split is not None)
         raise SceneError(f"mesh.formulation = 'mixed' needs a material with a volumetric–isochoric "
                          f"split; material.model {model!r} has none (allowed with 'mixed': "
-                         f"{', '.join(SPLIT_LAWS)}; or use mesh.formulation = 'displacement')")
+                         f"{split}; or use mesh.formulation = 'displacement')")
     if mesh.cell in ("tri", "quad"):
         raise SceneError("mesh.formulation = 'mixed' is for 3D solids (hex, or order-2 tet); a sheet "
                          "in plane stress has no volumetric locking (the thickness is free), so use "
