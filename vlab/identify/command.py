@@ -1,0 +1,61 @@
+"""`vlab fit`: read, fit, write, print; the exit code says converged (0), not (1), invalid (2)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from rich.console import Console
+
+from vlab.fields import SceneError
+
+__all__ = ["fit_command"]
+
+
+def _print_fit(console: Console, d: dict) -> None:
+    console.print(f"[bold]{d['name']}[/bold]: {d['model']['name']} "
+                  f"({'converged' if d['converged'] else 'NOT converged: ' + str(d['reason'])})", highlight=False)
+    for k, u in d["uncertainty"].items():
+        console.print(f"  {k:>10} = {u['interval'][0] / 2 + u['interval'][1] / 2:.6g} "
+                      f"± {u['standard_error']:.3g}", highlight=False)
+    for x in d["datasets"]:
+        console.print(f"  {x['name']} ({x['kind']}, {x['role']}): rms {100 * x['rms_relative']:.3g} %, "
+                      f"max {100 * x['max_relative']:.3g} %", highlight=False)
+    for w in d["warnings"]:
+        console.print(f"  [yellow]warning[/yellow] {w}", highlight=False, soft_wrap=True)
+
+
+def fit_command(path: Path, out: Path | None, models: str | None, console: Console) -> int:
+    from vlab.identify.fitfile import load_fit, parse_model_name
+
+    try:
+        spec = load_fit(path)
+        names = None
+        if models is not None:
+            names = [m.strip() for m in models.split(",") if m.strip()]
+            if not names:
+                raise SceneError("--models must list at least one model, e.g. mooney-rivlin,ogden-3")
+            for n in names:
+                parse_model_name(n, "--models")
+    except SceneError as exc:
+        console.print(f"[red]invalid fit file[/red] {exc}", highlight=False, soft_wrap=True)
+        return 2
+    text = Path(path).read_text(encoding="utf-8")
+    out = out or Path("reports") / f"{spec.name}-fit"
+    if names:
+        from vlab.identify.ranking import fit_models, write_ranking
+
+        rows = write_ranking(spec, fit_models(spec, names), out, text)
+        for r in rows:
+            held = r["held_out_rms_relative"]
+            console.print(f"  {r['rank']}. {r['model']:<14} held-out rms "
+                          f"{'—' if held is None else f'{100 * held:.3g} %':>8}  BIC {r['BIC']:.4g}", highlight=False)
+        console.print(f"report: {out / 'index.html'}", highlight=False, soft_wrap=True)
+        return 0 if all(r["converged"] for r in rows) else 1
+    from vlab.identify.fitting import fit_any
+    from vlab.identify.report import write_fit_report
+
+    outcome = fit_any(spec)
+    d = write_fit_report(outcome, out, text)
+    _print_fit(console, d)
+    console.print(f"report: {out / 'index.html'}", highlight=False, soft_wrap=True)
+    return 0 if d["converged"] else 1
