@@ -90,7 +90,7 @@ def _first_unstable(model, x, kind, lo, hi) -> float | None:
             a = m
         else:
             b = m
-        if b / a - 1 < 1e-7:
+        if abs(np.log(b / a)) < 1e-7:  # (the scan may run downwards: b < a)
             break
     return float(b)
 

@@ -6,7 +6,8 @@
                bulk modulus, MPa) or fit_K = true, volumetric (quadratic | log | simo-taylor)
     [[data]]   file (resolved against the fit file's folder), kind, columns, stress_measure,
                units, role (fit | validate), weight, name
-    [options]  residual (relative | absolute), starts (1..1000), seed, confidence (0.5..0.999)
+    [options]  residual (relative | absolute), starts (1..1000), seed, confidence (0.5..0.999),
+               max_evaluations (per start, default 400)
     [fe]       scene (kind = "specimen"), parameters (the card keys fitted), start, max_solves
 """
 
@@ -39,6 +40,7 @@ class FitSpec:
     starts: int = 20
     seed: int = 0
     confidence: float = 0.95
+    max_evaluations: int = 400
     fe: dict | None = None
     source: dict = field(default_factory=dict)
     base_dir: Path = Path(".")
@@ -142,20 +144,28 @@ def _to_dataset(path, name, kind, role, weight, measure, factor, wanted, cols) -
 
 
 def _options(raw) -> dict:
-    t = Table("options", raw, ("residual", "starts", "seed", "confidence"))
+    t = Table("options", raw, ("residual", "starts", "seed", "confidence", "max_evaluations"))
     return {"residual": t.choice("residual", ("relative", "absolute"), "relative"),
+            "max_evaluations": t.integer("max_evaluations", 1, 100000, 400),
             "starts": t.integer("starts", 1, 1000, 20), "seed": t.integer("seed", 0, 2**31 - 1, 0),
             "confidence": t.number("confidence", 0.95, ge=0.5, le=0.999)}
 
 
 def parse_fit(data: dict, base_dir: Path, default_name: str = "fit") -> FitSpec:
     """A validated FitSpec from a parsed fit file; data files are read and checked here."""
-    top = Table("", data, ("name", "description", "model", "data", "options", "fe"))
-    name = top.get("name", default_name)
+    allowed = ("name", "description", "model", "data", "options", "fe")
+    for key in data:
+        if key not in allowed:
+            raise SceneError(f"unknown top-level key {key!r} in the fit file (allowed: {', '.join(allowed)})"
+                             f"{fields.suggest(key, allowed)}")
+    for key in ("model", "data"):
+        if key not in data:
+            raise SceneError(f"missing required [{key}]" + (" table" if key == "model" else " (one [[data]] per file)"))
+    name = data.get("name", default_name)
     if not isinstance(name, str) or not name or "/" in name:
         raise SceneError(f"name must be a non-empty string without '/', got {fields.show(name)}")
-    model = _model(top.get("model"))
-    raw_data = top.get("data")
+    model = _model(data["model"])
+    raw_data = data["data"]
     if not isinstance(raw_data, list) or not raw_data:
         raise SceneError("[[data]] must list at least one data set (file, kind, columns, ...)")
     datasets = tuple(_dataset(d, i, Path(base_dir)) for i, d in enumerate(raw_data))
@@ -164,10 +174,10 @@ def parse_fit(data: dict, base_dir: Path, default_name: str = "fit") -> FitSpec:
     fe = None
     if any(d.kind == "specimen" for d in datasets):
         from vlab.identify.fe_spec import parse_fe
-        fe = parse_fe(top.get("fe", None), Path(base_dir), model, datasets)
+        fe = parse_fe(data.get("fe"), Path(base_dir), model, datasets)
     elif "fe" in data:
         raise SceneError("[fe] is only used with a data set of kind = \"specimen\"")
-    opts = _options(top.get("options", {}))
+    opts = _options(data.get("options", {}))
     return FitSpec(name, model, datasets, fe=fe, source=data, base_dir=Path(base_dir), **opts)
 
 

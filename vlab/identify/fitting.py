@@ -39,7 +39,7 @@ class FitOutcome:
 
 
 def _dataset_errors(model, x, d) -> dict:
-    pred = predict(model, x[None, :], d)[0]
+    pred = np.real(predict(model, x[None, :], d)[0])
     floor = 0.01 * np.max(np.abs(d.y))
     rel = (pred - d.y) / np.maximum(np.abs(d.y), floor if floor > 0 else 1.0)
     lo, hi = float(np.min(d.a)), float(np.max(d.a))
@@ -134,7 +134,7 @@ def fit_homogeneous(spec: FitSpec) -> FitOutcome:
     model = spec.model
     fit_sets = [d for d in spec.datasets if d.role == "fit" and d.kind != "specimen"]
     obj = Objective(model, fit_sets, spec.residual)
-    results, box, t_fit = timed_multi_start(obj, spec.starts, spec.seed, fit_sets)
+    results, box, t_fit = timed_multi_start(obj, spec.starts, spec.seed, fit_sets, spec.max_evaluations)
     best = results[0]
     x = best.x
     r, J = obj.evaluate(x)
@@ -150,6 +150,9 @@ def fit_homogeneous(spec: FitSpec) -> FitOutcome:
     t3 = time.perf_counter()
     mu0 = model.law.mu0(values[:len(model.law.names)])
     converged, reason = best.status > 0 and np.isfinite(best.cost), best.message
+    if best.status == 0:
+        reason = (f"no start converged within {spec.max_evaluations} evaluations (options.max_evaluations); "
+                  f"best objective {best.cost:.4g}")
     if mu0 <= 0:
         converged, reason = False, f"the best fit has mu0 = {mu0:g} MPa <= 0 (inadmissible card)"
     starts = summarize_starts(results, model)

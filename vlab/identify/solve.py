@@ -93,7 +93,7 @@ def modulus_scale(datasets) -> float:
     nh = Constitutive(law_for("neo-hookean"))
     ratios = []
     for d in datasets:
-        base = predict(nh, np.ones((1, 1)), d)[0]
+        base = np.real(predict(nh, np.ones((1, 1)), d)[0])
         ok = np.abs(base) > 1e-3
         ratios.extend((d.y[ok] / base[ok]).tolist())
     ratios = [r for r in ratios if r > 0]
@@ -121,20 +121,20 @@ def _bulk_start(rng, model: Constitutive, scale: float):
     return [scale * float(np.exp(rng.uniform(np.log(30), np.log(3000))))], [1e-9], [np.inf]
 
 
-def one_start(objective: Objective, x0, lo, hi) -> StartResult:
+def one_start(objective: Objective, x0, lo, hi, max_nfev: int = 400) -> StartResult:
     with np.errstate(invalid="ignore"):
         inside_lo = np.where(np.isfinite(lo), lo + 1e-9 * np.maximum(1.0, np.abs(lo)), -np.inf)
         inside_hi = np.where(np.isfinite(hi), hi - 1e-9 * np.maximum(1.0, np.abs(hi)), np.inf)
     x0 = np.clip(x0, inside_lo, inside_hi)
     sol = least_squares(objective.residual, x0, jac=objective.jacobian,
-                        bounds=(lo, hi), method="trf", x_scale="jac", max_nfev=400,
+                        bounds=(lo, hi), method="trf", x_scale="jac", max_nfev=max_nfev,
                         ftol=1e-12, xtol=1e-12, gtol=1e-12)
     order = objective.model.law.canonical_order(sol.x)
     return StartResult(x0, sol.x[order], float(sol.cost), int(sol.status), str(sol.message), int(sol.nfev),
                        tuple(bool(a) for a in (sol.active_mask != 0)[order]))
 
 
-def multi_start(objective: Objective, starts: int, seed: int, fit_sets) -> tuple[list[StartResult], tuple]:
+def multi_start(objective: Objective, starts: int, seed: int, fit_sets, max_nfev: int = 400) -> tuple[list[StartResult], tuple]:
     """All starts (sorted by cost) and the bounds of the best, from Generator(seed)."""
     rng = np.random.default_rng(seed)
     scale, i1 = modulus_scale(fit_sets), max_I1(fit_sets)
@@ -144,7 +144,7 @@ def multi_start(objective: Objective, starts: int, seed: int, fit_sets) -> tuple
         x0, lo, hi = model.law.start(rng, scale, i1)
         k0, klo, khi = _bulk_start(rng, model, scale)
         box = (np.r_[lo, klo], np.r_[hi, khi])
-        results.append(one_start(objective, np.r_[x0, k0], *box))
+        results.append(one_start(objective, np.r_[x0, k0], *box, max_nfev))
         boxes.append(box)
     order = np.argsort([r.cost for r in results])
     return [results[i] for i in order], boxes[order[0]]
@@ -172,7 +172,7 @@ def summarize_starts(results: list[StartResult], model: Constitutive) -> dict:
     }
 
 
-def timed_multi_start(objective, starts, seed, fit_sets):
+def timed_multi_start(objective, starts, seed, fit_sets, max_nfev: int = 400):
     t0 = time.perf_counter()
-    results, box = multi_start(objective, starts, seed, fit_sets)
+    results, box = multi_start(objective, starts, seed, fit_sets, max_nfev)
     return results, box, time.perf_counter() - t0

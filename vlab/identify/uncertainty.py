@@ -16,7 +16,7 @@ sensitivity rows to JᵀJ at the same residual scatter.
 from __future__ import annotations
 
 import numpy as np
-from scipy import stats
+from scipy.special import stdtrit  # Student's t quantile (scipy.stats costs seconds to import)
 
 __all__ = ["covariance", "summarize", "band", "separating_data"]
 
@@ -47,7 +47,7 @@ def correlation(cov: np.ndarray) -> np.ndarray:
 def summarize(values, cov_c, names, dof: int, confidence: float) -> dict:
     """Standard errors, intervals and correlations of the card values (in ``names`` order)."""
     se = np.sqrt(np.clip(np.diag(cov_c), 0, None))
-    tq = float(stats.t.ppf(0.5 + confidence / 2, dof)) if dof > 0 else float("nan")
+    tq = float(stdtrit(dof, 0.5 + confidence / 2)) if dof > 0 else float("nan")
     unc = {n: {"standard_error": float(s), "interval": [float(v - tq * s), float(v + tq * s)],
                "relative_error": float(s / abs(v)) if v else None}
            for n, v, s in zip(names, values, se)}

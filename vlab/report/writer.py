@@ -23,9 +23,10 @@ import tempfile
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-from vlab.report.results import curve_columns
-from vlab.run import RunResult
+if TYPE_CHECKING:  # the solver is imported only by the writers that need it (vlab fit needs none of it)
+    from vlab.run import RunResult
 
 log = logging.getLogger(__name__)
 
@@ -55,6 +56,8 @@ def write_columns_csv(columns: dict[str, list], path: Path) -> None:
 
 
 def write_curve_csv(result: RunResult, path: Path) -> None:
+    from vlab.report.results import curve_columns
+
     write_columns_csv(curve_columns(result), path)
 
 
