@@ -54,7 +54,11 @@ def fit_command(path: Path, out: Path | None, models: str | None, console: Conso
     from vlab.identify.fitting import fit_any
     from vlab.identify.report import write_fit_report
 
-    outcome = fit_any(spec)
+    try:
+        outcome = fit_any(spec)
+    except SceneError as exc:  # found while fitting (e.g. the scene's test does not cover the data)
+        console.print(f"[red]invalid fit file[/red] {exc}", highlight=False, soft_wrap=True)
+        return 2
     d = write_fit_report(outcome, out, text)
     _print_fit(console, d)
     console.print(f"report: {out / 'index.html'}", highlight=False, soft_wrap=True)

@@ -1,0 +1,123 @@
+"""One whole vlab test at given material constants, with the exact sensitivities of its readings.
+
+At a converged state the residual r(u, p) = f_int(u; p) − f_reaction vanishes on the free DOFs;
+differentiating at fixed grip displacement gives, for each constant p_j,
+    K_ff du_f/dp_j = −∂f_int,f/∂p_j        (du/dp = 0 on the prescribed DOFs)
+with K the tangent at that state, and the instruments' readings follow:
+    load cell    dF/dp = c Σ_grip (∂f_int/∂p + K_{grip,f} du_f/dp)      (c the symmetry factor)
+    extensometer de/dp = n · (δx_b − δx_a) / L0, δx = the marks' displacement along du/dp,
+                 n the unit vector between the marks (the reading |x_b − x_a|/L0 − 1 is smooth).
+For the compressible Neo-Hookean law, P = μ (F − F⁻ᵀ) + λ_L ln J F⁻ᵀ with λ_L = K − 2μ/3, so
+    ∂P/∂μ|_K = F − F⁻ᵀ − (2/3) ln J F⁻ᵀ,   ∂P/∂K|_μ = ln J F⁻ᵀ    (MPa per MPa)
+and ∂f_int/∂p is the internal force of that stress field (P is linear in μ and K: exact).
+K_ff is factorized once per recorded level (the stepping does not hand its own factor out), and
+each constant costs one back-substitution there.
+"""
+
+from __future__ import annotations
+
+import copy
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from vlab.fields import SceneError
+
+__all__ = ["Simulation", "simulate", "MODULUS_KEYS"]
+
+MODULUS_KEYS = ("E", "nu", "lambda", "mu", "G", "K", "M")
+
+
+@dataclass(frozen=True)
+class Simulation:
+    """Readings (strain, force N) at every recorded level and their sensitivities (k, n_p)."""
+
+    strain: np.ndarray
+    force: np.ndarray
+    dstrain: np.ndarray
+    dforce: np.ndarray
+    area0: float
+    result: object
+
+
+def scene_with(fe: dict, values: dict):
+    """The fit's scene with its material constants replaced by ``values`` (mu, K)."""
+    from vlab.scene import parse_scene
+
+    raw = copy.deepcopy(fe["scene_raw"])
+    material = {k: v for k, v in raw["material"].items() if k not in MODULUS_KEYS}
+    material |= {"mu": float(values["mu"]), "K": float(values["K"])}
+    raw["material"] = material
+    return parse_scene(raw, "fe.scene", Path(fe["scene_path"]).parent)
+
+
+def _stress_derivatives(F: np.ndarray) -> dict:
+    from vlab.tensor import inv_transpose
+
+    Finv_t, J = inv_transpose(F)
+    lnJ = np.log(J)
+    return {"mu": F - Finv_t - (2.0 / 3.0) * lnJ * Finv_t, "K": lnJ * Finv_t}
+
+
+def _marks_displacement(ext, du: np.ndarray) -> np.ndarray:
+    """δx of both marks along du (the probe is linear; reflections only flip components)."""
+    from vlab.geometry.symmetry import reflect_back
+
+    dim = ext._dim
+    d = ext._probe @ du.reshape(-1, dim)
+    zero = np.zeros(dim)
+    return np.array([reflect_back(ext._X[i] + d[i], ext._signs[i], ext._planes)
+                     - reflect_back(ext._X[i] + zero, ext._signs[i], ext._planes) for i in (0, 1)])
+
+
+def _level_sensitivity(level, body, space, free, grip, factor, ext, params):
+    from vlab.fe.assembly import element_forces, scatter_vector
+    from vlab.fe.linsolve import factorize
+
+    ev = level.evaluation
+    K = body.stiffness(ev).tocsr()
+    Kff, Kgf = K[free][:, free], K[grip][:, free]
+    fac = factorize(Kff)
+    dP = _stress_derivatives(ev.F)
+    from vlab.geometry.symmetry import reflect_back
+
+    x = ext._X + ext._probe @ ev.u.reshape(-1, ext._dim)
+    n = (reflect_back(x[1], ext._signs[1], ext._planes) - reflect_back(x[0], ext._signs[0], ext._planes))
+    n = n / np.linalg.norm(n)
+    dF, de = [], []
+    for p in params:
+        g = scatter_vector(space, element_forces(space, dP[p]))
+        du_f = -fac.solve(g[free])
+        dF.append(factor * float(g[grip].sum() + (Kgf @ du_f).sum()))
+        du = np.zeros(space.n_dofs)
+        du[free] = du_f
+        dx = _marks_displacement(ext, du)
+        de.append(float(n @ (dx[1] - dx[0])) / ext.length0)
+    return dF, de
+
+
+def simulate(fe: dict, values: dict) -> Simulation:
+    """Run the scene at ``values`` and differentiate its readings; SceneError if it fails."""
+    from vlab.loading.grips import grip_loading
+    from vlab.measure.instruments import extensometers
+    from vlab.run import run_scene
+
+    scene = scene_with(fe, values)
+    result = run_scene(scene)
+    if not result.converged:
+        raise RuntimeError(f"the test at {values} did not complete: {result.history.failure.reason}")
+    space, specimen = result.space, result.specimen
+    body, partition = result.extra["body"], result.extra["partition"]
+    loading = grip_loading(specimen, space.node_coordinates, scene.test.stretch, scene.test.grips)
+    grip, factor = loading.moving_dofs[0], specimen.force_factor(0)
+    ext = extensometers(space, [specimen.extensometers[0]], specimen.symmetry)[0]
+    params = fe["parameters"]
+    rows = [_level_sensitivity(lv, body, space, partition.free, grip, factor, ext, params)
+            for lv in result.history.levels]
+    curve = result.curve
+    if len(curve.strain[0]) != len(rows):
+        raise SceneError("fe.scene: the recorded levels and the solver's levels differ")
+    return Simulation(np.array(curve.strain[0]), np.array(curve.force[0]),
+                      np.array([r[1] for r in rows]), np.array([r[0] for r in rows]),
+                      float(curve.area0[0]), result)

@@ -1,0 +1,75 @@
+"""The [fe] table of a fit file: the scene whose test is fitted to a specimen's readings.
+
+    [fe]
+    scene = "dogbone.toml"          # resolved against the fit file's folder; validated as a scene
+    parameters = ["mu"]             # the material constants fitted (the others stay as the scene has them)
+    start = { mu = 0.5 }            # optional start (default: the scene's values)
+    max_solves = 15                 # whole-test solves allowed (1..200)
+
+The scene's material model must be the fit file's [model] name. Fittable constants per model
+(the FE library's grammar): neo-hookean: mu, K (the scene's other constant is converted to K).
+"""
+
+from __future__ import annotations
+
+import tomllib
+from pathlib import Path
+
+from vlab import fields
+from vlab.fields import SceneError, Table
+
+__all__ = ["parse_fe", "FITTABLE"]
+
+FITTABLE = {"neo-hookean": ("mu", "K")}
+
+
+def _scene(t: Table, base: Path):
+    from vlab.scene import parse_scene
+
+    name = t.get("scene")
+    if not isinstance(name, str) or not name:
+        raise SceneError(f"fe.scene must be a scene file name (string), got {fields.show(name)}")
+    path = (base / name).resolve()
+    if not path.is_file():
+        raise SceneError(f"fe.scene: scene file {str(path)!r} does not exist")
+    try:
+        raw = tomllib.loads(path.read_text(encoding="utf-8"))
+    except tomllib.TOMLDecodeError as exc:
+        raise SceneError(f"fe.scene: {path.name} is not valid TOML: {exc}") from None
+    return path, raw, parse_scene(raw, path.name, path.parent)
+
+
+def parse_fe(raw, base: Path, model, datasets) -> dict:
+    """The validated [fe] table as a dict (scene path, raw scene dict, parsed scene, parameters...)."""
+    if raw is None:
+        raise SceneError("a data set of kind = \"specimen\" needs an [fe] table with scene = \"<scene>.toml\"")
+    t = Table("fe", raw, ("scene", "parameters", "start", "max_solves"))
+    path, scene_raw, scene = _scene(t, base)
+    name = scene.material.model
+    if name != model.law.model:
+        raise SceneError(f"fe.scene: the scene's material.model is {name!r} but model.name is "
+                         f"{model.law.model!r}; they must be the same model")
+    allowed = FITTABLE.get(name)
+    if allowed is None:
+        raise SceneError(f"fe.scene: FE-in-the-loop fits support material.model in {', '.join(FITTABLE)}, "
+                         f"got {name!r}")
+    if scene.mesh.formulation != "displacement" or scene.effects:
+        raise SceneError("fe.scene: FE-in-the-loop fits need mesh.formulation = \"displacement\" and no [effects]")
+    params = t.get("parameters", [allowed[0]])
+    if not isinstance(params, list) or not params or len(set(params)) != len(params):
+        raise SceneError(f"fe.parameters must be a non-empty list of distinct names from {', '.join(allowed)}, "
+                         f"got {fields.show(params)}")
+    for p in params:
+        fields.choice("fe.parameters[]", p, allowed)
+    moduli = scene.material.moduli
+    values = {"mu": moduli.mu, "K": moduli.lmbda + 2.0 * moduli.mu / 3.0}
+    start_raw = t.get("start", {})
+    st = Table("fe.start", start_raw, tuple(params))
+    start = {p: st.number(p, values[p], gt=0, note=" (MPa)") for p in params}
+    specimen_sets = [d for d in datasets if d.kind == "specimen"]
+    if any(d.b is not None for d in specimen_sets):
+        raise SceneError("columns strain2/force2 (a cruciform's second axis) are not supported yet: fit one axis")
+    if any(d.kind != "specimen" for d in datasets if d.role == "fit"):
+        raise SceneError("an FE-in-the-loop fit takes only data sets of kind = \"specimen\"")
+    return {"scene_path": str(path), "scene_raw": scene_raw, "scene": scene, "parameters": tuple(params),
+            "start": start, "fixed": values, "max_solves": t.integer("max_solves", 1, 200, 15)}
