@@ -73,3 +73,13 @@ def test_noisy_fits_cover_the_true_constants_in_about_the_stated_fraction_of_see
             hits[j] += lo <= card[j] <= hi
     # 95 % intervals: binomial(60, 0.95) lies in 52..60 with probability > 0.99
     assert np.all(hits >= 52), hits
+
+
+def test_true_stress_data_are_fitted_as_true_stress():
+    import dataclasses
+
+    model = Constitutive(law_for("mooney-rivlin"))
+    nominal = synthetic(model, [0.25, 0.05], ["uniaxial", "equibiaxial"])
+    true = [dataclasses.replace(d, measure="true", y=d.y * d.a) for d in nominal]  # σ = λ P (incompressible)
+    out = fit_homogeneous(spec_of(model, true, starts=2))
+    assert np.allclose(model.card_vector(out.x), [0.25, 0.05], rtol=1e-6)

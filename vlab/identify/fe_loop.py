@@ -156,7 +156,8 @@ def fit_specimen(spec):
         "card": card_of(model, x),
         "fe": {"scene": spec.fe["scene_path"], "solves": prob.solves, "trail": trail,
                "homogeneous_fit": _homogeneous_comparison(spec, sim, p, se, names)},
-        "warnings": [], "options": {"residual": spec.residual},
+        "warnings": [f"vlab run: {w}" for w in sim.result.extra.get("warnings", [])],
+        "options": {"residual": spec.residual},
         "timing": {"fit_s": t_fit, "total_s": time.perf_counter() - t0},
     }
     fe_spec = dataclasses.replace(spec, model=model)

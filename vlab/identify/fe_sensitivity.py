@@ -17,6 +17,7 @@ each constant costs one back-substitution there.
 from __future__ import annotations
 
 import copy
+import logging
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -97,6 +98,11 @@ def _level_sensitivity(level, body, space, free, grip, factor, ext, params):
     return dF, de
 
 
+class _Quiet(logging.Filter):
+    def filter(self, record: logging.LogRecord) -> bool:
+        return record.levelno > logging.WARNING
+
+
 def simulate(fe: dict, values: dict) -> Simulation:
     """Run the scene at ``values`` and differentiate its readings; SceneError if it fails."""
     from vlab.loading.grips import grip_loading
@@ -104,7 +110,13 @@ def simulate(fe: dict, values: dict) -> Simulation:
     from vlab.run import run_scene
 
     scene = scene_with(fe, values)
-    result = run_scene(scene)
+    run_log = logging.getLogger("vlab.run")
+    quiet = _Quiet()
+    run_log.addFilter(quiet)  # the run's caveats go to fit.json once, not to the console per solve
+    try:
+        result = run_scene(scene)
+    finally:
+        run_log.removeFilter(quiet)
     if not result.converged:
         raise RuntimeError(f"the test at {values} did not complete: {result.history.failure.reason}")
     space, specimen = result.space, result.specimen
