@@ -55,6 +55,20 @@ def _stability_rows(st: dict) -> list:
     return rows
 
 
+def _fe_section(d: dict) -> str:
+    """FE in the loop: solves and the homogeneous fit of the same readings."""
+    fe = d.get("fe")
+    if not fe:
+        return ""
+    hom = fe["homogeneous_fit"]
+    rows = [[html.escape(n), _f(d["parameters"][n], 6), _f(v, 6), f"{100 * hom['relative_difference'][n]:+.3g} %",
+             _f(hom["difference_in_standard_errors"][n], 3)] for n, v in hom["parameters"].items()]
+    return (f"<h2>FE in the loop</h2><p>{fe['solves']} whole-test solves of {html.escape(fe['scene'])}; the "
+            "closed-form uniaxial fit of the same readings (stress = force / A0, stretch = 1 + strain) for "
+            "comparison: the error a specimen's inhomogeneity would put into a homogeneous fit.</p>"
+            + _table(["constant", "FE fit", "homogeneous fit", "difference", "difference (standard errors)"], rows))
+
+
 def page(d: dict, images: list[tuple[str, str]]) -> str:
     """index.html of a fit dict and its figures [(file, caption)]."""
     corr = d["correlation"]
@@ -85,6 +99,7 @@ def page(d: dict, images: list[tuple[str, str]]) -> str:
           f"{starts['others_objective_ratio']['max']:.3g} × best"]])}
 <h2>Drucker stability</h2>
 {_table(['kind', 'tension', 'compression', 'stable over the fitted range'], _stability_rows(d['stability']))}
+{_fe_section(d)}
 <h2>Card</h2><pre>{html.escape(d['card']['toml'])}</pre><p>{html.escape(d['card']['note'])}</p>
 <p>Timing: fit {d['timing']['fit_s']:.3g} s, total {d['timing']['total_s']:.3g} s.</p>
 </body></html>"""
@@ -112,7 +127,7 @@ def write_fit_files(outcome, tmp: Path, fit_text: str | None = None) -> dict:
     d = outcome.data
     sets = [s for s in outcome.spec.datasets if s.kind != "specimen"]
     tmp = Path(tmp)
-    images = []
+    images = list(outcome.extras.get("figures", []))
     if sets:
         plot_curves(outcome, [curves(outcome, s) for s in sets], tmp / "curves.png")
         images.append(("curves.png", "Data (points; orange: held out, predicted only) against the fitted "
@@ -120,8 +135,6 @@ def write_fit_files(outcome, tmp: Path, fit_text: str | None = None) -> dict:
     plot_stability_map(outcome, tmp / "stability_map.png")
     images.append(("stability_map.png", "Drucker stability of the fitted card over the (λ1, λ2) plane; the "
                    "paths of the uniaxial, equibiaxial and planar tests, dashed where unstable."))
-    for name, caption in outcome.extras.get("figures", []):
-        images.append((name, caption))
     for name, writer in outcome.extras.get("writers", []):
         writer(tmp / name)
     d["files"] = ["fit.json", "index.html", "card.toml"] + [f for f, _ in images]
