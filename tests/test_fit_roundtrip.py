@@ -83,3 +83,31 @@ def test_true_stress_data_are_fitted_as_true_stress():
     true = [dataclasses.replace(d, measure="true", y=d.y * d.a) for d in nominal]  # σ = λ P (incompressible)
     out = fit_homogeneous(spec_of(model, true, starts=2))
     assert np.allclose(model.card_vector(out.x), [0.25, 0.05], rtol=1e-6)
+
+
+def test_hydrostatic_pressure_is_minus_u_prime_and_fixes_a_fitted_bulk_modulus():
+    from vlab.identify.datasets import Dataset
+    from vlab.identify.states import response
+
+    J = np.linspace(0.9, 1.0, 6)
+    quad = Constitutive(law_for("mooney-rivlin"), "fit", None, "quadratic")
+    p = np.real(response(quad, np.array([[0.3, 0.05, 40.0]]), "volumetric", J))[0]
+    assert np.allclose(p, -40.0 * (J - 1.0), rtol=1e-12, atol=1e-15)
+    card = [0.25, 0.05, 40.0]
+    sets = synthetic(quad, card, ("uniaxial", "equibiaxial"))
+    y = np.real(response(quad, np.linalg.solve(quad.transform, card)[None], "volumetric", J))[0]
+    sets.append(Dataset("vol", "vol.csv", "volumetric", "fit", 1.0, "nominal", J, None, y))
+    out = fit_homogeneous(spec_of(quad, sets, starts=3))
+    assert np.allclose(quad.card_vector(out.x), card, rtol=1e-6)
+    assert out.data["identifiability"]["identifiable"]
+
+
+def test_volumetric_data_with_an_incompressible_model_is_refused(tmp_path):
+    from vlab.fields import SceneError
+    from vlab.identify.fitfile import load_fit
+
+    (tmp_path / "v.csv").write_text("J,p\n0.95,2\n0.99,0.4\n")
+    (tmp_path / "f.toml").write_text('[model]\nname = "yeoh"\n[[data]]\nfile = "v.csv"\nkind = "volumetric"\n'
+                                     'columns = { volume_ratio = "J", stress = "p" }\n')
+    with pytest.raises(SceneError, match="needs a compressible model"):
+        load_fit(tmp_path / "f.toml")

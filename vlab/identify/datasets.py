@@ -28,6 +28,7 @@ COLUMN_KEYS = {
     "biaxial": (("stretch", "stretch2", "stress", "stress2"), ()),
     "simple-shear": (("shear", "stress"), ()),
     "specimen": (("strain", "force"), ("strain2", "force2")),
+    "volumetric": (("volume_ratio", "stress"), ()),
 }
 
 

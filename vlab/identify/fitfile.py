@@ -28,7 +28,7 @@ from vlab.identify.states import Constitutive
 
 __all__ = ["FitSpec", "load_fit", "parse_fit", "parse_model_name"]
 
-KINDS = ("uniaxial", "equibiaxial", "planar", "biaxial", "simple-shear", "specimen")
+KINDS = ("uniaxial", "equibiaxial", "planar", "biaxial", "simple-shear", "volumetric", "specimen")
 
 
 @dataclass(frozen=True, eq=False)
@@ -129,7 +129,11 @@ def _to_dataset(path, name, kind, role, weight, measure, factor, wanted, cols) -
             j = int(np.argmax(cols[key] <= 0))
             raise SceneError(f"{path.name} row {int(lines[j])} column {wanted[key]!r}: stretch must be > 0 "
                              f"(strain > -1), got {cols[key][j]:g}")
-    control = {"simple-shear": "shear", "specimen": "strain"}.get(kind, "stretch")
+    if kind == "volumetric" and np.any(cols["volume_ratio"] <= 0):
+        j = int(np.argmax(cols["volume_ratio"] <= 0))
+        raise SceneError(f"{path.name} row {int(lines[j])} column {wanted['volume_ratio']!r}: volume ratio must "
+                         f"be > 0, got {cols['volume_ratio'][j]:g}")
+    control = {"simple-shear": "shear", "specimen": "strain", "volumetric": "volume_ratio"}.get(kind, "stretch")
     if kind != "biaxial":
         check_monotonic(path, wanted[control], cols[control], lines)
     if kind == "biaxial":
@@ -169,6 +173,9 @@ def parse_fit(data: dict, base_dir: Path, default_name: str = "fit") -> FitSpec:
     if not isinstance(raw_data, list) or not raw_data:
         raise SceneError("[[data]] must list at least one data set (file, kind, columns, ...)")
     datasets = tuple(_dataset(d, i, Path(base_dir)) for i, d in enumerate(raw_data))
+    if model.bulk == "incompressible" and any(d.kind == "volumetric" for d in datasets):
+        raise SceneError("a data set of kind = \"volumetric\" needs a compressible model: model.fit_K = true "
+                         "or model.K")
     if not any(d.role == "fit" for d in datasets):
         raise SceneError("no data set has role = \"fit\": at least one must be fitted")
     fe = None

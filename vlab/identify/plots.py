@@ -14,7 +14,7 @@ from vlab.identify.drucker import PATHS, stability_map  # noqa: E402
 
 __all__ = ["plot_curves", "plot_stability_map"]
 
-_XLABEL = {"simple-shear": "shear γ", "biaxial": "point", "specimen": "strain"}
+_XLABEL = {"simple-shear": "shear γ", "biaxial": "point", "specimen": "strain", "volumetric": "volume ratio J"}
 
 
 def _panel(ax, rax, d, cur, confidence: float):
@@ -31,7 +31,8 @@ def _panel(ax, rax, d, cur, confidence: float):
         ax.fill_between(cur["a"], cur["y"] - cur["band"], cur["y"] + cur["band"], color="k", alpha=0.18,
                         label=f"{100 * confidence:g} % band (delta method)")
         x = d.a
-    ax.set_ylabel(f"{'true' if d.measure == 'true' else 'nominal'} stress (MPa)")
+    ax.set_ylabel("pressure (MPa)" if d.kind == "volumetric" else
+                  f"{'true' if d.measure == 'true' else 'nominal'} stress (MPa)")
     ax.legend(fontsize=7)
     ax.grid(alpha=0.3)
     floor = 0.01 * np.max(np.abs(d.y))

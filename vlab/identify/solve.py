@@ -92,7 +92,7 @@ def modulus_scale(datasets) -> float:
     """A shear-modulus estimate (MPa): median of y / ŷ of an incompressible Neo-Hookean, μ = 1."""
     nh = Constitutive(law_for("neo-hookean"))
     ratios = []
-    for d in datasets:
+    for d in (d for d in datasets if d.kind != "volumetric"):
         base = np.real(predict(nh, np.ones((1, 1)), d)[0])
         ok = np.abs(base) > 1e-3
         ratios.extend((d.y[ok] / base[ok]).tolist())
@@ -103,7 +103,7 @@ def modulus_scale(datasets) -> float:
 def max_I1(datasets) -> float:
     """The largest I1 = Σ λ_i² the fitted data reach (incompressible states)."""
     out = 3.0
-    for d in datasets:
+    for d in (d for d in datasets if d.kind != "volumetric"):
         if d.kind == "simple-shear":
             i1 = 3.0 + d.a ** 2
         else:

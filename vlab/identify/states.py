@@ -16,7 +16,10 @@ stresses (MPa):
 Kinds (λ the controlled stretch, nominal P_i = τ_i/λ_i, true σ_i = τ_i/J):
 uniaxial F = diag(λ, t, t); equibiaxial diag(λ, λ, t); planar (pure shear) diag(λ, 1, t);
 biaxial diag(λ1, λ2, t) (two stresses); simple shear F = 1 + γ e1⊗e2 (isochoric), principal
-stretches λ± = √(1 + γ²/4) ± γ/2 and shear stress σ12 = P12 = (τ1 − τ2)/√(4 + γ²).
+stretches λ± = √(1 + γ²/4) ± γ/2 and shear stress σ12 = P12 = (τ1 − τ2)/√(4 + γ²);
+volumetric (hydrostatic, compressible only): λ_i = J^(1/3), the pressure p = −τ/J (MPa, positive
+in compression; the isochoric part vanishes, so p = −U'(J), or for vlab's Neo-Hookean
+−(μ (J^(2/3) − 1) + λ_L ln J)/J).
 """
 
 from __future__ import annotations
@@ -29,7 +32,7 @@ from vlab.identify.laws import Law
 
 __all__ = ["Constitutive", "KINDS", "response", "principal_tau", "incompressible_rows"]
 
-KINDS = ("uniaxial", "equibiaxial", "planar", "biaxial", "simple-shear")
+KINDS = ("uniaxial", "equibiaxial", "planar", "biaxial", "simple-shear", "volumetric")
 _FREE = {"uniaxial": 1, "equibiaxial": 2, "planar": 2, "biaxial": 2}
 
 
@@ -154,6 +157,9 @@ def response(model: Constitutive, x, kind: str, a, b=None, measure: str = "nomin
     c, K = model.split(np.asarray(x)[:, None, :])
     a = np.asarray(a, float)[None, :]
     b = None if b is None else np.asarray(b, float)[None, :]
+    if kind == "volumetric":
+        lam = a ** (1.0 / 3.0)
+        return -principal_tau(model, c, K, lam, lam, lam)[0] / a + 0.0 * c[0]
     if kind == "simple-shear" or model.bulk == "incompressible":  # J = 1: no bulk term
         l1, l2, l3, g = incompressible_rows(kind, a[0], None if b is None else b[0], measure)
         w = model.law.w(c, l1[None, :], l2[None, :], l3[None, :])
