@@ -74,12 +74,13 @@ scene = "dumbbell.toml"
 parameters = ["mu", "K"]
 start = {{ mu = {start["mu"]}, K = {start["K"]} }}
 max_solves = 15
+cache = false
 ''')
     t = time.perf_counter()
     out = fit_specimen(load_fit(tmp / "fit.toml"))
     wall = time.perf_counter() - t
     d = out.data
-    print(f"dumb-bell: {s.result.space.n_dofs} DOFs, {len(s.strain)} recorded levels, one solve + sensitivities "
+    print(f"dumb-bell: {s.dofs} DOFs, {len(s.strain)} recorded levels, one solve + sensitivities "
           f"{one:.1f} s; fit {wall:.1f} s, {d['fe']['solves']} whole-test solves, converged {d['converged']}")
     for n in ("mu", "K"):
         v, se = d["parameters"][n], d["uncertainty"][n]["standard_error"]

@@ -68,9 +68,10 @@ scene = "block.toml"
 parameters = ["mu"]
 start = { mu = 0.6 }
 max_solves = 10
+cache = "cache"
 ''')
     r = subprocess.run([sys.executable, "-m", "vlab", "fit", str(tmp_path / "fit.toml"), "--out", str(tmp_path / "out")],
-                       capture_output=True, text=True, timeout=600)
+                       capture_output=True, text=True, timeout=600, cwd=tmp_path)
     assert r.returncode == 0, r.stderr
     d = json.loads((tmp_path / "out" / "fit.json").read_text())
     mu, se = d["parameters"]["mu"], d["uncertainty"]["mu"]["standard_error"]
@@ -79,6 +80,12 @@ max_solves = 10
     assert "mu" in d["fe"]["homogeneous_fit"]["parameters"]
     assert d["card"]["material"]["model"] == "neo-hookean" and d["card"]["material"]["K"] == pytest.approx(2.0)
     assert (tmp_path / "out" / "specimen.png").is_file()
+    assert d["fe"]["from_cache"] == 0 and len(list((tmp_path / "cache").glob("*/*.json"))) == d["fe"]["solves"]
+    r = subprocess.run([sys.executable, "-m", "vlab", "fit", str(tmp_path / "fit.toml"), "--out", str(tmp_path / "again")],
+                       capture_output=True, text=True, timeout=600, cwd=tmp_path)
+    again = json.loads((tmp_path / "again" / "fit.json").read_text())
+    assert again["fe"]["from_cache"] == again["fe"]["solves"]  # a repeated fit re-solves nothing
+    assert again["parameters"] == d["parameters"]
 
 
 def test_an_fe_fit_whose_scene_is_another_model_is_refused(tmp_path):
@@ -132,7 +139,7 @@ def test_a_dumbbell_curve_with_one_percent_noise_gives_back_its_constants_within
         (tmp_path / "r.csv").write_text("strain,force\n" + "".join(f"{e:.17g},{f:.17g}\n" for e, f in zip(s.strain, force)))
         (tmp_path / "fit.toml").write_text('[model]\nname = "neo-hookean"\n[[data]]\nfile = "r.csv"\nkind = "specimen"\n'
                                            '[fe]\nscene = "dumbbell.toml"\nparameters = ["mu", "K"]\n'
-                                           'start = { mu = 0.75, K = 7.5 }\nmax_solves = 15\n')
+                                           'start = { mu = 0.75, K = 7.5 }\nmax_solves = 15\ncache = false\n')
         d = fit_specimen(load_fit(tmp_path / "fit.toml")).data
         assert d["converged"] and d["fe"]["solves"] <= 15
         z = [abs(d["parameters"][n] - TRUE[n]) / d["uncertainty"][n]["standard_error"] for n in ("mu", "K")]

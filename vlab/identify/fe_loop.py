@@ -57,7 +57,8 @@ class _Problem:
         self.spec, self.fe = spec, spec.fe
         self.sets = [d for d in spec.datasets if d.kind == "specimen" and d.role == "fit"]
         self.names = self.fe["parameters"]
-        self.solves = 0
+        self.solves = 0   # evaluations of the whole test (solved, or read back from the cache)
+        self.cached = 0
 
     def values(self, p):
         return self.fe["fixed"] | dict(zip(self.names, map(float, p)))
@@ -65,6 +66,7 @@ class _Problem:
     def evaluate(self, p):
         self.solves += 1
         sim = simulate(self.fe, self.values(p))
+        self.cached += sim.cached
         parts = [residuals(sim, d, self.spec.residual == "relative") for d in self.sets]
         return np.concatenate([q[0] for q in parts]), np.vstack([q[1] for q in parts]), sim
 
@@ -154,9 +156,10 @@ def fit_specimen(spec):
                             "condition_number": cond, "correlated_pairs": stats["correlated_pairs"]},
         "stability": {"kinds": stability, "stable_over_all_fitted_ranges": True},
         "card": card_of(model, x),
-        "fe": {"scene": spec.fe["scene_path"], "solves": prob.solves, "trail": trail,
+        "fe": {"scene": spec.fe["scene_path"], "solves": prob.solves, "from_cache": prob.cached,
+               "cache": spec.fe.get("cache"), "trail": trail,
                "homogeneous_fit": _homogeneous_comparison(spec, sim, p, se, names)},
-        "warnings": [f"vlab run: {w}" for w in sim.result.extra.get("warnings", [])],
+        "warnings": [f"vlab run: {w}" for w in sim.warnings],
         "options": {"residual": spec.residual},
         "timing": {"fit_s": t_fit, "total_s": time.perf_counter() - t0},
     }

@@ -39,7 +39,18 @@ class Simulation:
     dstrain: np.ndarray
     dforce: np.ndarray
     area0: float
-    result: object
+    warnings: tuple = ()
+    cached: bool = False
+    dofs: int = 0
+
+    def as_dict(self) -> dict:
+        return {"strain": self.strain.tolist(), "force": self.force.tolist(), "dstrain": self.dstrain.tolist(),
+                "dforce": self.dforce.tolist(), "area0": self.area0, "warnings": list(self.warnings), "dofs": self.dofs}
+
+    @classmethod
+    def from_dict(cls, d: dict) -> "Simulation":
+        return cls(np.array(d["strain"]), np.array(d["force"]), np.array(d["dstrain"]), np.array(d["dforce"]),
+                   float(d["area0"]), tuple(d["warnings"]), True, int(d["dofs"]))
 
 
 def scene_with(fe: dict, values: dict):
@@ -104,12 +115,31 @@ class _Quiet(logging.Filter):
 
 
 def simulate(fe: dict, values: dict) -> Simulation:
-    """Run the scene at ``values`` and differentiate its readings; SceneError if it fails."""
+    """Run the scene at ``values`` and differentiate its readings (RuntimeError if the test fails).
+
+    With ``fe["cache"]`` (a folder) the readings and sensitivities are kept in vlab's run cache
+    (vlab.study.cache: content-addressed by the scene with these constants, the vlab version and
+    the fitted constants' names), so a repeated fit re-solves nothing."""
+    scene = scene_with(fe, values)
+    if not fe.get("cache"):
+        return _solve(fe, scene)
+    from vlab.study.cache import SummaryCache, cache_key
+
+    cache = SummaryCache(fe["cache"])
+    key = cache_key(scene.content_hash(), {"identify.fe_sensitivity": list(fe["parameters"])})
+    hit = cache.get(key)
+    if hit is not None:
+        return Simulation.from_dict(hit)
+    sim = _solve(fe, scene)
+    cache.put(key, sim.as_dict())
+    return sim
+
+
+def _solve(fe: dict, scene) -> Simulation:
     from vlab.loading.grips import grip_loading
     from vlab.measure.instruments import extensometers
     from vlab.run import run_scene
 
-    scene = scene_with(fe, values)
     run_log = logging.getLogger("vlab.run")
     quiet = _Quiet()
     run_log.addFilter(quiet)  # the run's caveats go to fit.json once, not to the console per solve
@@ -118,7 +148,7 @@ def simulate(fe: dict, values: dict) -> Simulation:
     finally:
         run_log.removeFilter(quiet)
     if not result.converged:
-        raise RuntimeError(f"the test at {values} did not complete: {result.history.failure.reason}")
+        raise RuntimeError(f"the test at {scene.material.moduli} did not complete: {result.history.failure.reason}")
     space, specimen = result.space, result.specimen
     body, partition = result.extra["body"], result.extra["partition"]
     loading = grip_loading(specimen, space.node_coordinates, scene.test.stretch, scene.test.grips)
@@ -132,4 +162,4 @@ def simulate(fe: dict, values: dict) -> Simulation:
         raise SceneError("fe.scene: the recorded levels and the solver's levels differ")
     return Simulation(np.array(curve.strain[0]), np.array(curve.force[0]),
                       np.array([r[1] for r in rows]), np.array([r[0] for r in rows]),
-                      float(curve.area0[0]), result)
+                      float(curve.area0[0]), tuple(result.extra.get("warnings", [])), False, int(space.n_dofs))

@@ -5,6 +5,8 @@
     parameters = ["mu"]             # the material constants fitted (the others stay as the scene has them)
     start = { mu = 0.5 }            # optional start (default: the scene's values)
     max_solves = 15                 # whole-test solves allowed (1..200)
+    cache = true                    # keep each solve's readings and sensitivities in reports/.cache
+                                    # (false: none; or a folder), keyed like vlab's sweep cache
 
 The scene's material model must be the fit file's [model] name. Fittable constants per model
 (the FE library's grammar): neo-hookean: mu, K (the scene's other constant is converted to K).
@@ -43,7 +45,7 @@ def parse_fe(raw, base: Path, model, datasets) -> dict:
     """The validated [fe] table as a dict (scene path, raw scene dict, parsed scene, parameters...)."""
     if raw is None:
         raise SceneError("a data set of kind = \"specimen\" needs an [fe] table with scene = \"<scene>.toml\"")
-    t = Table("fe", raw, ("scene", "parameters", "start", "max_solves"))
+    t = Table("fe", raw, ("scene", "parameters", "start", "max_solves", "cache"))
     path, scene_raw, scene = _scene(t, base)
     name = scene.material.model
     if name != model.law.model:
@@ -72,4 +74,18 @@ def parse_fe(raw, base: Path, model, datasets) -> dict:
     if any(d.kind != "specimen" for d in datasets if d.role == "fit"):
         raise SceneError("an FE-in-the-loop fit takes only data sets of kind = \"specimen\"")
     return {"scene_path": str(path), "scene_raw": scene_raw, "scene": scene, "parameters": tuple(params),
-            "start": start, "fixed": values, "max_solves": t.integer("max_solves", 1, 200, 15)}
+            "start": start, "fixed": values, "max_solves": t.integer("max_solves", 1, 200, 15),
+            "cache": _cache(t, base)}
+
+
+def _cache(t: Table, base: Path) -> str | None:
+    """fe.cache: true (vlab's run cache, reports/.cache under the working folder, as vlab run and
+    sweep use), false, or a folder (resolved against the fit file's folder)."""
+    from vlab.study.cache import DEFAULT_CACHE
+
+    v = t.get("cache", True)
+    if isinstance(v, bool):
+        return str(DEFAULT_CACHE) if v else None
+    if isinstance(v, str) and v:
+        return str((base / v).resolve())
+    raise SceneError(f"fe.cache must be true, false or a folder name, got {fields.show(v)}")
