@@ -113,3 +113,13 @@ def test_cli_ranks_several_models_held_out_error_first(tmp_path):
         assert (tmp_path / "rank" / row["model"] / "fit.json").is_file()
     r = _cli(trel, "--models", "neo-hookean,mooney", "--out", tmp_path / "rank2", cwd=tmp_path)
     assert r.returncode == 2 and "--models" in r.stderr and not (tmp_path / "rank2").exists()
+
+
+def test_data_files_are_found_next_to_the_fit_file_whatever_the_working_folder(tmp_path, monkeypatch):
+    (tmp_path / "x").mkdir()
+    f = _write(tmp_path / "x", BASE)
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)
+    spec = load_fit(f)
+    assert Path(spec.datasets[0].file) == (tmp_path / "x" / "u.csv").resolve()

@@ -111,3 +111,11 @@ def test_volumetric_data_with_an_incompressible_model_is_refused(tmp_path):
                                      'columns = { volume_ratio = "J", stress = "p" }\n')
     with pytest.raises(SceneError, match="needs a compressible model"):
         load_fit(tmp_path / "f.toml")
+
+
+def test_absolute_residuals_fit_back_too_and_report_the_error_in_mpa():
+    model = Constitutive(law_for("yeoh"))
+    card = [0.2, -0.008, 0.0006]
+    out = fit_homogeneous(spec_of(model, synthetic(model, card, ("uniaxial", "planar")), starts=2, residual="absolute"))
+    assert np.allclose(model.card_vector(out.x), card, rtol=1e-6)
+    assert all(d["rms_absolute_MPa"] < 1e-9 for d in out.data["datasets"])

@@ -81,11 +81,16 @@ def plot_stability_map(outcome, path: Path) -> None:
     path_lam = np.geomspace(0.1, 10.0, 300)
     for kind, colour in (("uniaxial", "tab:blue"), ("equibiaxial", "tab:green"), ("planar", "tab:purple")):
         _path_segments(ax, outcome, kind, path_lam, colour)
+        for d in (d for d in outcome.spec.datasets if d.kind == kind):  # the data's range, drawn thick
+            lam = np.geomspace(float(np.min(d.a)), float(np.max(d.a)), 50)
+            l1, l2 = PATHS[kind](lam)
+            ax.plot(l1, l2, "-", color=colour, lw=4, alpha=0.5, solid_capstyle="butt")
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("λ1")
     ax.set_ylabel("λ2")
-    ax.set_title("Drucker stability (green: stable, red: unstable; λ3 = 1/(λ1 λ2))", fontsize=9)
+    ax.set_title("Drucker stability (green: stable, red: unstable; λ3 = 1/(λ1 λ2));\n"
+                 "thick: the stretch range of the data", fontsize=9)
     ax.legend(fontsize=7, loc="lower left")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
