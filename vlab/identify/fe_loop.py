@@ -101,16 +101,35 @@ def _homogeneous_comparison(spec, sim, p, se, names) -> dict:
     from vlab.identify.fitting import fit_homogeneous
 
     bulk = "fit" if "K" in names else "fixed"
-    model = Constitutive(law_for("neo-hookean"), bulk, None if bulk == "fit" else spec.fe["fixed"]["K"])
+    model = _closed_form(spec.fe, bulk)
     sets = tuple(Dataset(d.name, d.file, "uniaxial", "fit", d.weight, "nominal", 1.0 + d.a, None, d.y / sim.area0)
                  for d in spec.datasets if d.kind == "specimen" and d.role == "fit")
     hom = fit_homogeneous(dataclasses.replace(spec, model=model, datasets=sets, fe=None, starts=3))
-    values = dict(zip(model.names, model.card_vector(hom.x)))
+    values = spec.fe["fixed"] | dict(zip(model.names, model.card_vector(hom.x)))
     out = {"parameters": {n: float(values[n]) for n in names}, "area0_mm2": sim.area0}
     out["difference_in_standard_errors"] = {n: float((values[n] - v) / s) if s > 0 else None
                                             for n, v, s in zip(names, p, se)}
     out["relative_difference"] = {n: float(values[n] / v - 1) for n, v in zip(names, p)}
     return out
+
+
+def _closed_form(fe: dict, bulk: str) -> Constitutive:
+    """The identification library's form of the scene's law (vlab's Neo-Hookean, or a card model
+    with the scene's volumetric energy); bulk "fit" or "fixed" at the scene's K."""
+    return Constitutive(law_for(fe.get("model", "neo-hookean")), bulk,
+                        None if bulk == "fit" else fe["fixed"]["K"], fe.get("volumetric") or "quadratic")
+
+
+def _card_space(model: Constitutive, values: dict, names, cov):
+    """Internal coordinates x of the card (values) and the covariance of the fitted constants
+    mapped to x (zero for the constants held fixed): card = T x, Cov_x = T⁻¹ Cov T⁻ᵀ."""
+    order = list(model.names)
+    card = np.array([values[n] for n in order])
+    T_inv = np.linalg.inv(model.transform)
+    cov_card = np.zeros((len(order), len(order)))
+    idx = [order.index(n) for n in names]
+    cov_card[np.ix_(idx, idx)] = cov
+    return T_inv @ card, T_inv @ cov_card @ T_inv.T
 
 
 def fit_specimen(spec):
@@ -130,11 +149,8 @@ def fit_specimen(spec):
     stats = unc.summarize(p, cov, list(names), dof, spec.confidence)
     se = np.sqrt(np.clip(np.diag(cov), 0, None))
     values = prob.values(p)
-    model = Constitutive(law_for("neo-hookean"), "fit")
-    x = np.array([values["mu"], values["K"]])
-    cov_x = np.zeros((2, 2))
-    idx = [("mu", "K").index(n) for n in names]
-    cov_x[np.ix_(idx, idx)] = cov
+    model = _closed_form(spec.fe, "fit")
+    x, cov_x = _card_space(model, values, names, cov)
     datasets = []
     for d in (d for d in spec.datasets if d.kind == "specimen"):
         _, _, Fi = residuals(sim, d, True)
@@ -145,8 +161,9 @@ def fit_specimen(spec):
     stability = {k: kind_stability(model, x, k, None) for k in ("uniaxial", "equibiaxial", "planar")}
     data = {
         "name": spec.name, "converged": bool(converged), "reason": reason,
-        "model": {"name": "neo-hookean", "terms": 1, "bulk": "fit" if "K" in names else "fixed",
-                  "K": values["K"], "volumetric": "vlab neo-hookean", "mu0": values["mu"]},
+        "model": {"name": model.law.model, "terms": 1, "bulk": "fit" if "K" in names else "fixed",
+                  "K": values["K"], "volumetric": spec.fe.get("volumetric") or "vlab neo-hookean",
+                  "mu0": model.law.mu0([values[n] for n in model.law.names])},
         "parameters": {n: float(v) for n, v in zip(names, p)}, "uncertainty": stats["uncertainty"],
         "confidence": spec.confidence, "correlation": stats["correlation"], "datasets": datasets,
         "information": _information(r, len(p), s2, dof),
@@ -155,7 +172,7 @@ def fit_specimen(spec):
         "identifiability": {"identifiable": not stats["correlated_pairs"] and cond <= unc.COND_LIMIT,
                             "condition_number": cond, "correlated_pairs": stats["correlated_pairs"]},
         "stability": {"kinds": stability, "stable_over_all_fitted_ranges": True},
-        "card": card_of(model, x),
+        "card": card_of(model, model.card_vector(x)),
         "fe": {"scene": spec.fe["scene_path"], "solves": prob.solves, "from_cache": prob.cached,
                "cache": spec.fe.get("cache"), "trail": trail,
                "homogeneous_fit": _homogeneous_comparison(spec, sim, p, se, names)},

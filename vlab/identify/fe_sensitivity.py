@@ -9,7 +9,10 @@ with K the tangent at that state, and the instruments' readings follow:
                  n the unit vector between the marks (the reading |x_b − x_a|/L0 − 1 is smooth).
 For the compressible Neo-Hookean law, P = μ (F − F⁻ᵀ) + λ_L ln J F⁻ᵀ with λ_L = K − 2μ/3, so
     ∂P/∂μ|_K = F − F⁻ᵀ − (2/3) ln J F⁻ᵀ,   ∂P/∂K|_μ = ln J F⁻ᵀ    (MPa per MPa)
-and ∂f_int/∂p is the internal force of that stress field (P is linear in μ and K: exact).
+and ∂f_int/∂p is the internal force of that stress field (P is linear in μ and K: exact). The card
+models fitted here (Mooney–Rivlin, Yeoh: P = Σ_j p_j P_j(F), linear in each of C10, C01, C20,
+C30 and K) get ∂P/∂p_j = (P(p + δ e_j) − P(p))/δ from the library's own stress, which is exact for
+a linear dependence (no truncation error, whatever δ; δ = max(|p_j|, 1e-3) keeps the card admissible).
 K_ff is factorized once per recorded level (the stepping does not hand its own factor out), and
 each constant costs one back-substitution there.
 """
@@ -53,23 +56,45 @@ class Simulation:
                    float(d["area0"]), tuple(d["warnings"]), True, int(d["dofs"]))
 
 
+CARD_KEYS = ("C10", "C01", "C20", "C30", "D1")
+
+
+def material_table(fe: dict, values: dict) -> dict:
+    """The scene's [material] table with its constants replaced by ``values``."""
+    raw = fe["scene_raw"]["material"]
+    table = {k: v for k, v in raw.items() if k not in MODULUS_KEYS + CARD_KEYS}
+    return table | {k: float(v) for k, v in values.items()}
+
+
 def scene_with(fe: dict, values: dict):
-    """The fit's scene with its material constants replaced by ``values`` (mu, K)."""
+    """The fit's scene with its material constants replaced by ``values``."""
     from vlab.scene import parse_scene
 
     raw = copy.deepcopy(fe["scene_raw"])
-    material = {k: v for k, v in raw["material"].items() if k not in MODULUS_KEYS}
-    material |= {"mu": float(values["mu"]), "K": float(values["K"])}
+    material = material_table(fe, values)
     raw["material"] = material
     return parse_scene(raw, "fe.scene", Path(fe["scene_path"]).parent)
 
 
-def _stress_derivatives(F: np.ndarray) -> dict:
-    from vlab.tensor import inv_transpose
+def _stress_derivatives(F: np.ndarray, fe: dict, values: dict) -> dict:
+    """∂P/∂p (3, 3, e, q) for every fitted constant (module docstring)."""
+    if fe.get("model", "neo-hookean") == "neo-hookean":
+        from vlab.tensor import inv_transpose
 
-    Finv_t, J = inv_transpose(F)
-    lnJ = np.log(J)
-    return {"mu": F - Finv_t - (2.0 / 3.0) * lnJ * Finv_t, "K": lnJ * Finv_t}
+        Finv_t, J = inv_transpose(F)
+        lnJ = np.log(J)
+        return {"mu": F - Finv_t - (2.0 / 3.0) * lnJ * Finv_t, "K": lnJ * Finv_t}
+    from vlab.materials.card import build_material, parse_material  # the FE model library (#18)
+
+    def stress(v):
+        return build_material(parse_material(material_table(fe, v))).stress(F)
+
+    P0 = stress(values)
+    out = {}
+    for p in fe["parameters"]:
+        delta = max(abs(values[p]), 1e-3)
+        out[p] = (stress(values | {p: values[p] + delta}) - P0) / delta
+    return out
 
 
 def _marks_displacement(ext, du: np.ndarray) -> np.ndarray:
@@ -83,7 +108,7 @@ def _marks_displacement(ext, du: np.ndarray) -> np.ndarray:
                      - reflect_back(ext._X[i] + zero, ext._signs[i], ext._planes) for i in (0, 1)])
 
 
-def _level_sensitivity(level, body, space, free, grip, factor, ext, params):
+def _level_sensitivity(level, body, space, free, grip, factor, ext, fe, values):
     from vlab.fe.assembly import element_forces, scatter_vector
     from vlab.fe.linsolve import factorize
 
@@ -91,7 +116,8 @@ def _level_sensitivity(level, body, space, free, grip, factor, ext, params):
     K = body.stiffness(ev).tocsr()
     Kff, Kgf = K[free][:, free], K[grip][:, free]
     fac = factorize(Kff)
-    dP = _stress_derivatives(ev.F)
+    dP = _stress_derivatives(ev.F, fe, values)
+    params = fe["parameters"]
     from vlab.geometry.symmetry import reflect_back
 
     x = ext._X + ext._probe @ ev.u.reshape(-1, ext._dim)
@@ -122,7 +148,7 @@ def simulate(fe: dict, values: dict) -> Simulation:
     the fitted constants' names), so a repeated fit re-solves nothing."""
     scene = scene_with(fe, values)
     if not fe.get("cache"):
-        return _solve(fe, scene)
+        return _solve(fe, scene, values)
     from vlab.study.cache import SummaryCache, cache_key
 
     cache = SummaryCache(fe["cache"])
@@ -130,12 +156,12 @@ def simulate(fe: dict, values: dict) -> Simulation:
     hit = cache.get(key)
     if hit is not None:
         return Simulation.from_dict(hit)
-    sim = _solve(fe, scene)
+    sim = _solve(fe, scene, values)
     cache.put(key, sim.as_dict())
     return sim
 
 
-def _solve(fe: dict, scene) -> Simulation:
+def _solve(fe: dict, scene, values: dict) -> Simulation:
     from vlab.loading.grips import grip_loading
     from vlab.measure.instruments import extensometers
     from vlab.run import run_scene
@@ -154,8 +180,7 @@ def _solve(fe: dict, scene) -> Simulation:
     loading = grip_loading(specimen, space.node_coordinates, scene.test.stretch, scene.test.grips)
     grip, factor = loading.moving_dofs[0], specimen.force_factor(0)
     ext = extensometers(space, [specimen.extensometers[0]], specimen.symmetry)[0]
-    params = fe["parameters"]
-    rows = [_level_sensitivity(lv, body, space, partition.free, grip, factor, ext, params)
+    rows = [_level_sensitivity(lv, body, space, partition.free, grip, factor, ext, fe, values)
             for lv in result.history.levels]
     curve = result.curve
     if len(curve.strain[0]) != len(rows):

@@ -9,7 +9,9 @@
                                     # (false: none; or a folder), keyed like vlab's sweep cache
 
 The scene's material model must be the fit file's [model] name. Fittable constants per model
-(the FE library's grammar): neo-hookean: mu, K (the scene's other constant is converted to K).
+(the FE library's grammar), those the stress is linear in, so that ∂P/∂p is exact:
+neo-hookean: mu, K (the scene's other constant is converted to K); mooney-rivlin: C10, C01, K;
+yeoh: C10, C20, C30, K (the card models of issue #18, once the FE library has them).
 """
 
 from __future__ import annotations
@@ -22,7 +24,7 @@ from vlab.fields import SceneError, Table
 
 __all__ = ["parse_fe", "FITTABLE"]
 
-FITTABLE = {"neo-hookean": ("mu", "K")}
+FITTABLE = {"neo-hookean": ("mu", "K"), "mooney-rivlin": ("C10", "C01", "K"), "yeoh": ("C10", "C20", "C30", "K")}
 
 
 def _scene(t: Table, base: Path):
@@ -64,16 +66,19 @@ def parse_fe(raw, base: Path, model, datasets) -> dict:
     for p in params:
         fields.choice("fe.parameters[]", p, allowed)
     moduli = scene.material.moduli
-    values = {"mu": moduli.mu, "K": moduli.lmbda + 2.0 * moduli.mu / 3.0}
+    values = {"K": moduli.lmbda + 2.0 * moduli.mu / 3.0}
+    values |= {"mu": moduli.mu} if name == "neo-hookean" else dict(getattr(scene.material, "params", {}))
     start_raw = t.get("start", {})
     st = Table("fe.start", start_raw, tuple(params))
-    start = {p: st.number(p, values[p], gt=0, note=" (MPa)") for p in params}
+    start = {p: st.number(p, values[p], gt=0 if p in ("mu", "K", "C10") else None, note=" (MPa)")
+             for p in params}
     specimen_sets = [d for d in datasets if d.kind == "specimen"]
     if any(d.b is not None for d in specimen_sets):
         raise SceneError("columns strain2/force2 (a cruciform's second axis) are not supported yet: fit one axis")
     if any(d.kind != "specimen" for d in datasets if d.role == "fit"):
         raise SceneError("an FE-in-the-loop fit takes only data sets of kind = \"specimen\"")
     return {"scene_path": str(path), "scene_raw": scene_raw, "scene": scene, "parameters": tuple(params),
+            "model": name, "volumetric": getattr(scene.material, "volumetric", None),
             "start": start, "fixed": values, "max_solves": t.integer("max_solves", 1, 200, 15),
             "cache": _cache(t, base)}
 
