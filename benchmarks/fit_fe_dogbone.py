@@ -1,11 +1,12 @@
 """Benchmark: FE-in-the-loop identification on a dumb-bell curve vlab produced itself.
 
-    python -m benchmarks.fit_fe_dogbone [--noise 0.01] [--seed 0] [--start 1.5]
+    python -m benchmarks.fit_fe_dogbone [--model neo-hookean|mooney-rivlin] [--noise 0.01] [--seed 0] [--start 1.5]
 
-The ISO 37 type 2 dumb-bell (hexahedra, order 1, mesh.size 2) in Neo-Hookean rubber, mu = 0.5 MPa,
-K = 5 MPa, pulled to grip stretch 1.6 in 8 steps; the readings (extensometer strain, load-cell
-force) get 1 % relative Gaussian noise on the force; the fit starts at ``start`` × the true
-constants (both fitted) and may use 15 whole-test solves. Prints the solves, the fitted constants
+The ISO 37 type 2 dumb-bell (hexahedra, order 1, mesh.size 2) in Neo-Hookean rubber (mu = 0.5 MPa,
+K = 5 MPa; mu and K fitted) or Mooney–Rivlin rubber (C10 = 0.2, C01 = 0.05 MPa, K = 4 MPa held;
+C10 and C01 fitted, the issue's target; needs the FE model library of #18), pulled to grip stretch
+1.6 in 8 steps; the readings (extensometer strain, load-cell force) get 1 % relative Gaussian noise
+on the force; the fit starts at ``start`` × the true constants and may use 15 whole-test solves. Prints the solves, the fitted constants
 with their standard errors, the error in standard errors, and the homogeneous (closed-form
 uniaxial) fit of the same readings.
 """
@@ -29,15 +30,18 @@ size = 2.0
 order = 1
 cell = "hex"
 [material]
-model = "neo-hookean"
-mu = {mu}
-K = {K}
+{material}
 [test]
 kind = "uniaxial"
 stretch = 1.6
 steps = 8
 '''
-TRUE = {"mu": 0.5, "K": 5.0}
+CASES = {"neo-hookean": ({"mu": 0.5, "K": 5.0}, {}, ("mu", "K")),
+         "mooney-rivlin": ({"C10": 0.2, "C01": 0.05}, {"K": 4.0}, ("C10", "C01"))}
+
+
+def material(model: str, values: dict) -> str:
+    return f'model = "{model}"\n' + "".join(f"{k} = {v!r}\n" for k, v in values.items())
 
 
 def main() -> None:
@@ -45,18 +49,21 @@ def main() -> None:
     ap.add_argument("--noise", type=float, default=0.01)
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--start", type=float, default=1.5)
+    ap.add_argument("--model", choices=tuple(CASES), default="neo-hookean")
     args = ap.parse_args()
+    TRUE, held, names = CASES[args.model]
+    text = SCENE.format(material=material(args.model, TRUE | held))
     from vlab.identify.fitfile import load_fit
     from vlab.identify.fe_loop import fit_specimen
     from vlab.identify.fe_sensitivity import simulate
     import tomllib
 
     tmp = Path(tempfile.mkdtemp(prefix="vlab-fe-bench-"))
-    (tmp / "dumbbell.toml").write_text(SCENE.format(**TRUE))
-    fe = {"scene_path": str(tmp / "dumbbell.toml"), "scene_raw": tomllib.loads(SCENE.format(**TRUE)),
-          "parameters": ("mu",)}
+    (tmp / "dumbbell.toml").write_text(text)
+    fe = {"scene_path": str(tmp / "dumbbell.toml"), "scene_raw": tomllib.loads(text),
+          "parameters": names[:1], "model": args.model, "volumetric": None}
     t = time.perf_counter()
-    s = simulate(fe, TRUE)
+    s = simulate(fe, TRUE | held)
     one = time.perf_counter() - t
     rng = np.random.default_rng(args.seed)
     force = s.force * (1 + args.noise * rng.standard_normal(len(s.force)))
@@ -64,15 +71,15 @@ def main() -> None:
     start = {k: args.start * v for k, v in TRUE.items()}
     (tmp / "fit.toml").write_text(f'''name = "bench-fe"
 [model]
-name = "neo-hookean"
+name = "{args.model}"
 [[data]]
 file = "readings.csv"
 kind = "specimen"
 columns = {{ strain = "strain", force = "force" }}
 [fe]
 scene = "dumbbell.toml"
-parameters = ["mu", "K"]
-start = {{ mu = {start["mu"]}, K = {start["K"]} }}
+parameters = {list(names)!r}
+start = {{ {", ".join(f"{n} = {start[n]!r}" for n in names)} }}
 max_solves = 15
 cache = false
 ''')
@@ -82,7 +89,7 @@ cache = false
     d = out.data
     print(f"dumb-bell: {s.dofs} DOFs, {len(s.strain)} recorded levels, one solve + sensitivities "
           f"{one:.1f} s; fit {wall:.1f} s, {d['fe']['solves']} whole-test solves, converged {d['converged']}")
-    for n in ("mu", "K"):
+    for n in names:
         v, se = d["parameters"][n], d["uncertainty"][n]["standard_error"]
         print(f"  {n}: true {TRUE[n]:g}, start {start[n]:g}, fitted {v:.6g} ± {se:.3g}  "
               f"(error {(v - TRUE[n]) / se:+.2f} standard errors)")
