@@ -123,3 +123,15 @@ def test_data_files_are_found_next_to_the_fit_file_whatever_the_working_folder(t
     monkeypatch.chdir(elsewhere)
     spec = load_fit(f)
     assert Path(spec.datasets[0].file) == (tmp_path / "x" / "u.csv").resolve()
+
+
+def test_fit_never_replaces_a_folder_it_did_not_make(tmp_path):
+    f = _write(tmp_path, BASE)
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    (mine / "notes.txt").write_text("the user's")
+    r = _cli(f, "--out", mine, cwd=tmp_path)
+    assert r.returncode == 2 and "mine" in r.stderr
+    assert (mine / "notes.txt").read_text() == "the user's" and not (mine / "fit.json").exists()
+    r = _cli(f, "--out", tmp_path, cwd=tmp_path)  # the folder holding the fit file and its data
+    assert r.returncode == 2 and (tmp_path / "u.csv").is_file()

@@ -9,15 +9,17 @@ from typing import Optional
 import typer
 from rich.console import Console
 from rich.table import Table
+from rich.text import Text
 
+from vlab.cli_io import (EXIT_FAILED, EXIT_INVALID, EXIT_OK, cache_folder, console, fail, report_destination,
+                         say, scheduler_address)
 from vlab.moduli import ModuliError, from_pair
-from vlab.scene import SceneError, load_scene
+from vlab.scene import SceneError, load_scene_text
 
 app = typer.Typer(add_completion=False, no_args_is_help=True,
                   help="vlab — a virtual material-testing lab.")
-console = Console(stderr=True)
-
-EXIT_OK, EXIT_FAILED, EXIT_INVALID = 0, 1, 2
+FORCE_HELP = ("Replace a non-empty folder vlab did not make (never one holding the scene file, the cache, "
+              "the current or the home folder).")
 
 
 @app.callback()
@@ -28,8 +30,7 @@ def _environment() -> None:
     try:
         requested_threads()
     except ValueError as exc:
-        console.print(f"[red]invalid environment[/red] {exc}", highlight=False)
-        raise typer.Exit(EXIT_INVALID)
+        fail("invalid environment", exc)
 
 
 def default_scene_path() -> Path:
@@ -37,12 +38,22 @@ def default_scene_path() -> Path:
 
 
 def _load(scene: Optional[Path]):
+    """The parsed scene and its text (read once, bounded: vlab.scene.load_scene_text)."""
     path = scene or default_scene_path()
     try:
-        return load_scene(path), path.read_text(encoding="utf-8")
+        return load_scene_text(path)
     except SceneError as exc:
-        console.print(f"[red]invalid scene[/red] {exc}", highlight=False)
-        raise typer.Exit(EXIT_INVALID)
+        fail("invalid scene", exc)
+
+
+def _write(writer, *args):
+    """Call a report writer; a folder that cannot be written is exit 2 naming it."""
+    from vlab.report.folder import ReportFolderError
+
+    try:
+        return writer(*args)
+    except ReportFolderError as exc:
+        fail("cannot write report", exc)
 
 
 @app.command()
@@ -55,38 +66,37 @@ def run(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (defa
         gif: bool = typer.Option(False, "--gif", help="Also write an animated GIF of the test."),
         render: bool = typer.Option(True, "--render/--no-render", help="3D renders of the deformed specimen."),
         estimate: bool = typer.Option(True, "--estimate/--no-estimate",
-                                      help="Accuracy estimate from one coarser companion solve (mesh.size × 2).")):
+                                      help="Accuracy estimate from one coarser companion solve (mesh.size × 2)."),
+        force: bool = typer.Option(False, "--force", help=FORCE_HELP)):
     """Run one test and write its report: results.json, curve.csv, PNGs, renders, VTU/PVD, index.html."""
     from vlab.report.writer import write_run
     from vlab.run import run_scene
 
     parsed, text = _load(scene)
     options = _report_options(true, field, single_file, parsed.material.model if gif else None, render)
-    out = out or Path("reports") / parsed.name
+    dest = report_destination(out or Path("reports") / parsed.name, force, scene or None)
     n_levels = [0]
 
     def progress(level):
         n_levels[0] += 1
         if not quiet:
-            console.print(f"  level {n_levels[0]:3d}  t = {level.t:.4f}  Newton iterations {level.iterations}",
-                          highlight=False)
+            say(f"  level {n_levels[0]:3d}  t = {level.t:.4f}  Newton iterations {level.iterations}")
 
     if not quiet:
-        console.print(f"[bold]{parsed.name}[/bold]: {parsed.material.model}, {parsed.test.kind} "
-                      f"to stretch {list(parsed.test.stretch)}", highlight=False)
+        say((parsed.name, "bold"), f": {parsed.material.model}, {parsed.test.kind} "
+            f"to stretch {list(parsed.test.stretch)}")
     try:
         result = run_scene(parsed, on_level=progress)
     except SceneError as exc:  # e.g. a mesh below mesh.min_quality: nothing is written
-        console.print(f"[red]invalid scene[/red] {exc}", highlight=False)
-        raise typer.Exit(EXIT_INVALID)
+        fail("invalid scene", exc)
     if estimate:
         from vlab.study.estimate import accuracy_estimate
 
         result.extra["accuracy_estimate"] = accuracy_estimate(result)
-    data = write_run(result, out, text, options)
+    data = _write(write_run, result, dest, text, options)
     _print_summary(data)
     _print_estimate(data.get("accuracy_estimate"))
-    console.print(f"report: {out / 'index.html'}", highlight=False, soft_wrap=True)
+    say(f"report: {dest.path / 'index.html'}")
     raise typer.Exit(EXIT_OK if data["converged"] else EXIT_FAILED)
 
 
@@ -94,42 +104,41 @@ def run(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (defa
 def fit(fitfile: Path = typer.Argument(..., help="Fit file (TOML): data sets, model, options."),
         out: Optional[Path] = typer.Option(None, "--out", "-o", help="Output folder (default reports/<name>-fit)."),
         models: Optional[str] = typer.Option(None, "--models",
-                                             help="Fit and rank several models, e.g. mooney-rivlin,yeoh,ogden-3.")):
+                                             help="Fit and rank several models, e.g. mooney-rivlin,yeoh,ogden-3."),
+        force: bool = typer.Option(False, "--force", help=FORCE_HELP)):
     """Fit a material card to measured curves: parameters with intervals, stability, the card (fit.json, index.html)."""
     from vlab.identify.command import fit_command
 
-    raise typer.Exit(fit_command(fitfile, out, models, console))
+    raise typer.Exit(fit_command(fitfile, out, models, console, force))
 
 
 def _print_estimate(est: Optional[dict]) -> None:
     if not est:
         return
     if not est["available"]:
-        console.print(f"accuracy estimate not available: {est['reason']}", highlight=False)
+        say(f"accuracy estimate not available: {est['reason']}")
         return
     q = est["quantities"]
     parts = ", ".join(f"{k} ± {v['error']:.2g}" for k, v in q.items() if v["error"] is not None)
-    console.print(f"accuracy estimate (companion mesh.size {est['companion_mesh_size']:g}, {est['cost_s']:.2f} s): "
-                  f"{parts}" + (" — exact by construction (round-off)" if est["exact_by_construction"] else ""),
-                  highlight=False)
+    say(f"accuracy estimate (companion mesh.size {est['companion_mesh_size']:g}, {est['cost_s']:.2f} s): "
+        f"{parts}" + (" — exact by construction (round-off)" if est["exact_by_construction"] else ""))
 
 
 def _print_summary(data: dict) -> None:
     m = data["measured"]
     if data["converged"]:
-        console.print(f"[green]completed[/green] in {data['timing']['total_s']:.2f} s, "
-                      f"{sum(data['solver']['newton_iterations'])} Newton iterations, "
-                      f"{data['mesh']['dofs']} DOFs", highlight=False)
+        say(("completed", "green"), f" in {data['timing']['total_s']:.2f} s, "
+            f"{sum(data['solver']['newton_iterations'])} Newton iterations, {data['mesh']['dofs']} DOFs")
     else:
         f = data["failure"]
-        console.print(f"[red]test stopped[/red] at step {f['step']}, stretch {f['stretch']}: {f['reason']}; "
-                      f"last converged stretch {f['last_converged_stretch']}; "
-                      f"residual history {[f'{r:.2e}' for r in f['residual_history']]}", highlight=False)
+        say(("test stopped", "red"), f" at step {f['step']}, stretch {f['stretch']}: {f['reason']}; "
+            f"last converged stretch {f['last_converged_stretch']}; "
+            f"residual history {[f'{r:.2e}' for r in f['residual_history']]}")
     if m["E"] is not None:
-        console.print(f"measured E = {m['E']:.6g} MPa, nu = {m['nu']:.6g} "
-                      f"(input E = {data['input']['E']:.6g}, nu = {data['input']['nu']:.6g})", highlight=False)
+        say(f"measured E = {m['E']:.6g} MPa, nu = {m['nu']:.6g} "
+            f"(input E = {data['input']['E']:.6g}, nu = {data['input']['nu']:.6g})")
     else:
-        console.print(f"E and nu {m['note']}", highlight=False)
+        say(f"E and nu {m['note']}")
 
 
 @app.command()
@@ -143,8 +152,7 @@ def moduli(E: Optional[float] = typer.Option(None, "--E"), nu: Optional[float] =
     try:
         result = from_pair(given, root=root)
     except ModuliError as exc:
-        console.print(f"[red]invalid input[/red] {exc}", highlight=False)
-        raise typer.Exit(EXIT_INVALID)
+        fail("invalid input", exc)
     table = Table("constant", "value", "unit")
     units = {"nu": "1"}
     for key, value in result.as_dict().items():
@@ -179,7 +187,7 @@ def info():
     Console().print(f"assembly kernels: {jit.in_use()}{threads} (VLAB_KERNEL=numpy: numpy only; "
                     f"VLAB_ASSEMBLY_THREADS=n: n threads)", highlight=False)
     if amg:
-        Console().print(f"  \\[solver] linear = 'auto': CG + AMG for Newton corrections from "
+        Console(markup=False).print(f"  [solver] linear = 'auto': CG + AMG for Newton corrections from "
                         f"{CROSSOVER.get(solver_in_use(), CROSSOVER['superlu']):,} free DOFs on "
                         f"(stability checks always factorize directly)", highlight=False)
 
@@ -189,8 +197,7 @@ def _report_options(true: bool, field: str, single_file: bool, gif_model, render
     from vlab.report.writer import ReportOptions
 
     if field not in FIELDS:
-        console.print(f"[red]invalid option[/red] --field {field!r}; allowed: {', '.join(FIELDS)}", highlight=False)
-        raise typer.Exit(EXIT_INVALID)
+        fail("invalid option", f"--field {field!r}; allowed: {', '.join(FIELDS)}")
     return ReportOptions(true_measures=true, field=field, single_file=single_file, gif_model=gif_model,
                          render=render)
 
@@ -201,9 +208,8 @@ def _parse_models(text: str) -> tuple[str, ...]:
     models = tuple(dict.fromkeys(m.strip() for m in text.split(",") if m.strip()))
     bad = [m for m in models if m not in MODELS]
     if not models or bad:
-        console.print(f"[red]invalid option[/red] --models {text!r}: unknown {', '.join(map(repr, bad)) or 'empty list'}; "
-                      f"allowed: {', '.join(MODELS)} (comma-separated)", highlight=False)
-        raise typer.Exit(EXIT_INVALID)
+        fail("invalid option", f"--models {text!r}: unknown {', '.join(map(repr, bad)) or 'empty list'}; "
+             f"allowed: {', '.join(MODELS)} (comma-separated)")
     return models
 
 
@@ -220,7 +226,8 @@ def compare(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (
             field: str = typer.Option("von-mises", "--field", help="Render colouring: von-mises, max-stretch or J."),
             single_file: bool = typer.Option(False, "--single-file", help="Inline the images in index.html."),
             gif: Optional[str] = typer.Option(None, "--gif", help="Animate this model's test as a GIF."),
-            render: bool = typer.Option(True, "--render/--no-render", help="3D renders of the deformed specimens.")):
+            render: bool = typer.Option(True, "--render/--no-render", help="3D renders of the deformed specimens."),
+            force: bool = typer.Option(False, "--force", help=FORCE_HELP)):
     """Run one scene with several material models side by side and write a comparison report."""
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
@@ -230,28 +237,25 @@ def compare(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (
     parsed, text = _load(scene)
     chosen = _parse_models(models)
     if gif is not None and gif not in chosen:
-        console.print(f"[red]invalid option[/red] --gif {gif!r} is not among --models {', '.join(chosen)}",
-                      highlight=False)
-        raise typer.Exit(EXIT_INVALID)
+        fail("invalid option", f"--gif {gif!r} is not among --models {', '.join(chosen)}")
     try:
         for model in chosen:
             scene_for_model(parsed, model)
     except SceneError as exc:
-        console.print(f"[red]invalid scene[/red] {exc}", highlight=False)
-        raise typer.Exit(EXIT_INVALID)
+        fail("invalid scene", exc)
     options = _report_options(true, field, single_file, gif, render)
-    out = out or Path("reports") / parsed.name
+    dest = report_destination(out or Path("reports") / parsed.name, force, scene or None)
     with Progress(TextColumn("{task.description:>16}"), BarColumn(), MofNCompleteColumn(),
                   TextColumn("load levels"), TimeElapsedColumn(), console=console, disable=quiet) as bar:
         tasks = {m: bar.add_task(m, total=None) for m in chosen}
         outcomes = compare_models(parsed, chosen, workers,
                                   lambda m, done, total: bar.update(tasks[m], completed=done, total=total))
-    write_report(outcomes, out, parsed, text, options)
+    _write(write_report, outcomes, dest, parsed, text, options)
     for outcome in outcomes:
         if not quiet:
-            console.print(f"[bold]{outcome.model}[/bold]", highlight=False)
+            say((outcome.model, "bold"))
             _print_summary(outcome.data)
-    console.print(f"report: {out / 'index.html'}", highlight=False, soft_wrap=True)
+    say(f"report: {dest.path / 'index.html'}")
     raise typer.Exit(EXIT_OK if all(o.data["converged"] for o in outcomes) else EXIT_FAILED)
 
 
@@ -268,6 +272,7 @@ def _sweep_with_progress(points, knobs, cache_dir: Path, execution, quiet: bool,
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
     from vlab.study.cache import SummaryCache
+    from vlab.study.scheduler import SchedulerError
     from vlab.study.sweep import run_sweep
 
     with Progress(TextColumn(f"{what:>8}"), BarColumn(), MofNCompleteColumn(),
@@ -278,7 +283,23 @@ def _sweep_with_progress(points, knobs, cache_dir: Path, execution, quiet: bool,
         def progress(done, running, failed, total):
             bar.update(task, completed=done, total=total, running=running, failed=failed)
 
-        return run_sweep(points, knobs, SummaryCache(cache_dir), execution, progress)
+        try:
+            return run_sweep(points, knobs, SummaryCache(cache_dir), execution, progress)
+        except SchedulerError as exc:
+            bar.stop()
+            fail("invalid option", exc)
+
+
+def _study_exit(outcome, all_failed_only: bool = False) -> int:
+    """Exit 2 when every point is invalid (the scene itself is), 1 when any (or, for ``cost``, every)
+    point failed or is invalid, else 0."""
+    statuses = [s["status"] for s in outcome.summaries]
+    if statuses and all(s == "invalid" for s in statuses):
+        first = outcome.summaries[0].get("diagnosis")
+        say(("every run is invalid", "red"), f": {first}")
+        return EXIT_INVALID
+    bad = [s != "ok" for s in statuses]
+    return EXIT_FAILED if (all(bad) if all_failed_only else any(bad)) else EXIT_OK
 
 
 @app.command()
@@ -289,7 +310,8 @@ def sweep(scene: Path = typer.Argument(..., help="Scene TOML file."),
           workers: int = typer.Option(2, "--workers", "-j", min=1, help="Worker processes of the local Dask cluster."),
           scheduler: Optional[str] = typer.Option(None, "--scheduler",
                                                   help="Use an existing Dask cluster, e.g. tcp://HOST:8786."),
-          quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress output.")):
+          quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress output."),
+          force: bool = typer.Option(False, "--force", help=FORCE_HELP)):
     """Run a scene over a parameter grid on Dask; cached runs are not recomputed. Writes a table."""
     from vlab.study.grid import expand_grid, parse_axis
     from vlab.study.summary import RunKnobs
@@ -297,18 +319,18 @@ def sweep(scene: Path = typer.Argument(..., help="Scene TOML file."),
 
     parsed, _ = _load(scene)
     try:
-        points = expand_grid(parsed.source, [parse_axis(s) for s in sets])
+        points = expand_grid(parsed.source, [parse_axis(s) for s in sets], parsed.base_dir)
     except SceneError as exc:
-        console.print(f"[red]invalid option[/red] {exc}", highlight=False)
-        raise typer.Exit(EXIT_INVALID)
+        fail("invalid option", exc)
+    cache, scheduler = cache_folder(cache), scheduler_address(scheduler)
+    dest = report_destination(out or Path("reports") / f"{parsed.name}-sweep", force, scene, [cache])
     outcome = _sweep_with_progress(points, RunKnobs(), cache, _execution(workers, scheduler), quiet, "sweep")
-    folder = out or Path("reports") / f"{parsed.name}-sweep"
     meta = {"scene": str(scene), "grid": sets, "cache_hits": outcome.cache_hits, "computed": outcome.computed,
             "seconds": outcome.seconds}
-    index = write_sweep_report(folder, f"{parsed.name}: sweep", outcome.summaries, meta)
-    console.print(f"{len(points)} runs ({outcome.cache_hits} cached, {outcome.computed} computed, "
-                  f"{outcome.failed} failed or invalid); table: {index}", highlight=False, soft_wrap=True)
-    raise typer.Exit(EXIT_OK if outcome.failed == 0 else EXIT_FAILED)
+    index = _write(write_sweep_report, dest, f"{parsed.name}: sweep", outcome.summaries, meta)
+    say(f"{len(points)} runs ({outcome.cache_hits} cached, {outcome.computed} computed, "
+        f"{outcome.failed} failed or invalid); table: {index}")
+    raise typer.Exit(_study_exit(outcome))
 
 
 def _fraction(text: str) -> float:
@@ -318,9 +340,7 @@ def _fraction(text: str) -> float:
     except ValueError:
         value = -1.0
     if not 0.0 < value < 1.0:
-        console.print(f"[red]invalid option[/red] --target {text!r}: a relative accuracy in (0, 1), "
-                      "e.g. 1% or 0.01", highlight=False)
-        raise typer.Exit(EXIT_INVALID)
+        fail("invalid option", f"--target {text!r}: a relative accuracy in (0, 1), e.g. 1% or 0.01")
     return value
 
 
@@ -332,9 +352,7 @@ def _choices(option: str, text: str, allowed: tuple, convert=str) -> tuple:
     except ValueError:
         values = ()
     if not values or any(v not in allowed for v in values) or "" in items:
-        console.print(f"[red]invalid option[/red] {option} {text!r}: a comma-separated subset of "
-                      f"{','.join(map(str, allowed))}", highlight=False)
-        raise typer.Exit(EXIT_INVALID)
+        fail("invalid option", f"{option} {text!r}: a comma-separated subset of {','.join(map(str, allowed))}")
     return values
 
 
@@ -351,7 +369,8 @@ def cost(scene: Path = typer.Argument(..., help="Scene TOML file."),
          workers: int = typer.Option(2, "--workers", "-j", min=1, help="Worker processes of the local Dask cluster."),
          scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Existing Dask cluster tcp://HOST:PORT."),
          render: bool = typer.Option(False, "--render/--no-render", help="Time the 3D renders in each run's report."),
-         quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress output.")):
+         quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress output."),
+         force: bool = typer.Option(False, "--force", help=FORCE_HELP)):
     """Error against time for mesh size, order, cell, load steps, Newton tolerance and model."""
     from vlab.study.cost import CostOptions, analyse, knob_points
     from vlab.study.cost_report import write_cost_report
@@ -362,6 +381,8 @@ def cost(scene: Path = typer.Argument(..., help="Scene TOML file."),
                           orders=_choices("--orders", orders, (1, 2), int),
                           cells=_choices("--cells", cells, ("tet", "hex")))
     points = knob_points(parsed, options)
+    cache, scheduler = cache_folder(cache), scheduler_address(scheduler)
+    dest = report_destination(out or Path("reports") / f"{parsed.name}-cost", force, scene, [cache])
     outcome = _sweep_with_progress(points, RunKnobs(time_report=True, render=render), cache,
                                    _execution(workers, scheduler), quiet, "cost")
     analysis = analyse(parsed, outcome.summaries, options)
@@ -369,15 +390,14 @@ def cost(scene: Path = typer.Argument(..., help="Scene TOML file."),
     meta = {"scene": str(scene), "target": options.target, "levels": levels, "ratio": ratio,
             "orders": list(options.orders), "cells": list(options.cells), "cache_hits": outcome.cache_hits,
             "computed": outcome.computed, "seconds": outcome.seconds, "render": render, "memory_method": memory}
-    folder = out or Path("reports") / f"{parsed.name}-cost"
-    index = write_cost_report(folder, f"{parsed.name}: what accuracy costs", outcome.summaries, analysis,
-                              options.target, meta)
-    console.print(analysis.recommendation, highlight=False, soft_wrap=True)
+    index = _write(write_cost_report, dest, f"{parsed.name}: what accuracy costs", outcome.summaries, analysis,
+                   options.target, meta)
+    say(analysis.recommendation)
     for q, note in analysis.notes.items():
-        console.print(f"  {q}: {note}", highlight=False, soft_wrap=True)
-    console.print(f"{len(points)} runs ({outcome.cache_hits} cached, {outcome.computed} computed, "
-                  f"{outcome.failed} failed or invalid); report: {index}", highlight=False, soft_wrap=True)
-    raise typer.Exit(EXIT_OK)
+        say(f"  {q}: {note}")
+    say(f"{len(points)} runs ({outcome.cache_hits} cached, {outcome.computed} computed, "
+        f"{outcome.failed} failed or invalid); report: {index}")
+    raise typer.Exit(_study_exit(outcome, all_failed_only=True))
 
 
 @app.command()
@@ -386,7 +406,8 @@ def stability(fast: bool = typer.Option(False, "--fast", help="Only the fast sub
               case: Optional[list[str]] = typer.Option(None, "--case", "-c", help="Run only this case (repeatable)."),
               out: Path = typer.Option(Path("reports") / "stability", "--out", "-o", help="Report folder."),
               render: bool = typer.Option(True, "--render/--no-render", help="Render the critical modes."),
-              quiet: bool = typer.Option(False, "--quiet", "-q", help="No per-case progress lines.")):
+              quiet: bool = typer.Option(False, "--quiet", "-q", help="No per-case progress lines."),
+              force: bool = typer.Option(False, "--force", help=FORCE_HELP)):
     """Run the stability suite (limit points, refusals, inversion, meshes, buckling vs Euler, dogbone
     extremes); print the table and write reports/stability/ (index.html, results.json, mode renders)."""
     import tempfile
@@ -396,32 +417,32 @@ def stability(fast: bool = typer.Option(False, "--fast", help="Only the fast sub
     from vlab.verification.suite import CaseContext, run_suite, select
 
     if fast and all_cases:
-        console.print("[red]invalid option[/red] --fast and --all exclude each other", highlight=False)
-        raise typer.Exit(EXIT_INVALID)
+        fail("invalid option", "--fast and --all exclude each other")
     try:
         cases = select(fast_only=fast, names=case)
     except KeyError as exc:
-        console.print(f"[red]invalid option[/red] {exc.args[0]}", highlight=False)
-        raise typer.Exit(EXIT_INVALID)
+        fail("invalid option", exc.args[0])
+    dest = report_destination(out, force)
     mode = "selected" if case else "fast" if fast else "full"
 
     def progress(result):
         if not quiet:
-            mark = "[green]pass[/green]" if result.passed else "[red]FAIL[/red]"
-            console.print(f"  {mark} {result.name} ({result.seconds:.1f} s): {result.outcome.got}", highlight=False)
+            mark = ("pass", "green") if result.passed else ("FAIL", "red")
+            say("  ", mark, f" {result.name} ({result.seconds:.1f} s): {result.outcome.got}")
 
     start = time.perf_counter()
     with tempfile.TemporaryDirectory() as figures:
         results = run_suite(cases, CaseContext(Path(figures), render), progress)
         total = time.perf_counter() - start
-        data = write_stability_report(results, out, mode, total, Path(figures))
+        data = _write(write_stability_report, results, dest, mode, total, Path(figures))
     table = Table("case", "expected", "got", "converged", "iterations", "cutbacks", "neg. eig.", "time", "result",
                   title=f"vlab stability ({mode}): {data['passed']} passed, {data['failed']} failed, {total:.1f} s")
     for r in results:
         o = r.outcome
-        table.add_row(r.name, r.expected, o.got, "yes" if o.converged else "no", str(o.iterations), str(o.cutbacks),
-                      "–" if o.negative_eigenvalues is None else str(o.negative_eigenvalues), f"{r.seconds:.1f} s",
-                      "[green]pass[/green]" if r.passed else "[red]FAIL[/red]")
-    Console(width=200).print(table)
-    console.print(f"report: {out / 'index.html'}", highlight=False, soft_wrap=True)
+        table.add_row(*map(Text, (r.name, r.expected, o.got, "yes" if o.converged else "no", str(o.iterations),
+                                  str(o.cutbacks), "–" if o.negative_eigenvalues is None else
+                                  str(o.negative_eigenvalues), f"{r.seconds:.1f} s")),
+                      Text("pass", "green") if r.passed else Text("FAIL", "red"))
+    Console(width=200, markup=False).print(table)
+    say(f"report: {dest.path / 'index.html'}")
     raise typer.Exit(EXIT_OK if data["failed"] == 0 else EXIT_FAILED)

@@ -84,6 +84,10 @@ class RunResult:
 
 
 def build_specimen(scene: Scene) -> Specimen:
+    """The specimen mesh; first the size budget (SceneError before anything is allocated)."""
+    from vlab.geometry.budget import check_budget
+
+    check_budget(scene)
     spec = scene.specimen
     mesh = scene.mesh
     if spec.shape == "block":

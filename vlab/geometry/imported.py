@@ -16,6 +16,8 @@ loading axis holds, the other moves; the grip separation is the gap between them
 
 from __future__ import annotations
 
+import contextlib
+import io
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -23,6 +25,7 @@ import numpy as np
 import skfem
 from scipy.spatial import cKDTree
 
+from vlab.fields import SceneError
 from vlab.geometry.specimen import GaugeMarks, Grip, Specimen
 
 MESH_SUFFIXES = (".msh", ".vtu")
@@ -33,8 +36,9 @@ _VOLUME = {"tetra": ("tet", 4), "tetra10": ("tet", 4), "hexahedron": ("hex", 8)}
 _HEX_FROM_VTK = np.array([0, 4, 3, 1, 7, 5, 2, 6])
 
 
-class MeshImportError(ValueError):
-    """The mesh file cannot serve as a specimen; ``field`` names the scene key to fix."""
+class MeshImportError(SceneError):
+    """The mesh file cannot serve as a specimen; ``field`` names the scene key to fix (a SceneError:
+    the CLI's exit 2 and a study's "invalid" row, wherever it is raised)."""
 
     def __init__(self, field: str, message: str):
         super().__init__(f"{field} {message}")
@@ -63,10 +67,19 @@ def read_mesh(path: Path) -> ImportedMesh:
         raise MeshImportError("specimen.file", f"must be a Gmsh .msh or a .vtu file, got {path.name!r}")
     if not path.is_file():
         raise MeshImportError("specimen.file", f"{str(path)!r} does not exist")
+    said = io.StringIO()  # meshio prints its complaints (and then calls sys.exit on some files)
     try:
-        m = meshio.read(path)
-    except Exception as exc:  # meshio raises many types for malformed files
-        raise MeshImportError("specimen.file", f"cannot be read by meshio ({type(exc).__name__}: {exc})") from None
+        with contextlib.redirect_stdout(said), contextlib.redirect_stderr(said):
+            m = meshio.read(path)
+    except (Exception, SystemExit) as exc:  # meshio raises many types for malformed files
+        text = " ".join(said.getvalue().split())
+        detail = text or (f"{type(exc).__name__}: {exc}" if not isinstance(exc, SystemExit) else "unreadable")
+        raise MeshImportError("specimen.file", f"{str(path)!r} cannot be read as a mesh by meshio "
+                              f"({detail})") from None
+    if not np.all(np.isfinite(m.points)):
+        bad = int(np.flatnonzero(~np.isfinite(m.points).all(axis=1))[0])
+        raise MeshImportError("specimen.file", f"{str(path)!r}: node {bad} has a non-finite coordinate "
+                              f"{m.points[bad].tolist()}")
     volume = [(b.type, b.data) for b in m.cells if b.type in _VOLUME]
     kinds = {_VOLUME[t][0] for t, _ in volume}
     if len(kinds) != 1:

@@ -24,8 +24,20 @@ def _print_fit(console: Console, d: dict) -> None:
         console.print(f"  [yellow]warning[/yellow] {w}", highlight=False, soft_wrap=True)
 
 
-def fit_command(path: Path, out: Path | None, models: str | None, console: Console) -> int:
+def _destination(out: Path, force: bool, spec, path: Path):
+    """The checked report folder: never one holding the fit file, its data or a cache."""
+    from vlab.report.folder import Destination, check_destination
+    from vlab.study.cache import DEFAULT_CACHE
+
+    protect = [Path(path), DEFAULT_CACHE] + [Path(d.file) for d in spec.datasets]
+    if spec.fe is not None:
+        protect += [Path(spec.fe["scene_path"])] + ([Path(spec.fe["cache"])] if spec.fe.get("cache") else [])
+    return check_destination(Destination(out, force=force, protect=tuple(protect)))
+
+
+def fit_command(path: Path, out: Path | None, models: str | None, console: Console, force: bool = False) -> int:
     from vlab.identify.fitfile import load_fit, parse_model_name
+    from vlab.report.folder import ReportFolderError
 
     try:
         spec = load_fit(path)
@@ -40,11 +52,24 @@ def fit_command(path: Path, out: Path | None, models: str | None, console: Conso
         console.print(f"[red]invalid fit file[/red] {exc}", highlight=False, soft_wrap=True)
         return 2
     text = Path(path).read_text(encoding="utf-8")
-    out = out or Path("reports") / f"{spec.name}-fit"
+    try:
+        dest = _destination(out or Path("reports") / f"{spec.name}-fit", force, spec, path)
+    except ReportFolderError as exc:
+        console.print(f"[red]invalid output folder[/red] {exc}", highlight=False, soft_wrap=True)
+        return 2
+    out = dest.path
+    try:
+        return _fit_and_write(spec, names, dest, out, text, console)
+    except ReportFolderError as exc:
+        console.print(f"[red]cannot write report[/red] {exc}", highlight=False, soft_wrap=True)
+        return 2
+
+
+def _fit_and_write(spec, names, dest, out: Path, text: str, console: Console) -> int:
     if names:
         from vlab.identify.ranking import fit_models, write_ranking
 
-        rows = write_ranking(spec, fit_models(spec, names), out, text)
+        rows = write_ranking(spec, fit_models(spec, names), dest, text)
         for r in rows:
             held = r["held_out_rms_relative"]
             console.print(f"  {r['rank']}. {r['model']:<14} held-out rms "
@@ -59,7 +84,7 @@ def fit_command(path: Path, out: Path | None, models: str | None, console: Conso
     except SceneError as exc:  # found while fitting (e.g. the scene's test does not cover the data)
         console.print(f"[red]invalid fit file[/red] {exc}", highlight=False, soft_wrap=True)
         return 2
-    d = write_fit_report(outcome, out, text)
+    d = write_fit_report(outcome, dest, text)
     _print_fit(console, d)
     console.print(f"report: {out / 'index.html'}", highlight=False, soft_wrap=True)
     return 0 if d["converged"] else 1

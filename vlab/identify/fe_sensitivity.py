@@ -47,7 +47,11 @@ class Simulation:
     dofs: int = 0
 
     def as_dict(self) -> dict:
-        return {"strain": self.strain.tolist(), "force": self.force.tolist(), "dstrain": self.dstrain.tolist(),
+        """A cache entry (vlab.study.cache validates its version and status)."""
+        from vlab import __version__
+
+        return {"vlab_version": __version__, "status": "ok", "strain": self.strain.tolist(),
+                "force": self.force.tolist(), "dstrain": self.dstrain.tolist(),
                 "dforce": self.dforce.tolist(), "area0": self.area0, "warnings": list(self.warnings), "dofs": self.dofs}
 
     @classmethod

@@ -71,10 +71,10 @@ def _page(name: str, rows: list[dict]) -> str:
 
 def write_ranking(spec: FitSpec, ranked, out: Path, fit_text: str | None) -> list[dict]:
     from vlab.identify.report import write_fit_files
-    from vlab.report.writer import atomic_folder
+    from vlab.report.folder import report_folder
 
     rows = ranking_rows(ranked)
-    with atomic_folder(Path(out)) as tmp:
+    with report_folder(out, "fit-ranking") as tmp:
         for name, o in ranked:
             (tmp / name).mkdir()
             write_fit_files(o, tmp / name)

@@ -1,6 +1,7 @@
 """The report folder of a fit: fit.json, curves.png, stability_map.png, card.toml, index.html.
 
-Written through the project's atomic report-folder writer: nothing appears until all is complete.
+Written through the project's one report-folder writer (vlab.report.folder: atomic, with a
+manifest; it never replaces a folder vlab did not make unless forced).
 """
 
 from __future__ import annotations
@@ -12,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from vlab.report.html import _STYLE
-from vlab.report.writer import atomic_folder
+from vlab.report.folder import report_folder
 
 __all__ = ["write_fit_report", "write_fit_files", "page"]
 
@@ -113,9 +114,9 @@ def _json_default(o):
     raise TypeError(type(o))
 
 
-def write_fit_report(outcome, out: Path, fit_text: str | None = None) -> dict:
-    """Write the folder atomically; returns fit.json's dict."""
-    with atomic_folder(Path(out)) as tmp:
+def write_fit_report(outcome, out, fit_text: str | None = None) -> dict:
+    """Write the folder (out: a path or a checked vlab.report.folder.Destination); returns fit.json's dict."""
+    with report_folder(out, "fit") as tmp:
         return write_fit_files(outcome, tmp, fit_text)
 
 

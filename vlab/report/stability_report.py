@@ -9,8 +9,8 @@ import json
 from pathlib import Path
 
 from vlab.report.results import _clean
-from vlab.report.writer import atomic_folder
 from vlab import __version__
+from vlab.report.folder import report_folder
 
 STYLE = """body{font-family:sans-serif;margin:1.5em;max-width:1250px}table{border-collapse:collapse;
 margin:1em 0}td,th{border:1px solid #bbb;padding:4px 8px;font-size:13px;vertical-align:top}
@@ -31,7 +31,7 @@ def suite_dict(results, mode: str, total_seconds: float) -> dict:
 def write_stability_report(results, out: Path, mode: str, total_seconds: float, figures_dir: Path) -> dict:
     """Write results.json, index.html and the case figures (from ``figures_dir``) into ``out``."""
     data = suite_dict(results, mode, total_seconds)
-    with atomic_folder(out) as tmp:
+    with report_folder(out, "stability") as tmp:
         for case in data["cases"]:
             for name in case["figures"]:
                 (tmp / name).write_bytes((figures_dir / name).read_bytes())

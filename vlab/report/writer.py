@@ -1,5 +1,5 @@
-"""Writes a report folder atomically: everything goes to a temporary sibling folder that replaces
-the target only when complete, so a crash or bad input never leaves half a report.
+"""Writes a report folder through vlab.report.folder (atomic, manifest, never replaces a folder vlab did
+not make), so a crash or bad input never leaves half a report.
 
 Layout of ``reports/<scene>/`` (one model: the model's files sit in the folder itself):
     index.html                 the page (images inlined with ``single_file``)
@@ -18,32 +18,16 @@ import csv
 import datetime as _dt
 import json
 import logging
-import shutil
-import tempfile
-from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
+
+from vlab.report.folder import report_folder
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:  # the solver is imported only by the writers that need it (vlab fit needs none of it)
     from vlab.run import RunResult
 
 log = logging.getLogger(__name__)
-
-
-@contextmanager
-def atomic_folder(target: Path):
-    target = Path(target)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.", dir=target.parent))
-    try:
-        yield tmp
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
-    if target.exists():
-        shutil.rmtree(target)
-    tmp.rename(target)
 
 
 def write_columns_csv(columns: dict[str, list], path: Path) -> None:
@@ -99,7 +83,7 @@ def write_report(outcomes: list, out: Path, scene, scene_text: str | None,
         ref = by_model[REFERENCE_MODEL].data
         departures = {o.model: departure_strains(ref, o.data) for o in outcomes if o.model != REFERENCE_MODEL}
     kind = "true" if options.true_measures else "engineering"
-    with atomic_folder(out) as tmp:
+    with report_folder(out, "run" if single else "compare") as tmp:
         links = {o.model: _write_model_files(o, tmp, "." if single else o.model, options) for o in outcomes}
         plot_overlay(datas, tmp / "stress_strain.png", options.true_measures, departures)
         plot_lateral(datas, tmp / "lateral_strain.png")

@@ -15,7 +15,7 @@ vlab.geometry, test kinds in vlab.loading, models in vlab.materials, effects in 
 from __future__ import annotations
 
 from vlab.fields import SceneError
-from vlab.scene.load import SECTIONS, TOP_KEYS, Scene, load_scene, parse_scene
+from vlab.scene.load import SECTIONS, TOP_KEYS, Scene, load_scene, load_scene_text, parse_scene
 from vlab.scene.material import KG_PER_M3, MODELS, SPRING_NETWORK, MaterialSpec
 from vlab.scene.measure import MeasureSpec
 from vlab.scene.mesh import FORMULATIONS, MeshSpec
@@ -27,6 +27,6 @@ from vlab.scene.test import PROTOCOL_KEYS, TestSpec
 
 __all__ = ["SceneError", "Scene", "BlockSpecimen", "DogboneSpecimen", "SheetSpecimen", "CruciformSpecimen",
            "MeshFileSpecimen", "Specimen", "MeshSpec", "MaterialSpec", "TestSpec", "MeasureSpec", "SolverSpec",
-           "load_scene", "parse_scene", "apply_overrides", "SPECIMEN_SHAPES", "SPECIMEN_TESTS", "SYMMETRIC_SHAPES",
+           "load_scene", "load_scene_text", "parse_scene", "apply_overrides", "SPECIMEN_SHAPES", "SPECIMEN_TESTS", "SYMMETRIC_SHAPES",
            "MESH_FILE_KEYS", "MODELS", "SPRING_NETWORK", "KG_PER_M3", "FORMULATIONS", "PROTOCOL_KEYS", "SECTIONS",
            "TOP_KEYS"]

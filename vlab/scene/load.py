@@ -31,7 +31,7 @@ if TYPE_CHECKING:
     from vlab.scene.specimen import Specimen
     from vlab.scene.test import TestSpec
 
-__all__ = ["Scene", "SECTIONS", "TOP_KEYS", "parse_scene", "load_scene"]
+__all__ = ["Scene", "SECTIONS", "TOP_KEYS", "parse_scene", "load_scene", "load_scene_text"]
 
 
 SECTIONS = ("specimen", "mesh", "material", "test", "measure", "solver", "effects")
@@ -111,7 +111,8 @@ def _parse(data: Mapping[str, Any]) -> Scene:
 def parse_scene(data: dict, origin: str = "<scene>", base_dir: str | Path | None = None) -> Scene:
     """Validate a parsed scene dict; errors are ``SceneError("<origin>: <message>")``. Relative
     paths in the scene (specimen.file) are taken from ``base_dir`` (default: the current folder)."""
-    token = _BASE_DIR.set(Path(base_dir) if base_dir is not None else Path("."))
+    # absolute: the scene may be run from another folder later (a Dask worker, a companion solve)
+    token = _BASE_DIR.set(Path(base_dir if base_dir is not None else ".").resolve())
     try:
         return _parse(data)
     except SceneError as exc:
@@ -122,13 +123,17 @@ def parse_scene(data: dict, origin: str = "<scene>", base_dir: str | Path | None
 
 def load_scene(path: str | Path) -> Scene:
     """Read and validate a scene TOML file; every error message starts with the file name."""
+    return load_scene_text(path)[0]
+
+
+def load_scene_text(path: str | Path) -> tuple[Scene, str]:
+    """The validated scene and the text it was read from (read once, bounded: vlab.scene.file)."""
+    from vlab.scene.file import read_scene_file
+
     path = Path(path)
+    text = read_scene_file(path)
     try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise SceneError(f"{path}: cannot read scene file ({exc.strerror or exc})") from None
-    except UnicodeDecodeError as exc:
-        raise SceneError(f"{path}: scene file is not UTF-8 ({exc})") from None
+        data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise SceneError(f"{path}: TOML syntax error: {exc}") from None
-    return parse_scene(data, origin=str(path), base_dir=path.parent)
+    return parse_scene(data, origin=str(path), base_dir=path.parent), text

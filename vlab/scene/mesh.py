@@ -1,13 +1,15 @@
 """``[mesh]``: element size, order, cell, gauge refinement, quality floor, formulation, symmetry.
 
 Defaults: order = 1, cell = the specimen's first (tet; tri for a sheet), min_quality = 0.15,
-formulation = "displacement", symmetry = "none". ``formulation = "mixed"`` (locking-free for
+formulation = "displacement", symmetry = "none", max_dofs = none (the size budget's default,
+vlab/geometry/budget.py, checked before meshing). ``formulation = "mixed"`` (locking-free for
 ν → ½) needs a model with a volumetric–isochoric split (``SPLIT_LAWS``) and hexes or order-2 tets.
 An imported mesh is meshed already: its size is the mean edge length of its cells.
 """
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -37,12 +39,16 @@ class MeshSpec:
     min_quality: float = 0.15  # smallest acceptable element quality (geometry/quality.py)
     formulation: str = "displacement"  # or "mixed": condensed θ/p per element (vlab/fe/mixed.py)
     symmetry: str = "none"  # none | half | quarter | eighth (geometry/symmetry.py)
+    max_dofs: int | None = None  # size budget (vlab/geometry/budget.py); None = its default
 
 
 def parse_mesh(raw: Any, specimen: Specimen) -> MeshSpec:
-    t = fields.Table("mesh", raw, ("size", "order", "cell", "gauge_size", "min_quality", "symmetry", "formulation"))
+    t = fields.Table("mesh", raw, ("size", "order", "cell", "gauge_size", "min_quality", "symmetry", "formulation",
+                                   "max_dofs"))
+    max_dofs = t.get("max_dofs", None)
+    max_dofs = None if max_dofs is None else fields.integer(t.field("max_dofs"), max_dofs, 1, 10**12)
     if specimen.shape == "mesh":
-        return _parse_mesh_of_file(t, specimen)
+        return dataclasses.replace(_parse_mesh_of_file(t, specimen), max_dofs=max_dofs)
     size = t.number("size", gt=0, le=specimen.max_dimension, note=" (the largest specimen dimension)")
     gauge_size = t.number("gauge_size", default=None, gt=0, le=size, note=" (mesh.size)")
     if gauge_size is not None and specimen.shape not in _FINE_MESH_SHAPES:
@@ -56,7 +62,7 @@ def parse_mesh(raw: Any, specimen: Specimen) -> MeshSpec:
     return MeshSpec(size=size, order=t.integer("order", 1, 2, default=1),
                     cell=t.choice("cell", cells, default=cells[0]), gauge_size=gauge_size,
                     min_quality=t.number("min_quality", default=0.15, gt=0, lt=1), symmetry=symmetry,
-                    formulation=t.choice("formulation", FORMULATIONS, default="displacement"))
+                    formulation=t.choice("formulation", FORMULATIONS, default="displacement"), max_dofs=max_dofs)
 
 
 def _parse_mesh_of_file(t: fields.Table, specimen: MeshFileSpecimen) -> MeshSpec:

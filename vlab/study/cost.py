@@ -55,7 +55,7 @@ def knob_points(scene: Scene, options: CostOptions) -> list[GridPoint]:
 
     def add(knob: str, value, overrides: dict):
         label = {"knob": knob, "value": value}
-        points.append(GridPoint(label, apply_overrides(src, overrides)))
+        points.append(GridPoint(label, apply_overrides(src, overrides), scene.base_dir))
 
     for order in options.orders:
         for cell in options.cells:

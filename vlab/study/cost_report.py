@@ -9,7 +9,7 @@ from pathlib import Path
 
 from vlab.report import figures as plt  # pyplot-free Agg figures
 
-from vlab.report.writer import atomic_folder  # noqa: E402
+from vlab.report.folder import destination, report_folder  # noqa: E402
 from vlab.study.cost import CostAnalysis, run_seconds  # noqa: E402
 from vlab.study.table import html_table, page, table_rows, write_csv  # noqa: E402
 
@@ -79,7 +79,7 @@ def write_cost_report(folder: Path, title: str, summaries: list[dict], analysis:
             f"Peak RSS: {html.escape(str(meta.get('memory_method', '')))}. Pareto rows are shaded. "
             f"Timings were measured on a shared machine; cached runs keep the time they first took."
             f"</small></p>" + html_table(headers, rows, set(analysis.front)))
-    with atomic_folder(folder) as tmp:
+    with report_folder(folder, "cost") as tmp:
         plot_error_time(summaries, analysis, target, tmp / "error_time.png")
         write_csv(headers, rows, tmp / "cost.csv")
         (tmp / "cost.json").write_text(json.dumps(
@@ -89,7 +89,7 @@ def write_cost_report(folder: Path, title: str, summaries: list[dict], analysis:
              "recommendation": analysis.recommendation, "errors": analysis.errors, "runs": summaries},
             indent=1, default=str))
         (tmp / "index.html").write_text(page(title, body), encoding="utf-8")
-    return folder / "index.html"
+    return destination(folder).path / "index.html"
 
 
 def _fits_table(analysis: CostAnalysis) -> str:

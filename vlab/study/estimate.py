@@ -33,7 +33,8 @@ def companion_scene(scene: Scene, factor: float = COARSENING) -> Scene:
     over: dict = {"mesh.size": size}
     if scene.mesh.gauge_size is not None:
         over["mesh.gauge_size"] = min(scene.mesh.gauge_size * factor, size)
-    return parse_scene(apply_overrides(scene.source, over), origin="accuracy-estimate companion")
+    return parse_scene(apply_overrides(scene.source, over), origin="accuracy-estimate companion",
+                       base_dir=scene.base_dir)
 
 
 def _values(result) -> dict:
@@ -56,6 +57,8 @@ def accuracy_estimate(result) -> dict:
            "assumed_order": scene.mesh.order, "available": False}
     if not result.converged:
         return out | {"reason": "the run itself did not complete"}
+    if scene.specimen.shape == "mesh":
+        return out | {"reason": "the mesh is imported (specimen.shape = 'mesh'): vlab cannot coarsen a user's mesh"}
     start = time.perf_counter()
     try:
         coarse_scene = companion_scene(scene)

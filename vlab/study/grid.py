@@ -18,6 +18,7 @@ from vlab.scene import SceneError, apply_overrides
 class GridPoint:
     label: dict  # the overridden keys and their values at this point
     source: dict  # the raw scene dict with the overrides applied
+    base_dir: str = "."  # the scene file's folder: relative paths in ``source`` are taken from it
 
 
 def _split_top_level(text: str) -> list[str]:
@@ -58,7 +59,7 @@ def parse_axis(option: str) -> tuple[str, list]:
     return key, [parse_value(item) for item in items]
 
 
-def expand_grid(source: dict, axes: list[tuple[str, list]]) -> list[GridPoint]:
+def expand_grid(source: dict, axes: list[tuple[str, list]], base_dir: str = ".") -> list[GridPoint]:
     """One GridPoint per combination; unknown sections/keys of the overrides raise SceneError here
     (unknown keys inside a section, and bad values, are left to each point's own validation)."""
     keys = [key for key, _ in axes]
@@ -67,5 +68,5 @@ def expand_grid(source: dict, axes: list[tuple[str, list]]) -> list[GridPoint]:
     points = []
     for values in itertools.product(*(vals for _, vals in axes)):
         label = dict(zip(keys, values))
-        points.append(GridPoint(label, apply_overrides(source, label)))
+        points.append(GridPoint(label, apply_overrides(source, label), str(base_dir)))
     return points

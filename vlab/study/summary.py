@@ -47,11 +47,13 @@ class RunKnobs:
         return asdict(self) | {"summary_format": 3}
 
 
-def summarize(source: dict, knobs: RunKnobs = RunKnobs(), label: dict | None = None) -> dict:
-    """Run the scene given as a raw dict; return its summary (see the module docstring)."""
+def summarize(source: dict, knobs: RunKnobs = RunKnobs(), label: dict | None = None,
+              base_dir: str = ".") -> dict:
+    """Run the scene given as a raw dict, its relative paths taken from ``base_dir`` (the scene
+    file's folder, absolute: a Dask worker may run in another folder); return its summary."""
     base = {"label": label or {}, "vlab_version": __version__, "knobs": knobs.as_dict()}
     try:
-        scene = parse_scene(source, origin="scene")
+        scene = parse_scene(source, origin="scene", base_dir=base_dir)
     except SceneError as exc:
         return base | {"status": "invalid", "diagnosis": str(exc)}
     base["scene_hash"] = scene.content_hash()

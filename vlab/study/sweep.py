@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 from typing import Callable
 
 from vlab.scene import SceneError, parse_scene
-from vlab.study.cache import SummaryCache, cache_key
+from vlab.study.cache import SummaryCache, cache_key, file_digest, referenced_files
 from vlab.study.grid import GridPoint
 from vlab.study.summary import RunKnobs, summarize
 
@@ -51,13 +51,15 @@ class SweepOutcome:
 
 
 def point_key(point: GridPoint, knobs: RunKnobs) -> str:
-    """Cache key of a point; an unparseable scene is keyed by its raw dict."""
+    """Cache key of a point (vlab.study.cache): its scene's content hash (an unparseable scene is
+    keyed by its raw dict), the bytes of every file it references, vlab's version and the knobs."""
     try:
-        scene_hash = parse_scene(point.source).content_hash()
+        scene_hash = parse_scene(point.source, base_dir=point.base_dir).content_hash()
     except SceneError:
         raw = json.dumps(point.source, sort_keys=True, default=str).encode("utf-8")
         scene_hash = "raw:" + hashlib.sha256(raw).hexdigest()
-    return cache_key(scene_hash, knobs.as_dict())
+    files = {k: file_digest(p) for k, p in referenced_files(point.source, point.base_dir).items()}
+    return cache_key(scene_hash, knobs.as_dict(), files=files)
 
 
 def run_sweep(points: list[GridPoint], knobs: RunKnobs, cache: SummaryCache,
@@ -97,7 +99,7 @@ def _compute(points, keys, missing, knobs, cache, execution, summaries, report, 
     start = time.perf_counter()
     with _client(execution) as client:
         ready = time.perf_counter()
-        futures = {client.submit(summarize, points[i].source, knobs, points[i].label,
+        futures = {client.submit(summarize, points[i].source, knobs, points[i].label, points[i].base_dir,
                                  key=f"vlab-run-{keys[i][:16]}-{i}", pure=False): i for i in missing}
         pending = set(futures)
         threads = _threads(client)
@@ -152,7 +154,9 @@ class _client:
         from distributed import Client, LocalCluster
 
         if self.execution.scheduler:
-            self.client = Client(self.execution.scheduler, timeout="20s")
+            from vlab.study.scheduler import connect
+
+            self.client = connect(self.execution.scheduler)  # SchedulerError if it is none
             return self.client
         self.cluster = LocalCluster(n_workers=self.execution.workers, threads_per_worker=1, processes=True,
                                     dashboard_address=":0", scheduler_port=0, silence_logs=logging.ERROR)

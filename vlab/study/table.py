@@ -7,7 +7,7 @@ import html
 import json
 from pathlib import Path
 
-from vlab.report.writer import atomic_folder
+from vlab.report.folder import destination, report_folder
 
 STYLE = """body{font-family:sans-serif;max-width:90rem;margin:2rem auto;padding:0 1rem;color:#222}
 table{border-collapse:collapse;margin:1rem 0;font-size:.9rem}th,td{border:1px solid #ccc;padding:.25rem .5rem}
@@ -101,8 +101,8 @@ def write_sweep_report(folder: Path, title: str, summaries: list[dict], meta: di
                   f"{timing['compute_s']:.2f} s on {timing['threads']} worker thread(s), overhead "
                   f"≈ {timing['overhead_per_run_s']:.2f} s per run (elapsed × threads − Σ run wall) / runs."
                   f"</small></p>")
-    with atomic_folder(folder) as tmp:
+    with report_folder(folder, "sweep") as tmp:
         write_csv(headers, rows, tmp / "sweep.csv")
         (tmp / "sweep.json").write_text(json.dumps({"meta": meta, "runs": summaries}, indent=1, default=str))
         (tmp / "index.html").write_text(page(title, intro + html_table(headers, rows)), encoding="utf-8")
-    return folder / "index.html"
+    return destination(folder).path / "index.html"

@@ -217,13 +217,15 @@ def main(out: str = "reports/cooks-membrane") -> None:  # pragma: no cover - the
     import json
     from pathlib import Path
 
+    from vlab.report.folder import check_destination, report_folder
+
     logging.basicConfig(level=logging.INFO, format="%(message)s")
-    folder = Path(out)
-    folder.mkdir(parents=True, exist_ok=True)
+    check_destination(Path(out))  # refuse a folder vlab did not make before the long study
     results = run_study()
-    (folder / "results.json").write_text(json.dumps([r.as_dict() for r in results], indent=1))
-    (folder / "table.md").write_text(table(results) + "\n")
-    plot(results, folder / "cooks_membrane.png")
+    with report_folder(Path(out), "cooks-membrane") as folder:  # the one writer of report folders
+        (folder / "results.json").write_text(json.dumps([r.as_dict() for r in results], indent=1))
+        (folder / "table.md").write_text(table(results) + "\n")
+        plot(results, folder / "cooks_membrane.png")
     log.info("%s", table(results))
 
 

@@ -1,0 +1,66 @@
+"""What the CLI prints and the checks of its file options, before any work starts.
+
+Every message is printed verbatim: the console never interprets rich markup (a scene error that
+says ``[material]`` or a folder named ``[/x]`` must reach the user unchanged), and the coloured
+labels are ``rich.text.Text`` spans, not markup strings.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Iterable, Optional
+
+import typer
+from rich.console import Console
+from rich.text import Text
+
+EXIT_OK, EXIT_FAILED, EXIT_INVALID = 0, 1, 2
+
+console = Console(stderr=True, markup=False, highlight=False, emoji=False)
+
+
+def say(*parts) -> None:
+    """Print ``parts`` verbatim: plain strings as they are, ``(text, style)`` pairs styled."""
+    console.print(Text.assemble(*(p if isinstance(p, tuple) else str(p) for p in parts)), soft_wrap=True)
+
+
+def fail(label: str, message: object, code: int = EXIT_INVALID):
+    """Print ``label`` in red and ``message`` verbatim, then exit with ``code``."""
+    console.print(Text.assemble((label, "red"), " ", str(message)), soft_wrap=True)
+    raise typer.Exit(code)
+
+
+def report_destination(out: Path, force: bool, scene: Optional[Path] = None,
+                       caches: Iterable[Path] = ()):
+    """The checked destination of a report (vlab.report.folder); exit 2 naming --out if refused."""
+    from vlab.report.folder import Destination, ReportFolderError, check_destination
+    from vlab.study.cache import DEFAULT_CACHE
+
+    protect = tuple(p for p in (scene, DEFAULT_CACHE, *caches) if p is not None)
+    try:
+        return check_destination(Destination(out, force=force, protect=protect))
+    except ReportFolderError as exc:
+        fail("invalid output folder", exc)
+
+
+def cache_folder(path: Path) -> Path:
+    """``--cache`` must be a folder (or a path where one can be made); exit 2 otherwise."""
+    from vlab.study.cache import CacheError, check_cache_folder
+
+    try:
+        return check_cache_folder(path)
+    except CacheError as exc:
+        fail("invalid option", exc)
+
+
+def scheduler_address(address: Optional[str]) -> Optional[str]:
+    """``--scheduler`` must look like tcp://HOST:PORT (the connection is tried when it is needed)."""
+    from vlab.study.scheduler import SchedulerError, parse_address
+
+    if address is None:
+        return None
+    try:
+        parse_address(address)
+    except SchedulerError as exc:
+        fail("invalid option", exc)
+    return address

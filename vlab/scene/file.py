@@ -1,0 +1,37 @@
+"""Reading a scene file: a regular file of at most MAX_SCENE_BYTES, UTF-8, read once.
+
+A scene is a few hundred bytes of TOML; the limit (1 MiB) is far above any real scene and far
+below what could exhaust memory. Anything that is not a regular file (a device such as /dev/zero,
+a FIFO, a folder) is refused before reading: a device may never end, a FIFO may block forever.
+"""
+
+from __future__ import annotations
+
+import os
+import stat
+from pathlib import Path
+
+from vlab.fields import SceneError
+
+MAX_SCENE_BYTES = 1 << 20
+
+
+def read_scene_file(path: Path, limit: int = MAX_SCENE_BYTES) -> str:
+    """The file's text; SceneError naming the file if it is not a readable UTF-8 scene file."""
+    try:
+        info = os.stat(path)
+        if stat.S_ISDIR(info.st_mode):
+            raise SceneError(f"{path}: is a folder, not a scene file")
+        if not stat.S_ISREG(info.st_mode):
+            raise SceneError(f"{path}: is not a regular file (a device, FIFO or socket); give a .toml scene file")
+        with open(path, "rb") as fh:
+            data = fh.read(limit + 1)
+    except OSError as exc:
+        raise SceneError(f"{path}: cannot read scene file ({exc.strerror or exc})") from None
+    if len(data) > limit:
+        raise SceneError(f"{path}: scene file is larger than {limit // 1024} KiB (a scene is a small TOML "
+                         f"file; is this the right file?)")
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise SceneError(f"{path}: scene file is not UTF-8 ({exc})") from None
