@@ -9,7 +9,9 @@ import numpy as np
 from hypothesis import strategies as st
 
 from vlab.effects import EFFECTS
-from vlab.materials.split import SPLIT_LAWS
+from vlab.materials import LAME_MODELS, MODELS as REGISTRY
+
+SPLIT_LAWS = tuple(n for n in LAME_MODELS if REGISTRY[n].split is not None)  # E/nu models with a split
 from vlab.report.results import result_to_dict
 from vlab.run import run_scene
 from vlab.scene import SceneError, parse_scene

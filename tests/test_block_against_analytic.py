@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from scenes import scene_dict
 
-from vlab.materials import MODELS, make_material
+from vlab.materials import LAME_MODELS as MODELS, make_material
 from vlab.materials.homogeneous import biaxial, uniaxial
 from vlab.run import run_scene
 from vlab.scene import parse_scene

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from vlab.materials import MODELS
+from vlab.materials import LAME_MODELS as MODELS
 from vlab.run import MeshQualityError, run_scene
 from vlab.scene import MODELS as SCENE_MODELS, apply_overrides, parse_scene
 
@@ -107,4 +107,5 @@ def test_cli_reports_low_quality_as_invalid_input_and_writes_nothing(tmp_path):
 
 
 def test_models_registry_matches_the_scene_models():
-    assert set(SCENE_MODELS) == set(MODELS) | {"spring-network"}
+    from vlab.materials import CARD_MODELS
+    assert set(SCENE_MODELS) == set(MODELS) | {"spring-network"} | set(CARD_MODELS)

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from scenes import scene_dict
 
-from vlab.materials import MODELS
+from vlab.materials import LAME_MODELS as MODELS
 from vlab.measure.fit import FitError, fit_line
 from vlab.run import run_scene
 from vlab.scene import parse_scene

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from vlab.materials import MODELS, make_material
+from vlab.materials import LAME_MODELS as MODELS, make_material
 from vlab.materials.homogeneous import biaxial, uniaxial
 from vlab.materials.plane import PlaneStrain, PlaneStress, PlaneStressError, embed
 

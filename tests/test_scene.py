@@ -118,7 +118,7 @@ def _parse_error(overrides=None, drop=None):
     ({"material.E": float("nan")}, ["material.E must be a finite number"]),
     ({"material.mu": 3.0}, ["[material]", "give exactly two of E, nu, lambda, mu, K, M; got E, nu, mu"]),
     ({"material.model": "mooney"},
-     ["material.model must be one of linear, stvk, stvk-volumetric, neo-hookean, spring-network; got 'mooney'"]),
+     ["material.model must be one of linear, stvk, stvk-volumetric, neo-hookean, spring-network, mooney-rivlin, yeoh, ogden, gent, arruda-boyce; got 'mooney'"]),
     ({"material.root": "up"}, ["material.root must be one of plus, minus"]),
     ({"material.poisson": 0.3}, ["unknown key 'poisson' in [material]"]),
     ({"test.strech": 1.5}, ["unknown key 'strech' in [test] (allowed: kind, grips, stretch, steps",

@@ -12,7 +12,7 @@ from vlab.fe.problem import HyperelasticBody
 from vlab.fe.space import DisplacementSpace
 from vlab.fe.taylor import random_state, taylor_test
 from vlab.geometry.sheet import sheet_mesh
-from vlab.materials import MODELS, make_material
+from vlab.materials import LAME_MODELS as MODELS, make_material
 from vlab.materials.homogeneous import biaxial, plane_strain_uniaxial, uniaxial
 from vlab.materials.plane import PlaneStress
 from vlab.run import run_scene

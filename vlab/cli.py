@@ -202,22 +202,33 @@ def _report_options(true: bool, field: str, single_file: bool, gif_model, render
                          render=render)
 
 
-def _parse_models(text: str) -> tuple[str, ...]:
+def _parse_models(text: str | None, scene) -> tuple[str, ...]:
+    """--models: registry model names and the scene's [compare.<label>] labels; by default the
+    scene's labels if it has any, else linear, stvk, neo-hookean."""
+    from vlab.compare import DEFAULT_MODELS, compare_labels
     from vlab.scene import MODELS
 
+    labels = compare_labels(scene)
+    if text is None:
+        return labels or DEFAULT_MODELS
     models = tuple(dict.fromkeys(m.strip() for m in text.split(",") if m.strip()))
-    bad = [m for m in models if m not in MODELS]
+    allowed = tuple(labels) + tuple(m for m in MODELS if m not in labels)
+    bad = [m for m in models if m not in allowed]
     if not models or bad:
         fail("invalid option", f"--models {text!r}: unknown {', '.join(map(repr, bad)) or 'empty list'}; "
-             f"allowed: {', '.join(MODELS)} (comma-separated)")
+             f"allowed: {', '.join(allowed)} (comma-separated; [compare.<label>] labels of the "
+             f"scene, or model names that take the scene's own constants)")
     return models
 
 
 @app.command()
 def compare(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (default: built-in block test)."),
-            models: str = typer.Option("linear,stvk,neo-hookean", "--models", "-m",
-                                       help="Comma-separated models (linear, stvk, stvk-volumetric, "
-                                            "neo-hookean, spring-network)."),
+            models: Optional[str] = typer.Option(None, "--models", "-m",
+                                                 help="Comma-separated [compare.<label>] labels of the "
+                                                      "scene and/or model names (linear, stvk, "
+                                                      "stvk-volumetric, neo-hookean, spring-network take "
+                                                      "the scene's E, nu); default: the scene's labels, "
+                                                      "else linear,stvk,neo-hookean."),
             out: Optional[Path] = typer.Option(None, "--out", "-o", help="Output folder (default reports/<scene name>)."),
             workers: Optional[int] = typer.Option(None, "--workers", "-j", min=1,
                                                   help="Parallel processes (default: one per core)."),
@@ -235,7 +246,7 @@ def compare(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (
     from vlab.report.writer import write_report
 
     parsed, text = _load(scene)
-    chosen = _parse_models(models)
+    chosen = _parse_models(models, parsed)
     if gif is not None and gif not in chosen:
         fail("invalid option", f"--gif {gif!r} is not among --models {', '.join(chosen)}")
     try:

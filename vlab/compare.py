@@ -8,6 +8,7 @@ progress display (the library itself never prints).
 
 from __future__ import annotations
 
+import copy
 import logging
 import multiprocessing as mp
 import os
@@ -16,9 +17,10 @@ from concurrent.futures import ProcessPoolExecutor, wait, FIRST_COMPLETED
 from typing import Callable
 
 from vlab.loading.schedule import monotonic_schedule
+from vlab.materials.registry import MODELS
 from vlab.measure.departure import REFERENCE_MODEL, departure_strains  # noqa: F401  (public here too)
 from vlab.report.outcome import ModelOutcome, outcome_of
-from vlab.scene import Scene, apply_overrides, parse_scene
+from vlab.scene import Scene, SceneError, apply_overrides, parse_scene
 
 log = logging.getLogger(__name__)
 
@@ -28,8 +30,28 @@ DEFAULT_MODELS = ("linear", "stvk", "neo-hookean")
 Progress = Callable[[str, int, int], None]
 
 
+def compare_labels(scene: Scene) -> tuple[str, ...]:
+    """The labels of the scene's ``[compare.<label>]`` material cards (may be empty)."""
+    return tuple(scene.source.get("compare", {}))
+
+
 def scene_for_model(scene: Scene, model: str) -> Scene:
-    """The same scene with ``material.model`` replaced (validated like a scene file)."""
+    """The scene with the material ``model`` names (validated like a scene file): a
+    ``[compare.<label>]`` card replaces the whole [material] table (keeping its density unless
+    the card gives one); a registry model name replaces ``material.model`` only, so the scene's
+    own constants must fit that model's grammar (a card model needs a [compare] card)."""
+    cards = scene.source.get("compare", {})
+    if model in cards:
+        source = copy.deepcopy(scene.source)
+        card = dict(cards[model])
+        if "density" in source["material"] and "density" not in card:
+            card["density"] = source["material"]["density"]
+        source["material"] = card
+        return parse_scene(source, origin=f"compare.{model}", base_dir=scene.base_dir)
+    if model in MODELS and MODELS[model].constants is not None and scene.material.model != model:
+        raise SceneError(f"--models {model}: material.model {model!r} takes its own constants "
+                         f"({', '.join(MODELS[model].keys)} and K | D1 | nu); give them in a "
+                         f"[compare.<label>] table with model = {model!r} and name the label")
     return parse_scene(apply_overrides(scene.source, {"material.model": model}), origin=f"model {model}",
                        base_dir=scene.base_dir)
 
@@ -50,7 +72,7 @@ def run_model(scene: Scene, model: str, on_level: Callable[[int], None] | None =
         if on_level is not None:
             on_level(count[0])
 
-    return outcome_of(run_scene(scene, on_level=observe))
+    return outcome_of(run_scene(scene, on_level=observe), label=model)
 
 
 _events = None  # the worker's end of the progress queue (set by the pool initializer)

@@ -34,10 +34,9 @@ from vlab.geometry.mesh_check import MeshError, check_mesh
 from vlab.geometry.specimen import Specimen
 from vlab.loading.grips import grip_loading
 from vlab.loading.protocol import protocol_levels
-from vlab.materials import make_material
+from vlab.materials import MODELS, build_material, build_split_law
 from vlab.materials.history import HistoryMaterial
 from vlab.materials.plane import plane_model
-from vlab.materials.split import SPLIT_LAWS, make_split_law
 from vlab.measure.centre_stress import CentreStressProbe, centre_report
 from vlab.measure.elastic_constants import (ElasticConstants, crosshead_modulus, elastic_constants,
                                             first_loading)
@@ -45,7 +44,7 @@ from vlab.measure.homogeneity import HomogeneityProbe
 from vlab.measure.recorder import Curve, Recorder
 from vlab.measure.reference import homogeneous_curve, relative_error
 from vlab.moduli import MIXED_NU_LIMIT
-from vlab.scene import SPRING_NETWORK, Scene, SceneError
+from vlab.scene import Scene, SceneError
 from vlab.report.results import failure_dict, observed_order  # noqa: F401  (moved there; kept importable here)
 
 
@@ -126,11 +125,11 @@ def make_body(scene: Scene, space: DisplacementSpace):
     (displacement-only or mixed θ/p condensed per element), on a 2D space (a sheet) the
     material's plane-stress or plane-strain reduction, or the spring network."""
     moduli = scene.material.moduli
-    if scene.material.model == SPRING_NETWORK:
+    if not MODELS[scene.material.model].continuum:
         return SpringNetwork(space, moduli.E)
     if scene.mesh.formulation == "mixed":
-        return MixedHyperelasticBody(space, make_split_law(scene.material.model, moduli.lmbda, moduli.mu))
-    elastic = make_material(scene.material.model, moduli.lmbda, moduli.mu)
+        return MixedHyperelasticBody(space, build_split_law(scene.material))
+    elastic = build_material(scene.material)
     if space.dim == 2:
         elastic = plane_model(elastic, scene.specimen.plane)
     if not scene.effects:  # the elastic path: nothing else is built or assembled
@@ -354,9 +353,9 @@ def _warnings(scene: Scene) -> list[str]:
         found += effect_warnings(scene)
     if nu > LOCKING_NU and scene.mesh.formulation == "displacement":
         cure = (f'use mesh.formulation = "mixed" (locking-free up to nu = {MIXED_NU_LIMIT:g})'
-                if scene.material.model in SPLIT_LAWS else
+                if MODELS[scene.material.model].split is not None else
                 f'mesh.formulation = "mixed" would cure it but needs material.model in '
-                f'{", ".join(SPLIT_LAWS)}')
+                f'{", ".join(n for n, m in MODELS.items() if m.split is not None)}')
         found.append(f"material.nu = {nu:g} > {LOCKING_NU:g} with the displacement-only formulation: "
                      "expect volumetric locking (too stiff) wherever the field is not uniform, e.g. "
                      f"with clamped grips; homogeneous roller tests are unaffected; {cure}")

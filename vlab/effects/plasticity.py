@@ -19,6 +19,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from vlab.effects.registry import Effect
+from vlab.materials.registry import models_where
 from vlab.fields import SceneError
 from vlab.materials.hencky import Hencky
 from vlab.materials.plasticity import PARAM_KEYS, J2Plasticity, parse_params
@@ -62,4 +63,5 @@ def warnings(spec: PlasticitySpec, material, test) -> list[str]:
 
 EFFECT = Effect(name="plasticity", keys=PARAM_KEYS, parse=parse, role="material", build=build,
                 protocols=("monotonic", "load-unload", "cyclic"), warnings=warnings,
+                models=models_where(lambda m: m.hencky),  # Hencky with the card's E, ν is their small-strain law
                 doc="finite-strain J2 plasticity with isotropic hardening (permanent set)")

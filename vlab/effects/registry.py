@@ -16,7 +16,8 @@ Each entry of ``EFFECTS`` says, for one name:
   why, e.g. the Mullins effect needs unloading), ``None`` for any;
 - ``timed``: True if the effect makes the response rate-dependent, so the scene must give time
   (``test.strain_rate`` or ``test.ramp_time``);
-- ``models``: the material models a ``"material"`` effect can wrap;
+- ``models``: the material models a ``"material"`` effect can wrap, asked of the model registry
+  (vlab.materials.registry.models_where): by default every continuum model;
 - ``warnings(spec, material, test) -> list[str]``: caveats written to results.json (an effect
   whose every parameter is inert, for instance).
 
@@ -26,8 +27,10 @@ At most one ``"material"`` effect per scene (one history law wraps the ground la
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, Callable
+
+from vlab.materials.registry import models_where
 
 __all__ = ["Effect", "EFFECTS", "register"]
 
@@ -45,7 +48,7 @@ class Effect:
     build: Callable[..., Any]
     protocols: tuple[str, ...] | None = None
     timed: bool = False
-    models: tuple[str, ...] = ("linear", "stvk", "stvk-volumetric", "neo-hookean")  # ground laws it wraps
+    models: tuple[str, ...] = field(default_factory=lambda: models_where(lambda m: m.continuum))  # ground laws it wraps
     warnings: Callable[..., list[str]] = _no_warnings
     doc: str = ""
 

@@ -4,6 +4,12 @@
     tau  = [1.0, 10.0]     # relaxation times τ_i, s (> 0)
     beta = [0.5, 0.3]      # relative moduli β_i ≥ 0: instantaneous shear modulus μ (1 + Σβ_i)
 
+Ground laws: every model of the registry with an isochoric part (``isochoric``: Neo-Hookean and
+the rubber models). The Maxwell branches are isochoric Neo-Hookean branches of shear modulus
+β_i μ with μ the ground law's initial shear modulus μ0 (``elastic.mu``), so at small strain the
+instantaneous shear modulus is μ0 (1 + Σβ_i) for every ground law; at finite strain the
+branches stay Neo-Hookean whatever the ground law (vlab.materials.viscoelastic).
+
 A rate-dependent effect: the scene must give time (test.strain_rate or test.ramp_time). Any
 protocol is accepted (a monotonic test at a rate shows the rate-dependent stiffness). All β = 0
 is inert: the run integrates the history at its cost and results.json says so in ``warnings``.
@@ -14,6 +20,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from vlab.effects.registry import Effect
+from vlab.materials.registry import models_where
 from vlab.fields import SceneError, number, show
 from vlab.materials.viscoelastic import PronyViscoelastic
 
@@ -61,5 +68,5 @@ def warnings(spec: ViscoelasticSpec, material, test) -> list[str]:
 
 
 EFFECT = Effect(name="viscoelastic", keys=("tau", "beta"), parse=parse, role="material", build=build,
-                timed=True, models=("neo-hookean",), warnings=warnings,
+                timed=True, models=models_where(lambda m: m.isochoric), warnings=warnings,
                 doc="finite-strain Prony-series viscoelasticity on the isochoric part")

@@ -386,7 +386,9 @@ class CompiledKernels:
         return f
 
     def matrix(self, form) -> sp.csr_matrix:
-        """K (N/mm) for an ``IsotropicTangent`` at all quadrature points (batch (e, q))."""
+        """K (N/mm) for an ``IsotropicTangent`` at all quadrature points (batch (e, q)), or for
+        a list of them (a tangent that is a sum of isotropic forms: one kernel pass each, added
+        into the same CSR data; the rubber models' ``tangent_forms``)."""
         n_el, n_qp = self.space.dx.shape
 
         def field(x):
@@ -394,8 +396,9 @@ class CompiledKernels:
                     else np.ascontiguousarray(x, dtype=float))
 
         data = np.zeros(len(self.pattern.indices))
-        self._run(np.ascontiguousarray(form.X, dtype=float), field(form.alpha), field(form.beta),
-                  form.c0, _NONE if form.S is None else np.ascontiguousarray(form.S, dtype=float),
-                  _NONE if form.B is None else np.ascontiguousarray(form.B, dtype=float), data,
-                  self.bounds)
+        for f in form if isinstance(form, (list, tuple)) else [form]:
+            self._run(np.ascontiguousarray(f.X, dtype=float), field(f.alpha), field(f.beta),
+                      f.c0, _NONE if f.S is None else np.ascontiguousarray(f.S, dtype=float),
+                      _NONE if f.B is None else np.ascontiguousarray(f.B, dtype=float), data,
+                      self.bounds)
         return self.pattern.csr(data)

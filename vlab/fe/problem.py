@@ -60,10 +60,10 @@ class HyperelasticBody:
         self.pattern = SparsityPattern.build(space.element_nodes, space.dim)
         self._compiled = None
         applies = (space.dim == 3 and space.reference_dN is not None
-                   and hasattr(material, "tangent_terms"))
+                   and (hasattr(material, "tangent_terms") or hasattr(material, "tangent_forms")))
         if kernel == "compiled" and not (applies and compiled.available()):
             raise ValueError("the compiled tangent kernel needs numba, a 3D isoparametric "
-                             "space and a material with tangent_terms")
+                             "space and a material with tangent_terms or tangent_forms")
         if kernel != "numpy" and applies and compiled.available():
             self._compiled = compiled.CompiledKernels(space, self.pattern)
             self._compiled.prepare()   # set-up once per mesh, like the pattern
@@ -102,6 +102,9 @@ class HyperelasticBody:
         the full (3,3,3,3,e,q) tangent: in the isotropic form of the three hyperelastic models
         the compiled kernel (vlab.fe.compiled) assembles it, otherwise it is pulled back term by
         term (vlab.fe.assembly)."""
+        forms = getattr(self.material, "tangent_forms", None)
+        if self._compiled is not None and forms is not None:  # a sum of isotropic forms (rubber models)
+            return self._compiled.matrix(forms(evaluation.F))
         terms = getattr(self.material, "tangent_terms", None)
         A = terms(evaluation.F) if terms is not None else self.material.tangent(evaluation.F)
         if self._compiled is not None and (form := A.isotropic()) is not None:

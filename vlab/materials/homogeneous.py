@@ -33,7 +33,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 __all__ = ["InadmissibleState", "HomogeneousState", "uniaxial", "biaxial", "plane_strain_uniaxial",
-           "plane_strain_biaxial", "homogeneous_state"]
+           "plane_strain_biaxial", "homogeneous_state", "isochoric_path_limit"]
 
 _T_MIN = 1e-6      # smallest lateral stretch searched
 _T_MAX = 1e6       # largest lateral stretch searched
@@ -77,37 +77,51 @@ def _free_residual(material, diag_of_t: Callable[[float], tuple], idx: int) -> C
     return g
 
 
-def _bracket(g: Callable[[float], float]) -> tuple[float, float] | None:
-    """Bracket the root of g on (T_MIN, T_MAX) starting at t = 1; None if there is none."""
-    g1 = g(1.0)
-    if g1 == 0.0:
-        return (1.0, 1.0)
-    if not np.isfinite(g1):
+def _bracket(g: Callable[[float], float], starts: tuple[float, ...] = (1.0,)) -> tuple[float, float] | None:
+    """Bracket the root of g on (T_MIN, T_MAX) from the first start where g is finite (t = 1,
+    else e.g. the pure dilatation, where a locking model is always admissible), expanding
+    geometrically; where g stops being finite (a locking limit) the edge is bisected for the
+    last finite value of the other sign. None if there is no root."""
+    for t0 in starts:
+        g0 = g(t0)
+        if g0 == 0.0:
+            return (t0, t0)
+        if np.isfinite(g0):
+            break
+    else:
         return None
-    if g1 > 0.0:  # lateral faces pulled in tension at t = 1: root below 1
-        hi, lo = 1.0, 0.5
-        while lo >= _T_MIN:
-            v = g(lo)
-            if np.isfinite(v) and v < 0.0:
-                return (lo, hi)
-            if np.isfinite(v) and v > 0.0:
-                hi = lo
-            lo *= 0.5
-        v = g(_T_MIN)
-        return (_T_MIN, hi) if np.isfinite(v) and v < 0.0 else None
-    lo, hi = 1.0, 2.0
-    while hi <= _T_MAX:
-        v = g(hi)
-        if np.isfinite(v) and v > 0.0:
-            return (lo, hi)
-        if np.isfinite(v) and v < 0.0:
-            lo = hi
-        hi *= 2.0
+    sign = 1.0 if g0 > 0.0 else -1.0   # > 0: lateral faces pulled at t0, the root is below
+    good, t = t0, t0 * (0.5 if sign > 0 else 2.0)
+    while _T_MIN <= t <= _T_MAX:
+        v = g(t)
+        if not np.isfinite(v):
+            found = _edge(g, good, t, sign)
+            return None if found is None else tuple(sorted((found, good)))
+        if sign * v < 0.0:
+            return tuple(sorted((t, good)))
+        good, t = t, t * (0.5 if sign > 0 else 2.0)
     return None
 
 
-def _solve(g: Callable[[float], float]) -> float | None:
-    br = _bracket(g)
+def _edge(g: Callable[[float], float], good: float, bad: float, sign: float) -> float | None:
+    """Between ``good`` (g finite, sign ``sign``) and ``bad`` (g not finite): a t with finite g
+    of the opposite sign, found by geometric bisection, or None."""
+    for _ in range(200):
+        m = np.sqrt(good * bad)
+        v = g(m)
+        if np.isfinite(v) and sign * v < 0.0:
+            return float(m)
+        if np.isfinite(v):
+            good = m
+        else:
+            bad = m
+        if abs(np.log(good / bad)) < 1e-15:
+            return None
+    return None
+
+
+def _solve(g: Callable[[float], float], starts: tuple[float, ...] = (1.0,)) -> float | None:
+    br = _bracket(g, starts)
     if br is None:
         return None
     lo, hi = br
@@ -135,7 +149,9 @@ def _limit_along(admissible: Callable[[float], bool]) -> float:
 def _describe(material) -> str:
     nu = getattr(material, "poisson_ratio", None)
     name = getattr(material, "name", type(material).__name__)
-    return f"{name} with nu={nu:.4g}" if nu is not None else str(name)
+    note = getattr(material, "locking_note", None)  # e.g. Gent: where the chains lock
+    text = f"{name} with nu={nu:.4g}" if nu is not None else str(name)
+    return f"{text}; {note}" if note else text
 
 
 def _check_stretch(value: float, label: str) -> float:
@@ -160,11 +176,11 @@ def uniaxial(material, stretch: float) -> HomogeneousState:
     stretch √(1 + 1/ν)), ValueError if ``stretch`` is not a finite positive number.
     """
     lam = _check_stretch(stretch, "stretch")
-    t = _solve(_free_residual(material, lambda t: (lam, t, t), 1))
+    t = _solve(_free_residual(material, lambda t: (lam, t, t), 1), (1.0, lam))
     if t is None:
         def ok(s: float) -> bool:
             ls = 1.0 + s * (lam - 1.0)
-            return _bracket(_free_residual(material, lambda t: (ls, t, t), 1)) is not None
+            return _bracket(_free_residual(material, lambda t: (ls, t, t), 1), (1.0, ls)) is not None
 
         lim = 1.0 + _limit_along(ok) * (lam - 1.0)
         raise InadmissibleState(
@@ -183,11 +199,11 @@ def biaxial(material, stretch_x: float, stretch_y: float) -> HomogeneousState:
     """
     lx = _check_stretch(stretch_x, "stretch_x")
     ly = _check_stretch(stretch_y, "stretch_y")
-    t = _solve(_free_residual(material, lambda t: (lx, ly, t), 2))
+    t = _solve(_free_residual(material, lambda t: (lx, ly, t), 2), (1.0, np.sqrt(lx * ly)))
     if t is None:
         def ok(s: float) -> bool:
             sx, sy = 1.0 + s * (lx - 1.0), 1.0 + s * (ly - 1.0)
-            return _bracket(_free_residual(material, lambda t: (sx, sy, t), 2)) is not None
+            return _bracket(_free_residual(material, lambda t: (sx, sy, t), 2), (1.0, np.sqrt(sx * sy))) is not None
 
         s_lim = _limit_along(ok)
         lim_x, lim_y = 1.0 + s_lim * (lx - 1.0), 1.0 + s_lim * (ly - 1.0)
@@ -204,7 +220,7 @@ def plane_strain_uniaxial(material, stretch: float) -> HomogeneousState:
     """Plane-strain uniaxial state F = diag(stretch, t, 1) with P₂₂ = 0, t > 0 (InadmissibleState
     if none)."""
     lam = _check_stretch(stretch, "stretch")
-    t = _solve(_free_residual(material, lambda t: (lam, t, 1.0), 1))
+    t = _solve(_free_residual(material, lambda t: (lam, t, 1.0), 1), (1.0, lam))
     if t is None:
         raise InadmissibleState(
             f"no admissible state beyond stretch {lam:.6g} (or below) for {_describe(material)} in "
@@ -217,6 +233,22 @@ def plane_strain_biaxial(material, stretch_x: float, stretch_y: float) -> Homoge
     lx = _check_stretch(stretch_x, "stretch_x")
     ly = _check_stretch(stretch_y, "stretch_y")
     return _state(material, (lx, ly, 1.0), 1.0)
+
+
+def isochoric_path_limit(material, stretch: tuple[float, ...]) -> float | None:
+    """The grip stretch where the isochoric path of a test, F = diag(λ, λ^(−1/2), λ^(−1/2))
+    (uniaxial) or diag(λx, λy, 1/(λx λy)) (biaxial), straight from (1, 1) to ``stretch``, first
+    has infinite isochoric energy (a locking limit: Gent's Ī₁ − 3 = Jm), as the fraction s of
+    the path (limit = 1 + s (stretch − 1)); None if the whole path is admissible."""
+    def F(s: float) -> np.ndarray:
+        g = [1.0 + s * (v - 1.0) for v in stretch]
+        third = [g[0] ** -0.5] * 2 if len(g) == 1 else [1.0 / (g[0] * g[1])]
+        return np.diag(g + third)[..., None]
+
+    def ok(s: float) -> bool:
+        return bool(np.isfinite(material.isochoric_energy(F(s))[0]))
+
+    return None if ok(1.0) else _limit_along(ok)
 
 
 def homogeneous_state(material, stretch: tuple[float, ...]) -> HomogeneousState:

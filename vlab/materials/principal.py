@@ -37,7 +37,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["PrincipalFrame", "principal_frame", "principal_stress", "principal_tangent"]
+__all__ = ["PrincipalFrame", "principal_frame", "principal_stress", "principal_tangent", "principal_coefficients"]
 
 
 @dataclass(frozen=True)
@@ -75,17 +75,26 @@ def _log_quotient(lam: np.ndarray) -> np.ndarray:
     return quotient / lb
 
 
-def principal_tangent(frame: PrincipalFrame, tau: np.ndarray, c: np.ndarray, g: np.ndarray,
-                      right: np.ndarray | None = None) -> np.ndarray:
-    """A = ∂P/∂F (3,3,3,3,*batch) from τ (3,*b), c (3,3,*b) and g (3,3,*b) (module docstring);
-    with ``right`` R (3,3,*b): A_iJkL = Ā_iKkM R_JK R_LM."""
-    lam, n, N = frame.lam, frame.n, frame.N
+def principal_coefficients(frame: PrincipalFrame, tau: np.ndarray, c: np.ndarray,
+                           g: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(w_AB, a_AB, b_AB), each (3,3,*batch), of the module docstring (a through g and ℓ)."""
+    lam = frame.lam
     batch = tau.shape[1:]
     lalb = lam[:, None] * lam[None, :]
     w = (c - np.eye(3).reshape((3, 3) + (1,) * len(batch)) * tau[:, None]) / lalb
     a = g * _log_quotient(lam) / lam[:, None] - tau[None, :] / lalb
     wA = tau / lam
     b = (wA[:, None] + wA[None, :]) / (lam[:, None] + lam[None, :])
+    return w, a, b
+
+
+def principal_tangent(frame: PrincipalFrame, tau: np.ndarray, c: np.ndarray, g: np.ndarray,
+                      right: np.ndarray | None = None) -> np.ndarray:
+    """A = ∂P/∂F (3,3,3,3,*batch) from τ (3,*b), c (3,3,*b) and g (3,3,*b) (module docstring);
+    with ``right`` R (3,3,*b): A_iJkL = Ā_iKkM R_JK R_LM."""
+    lam, n, N = frame.lam, frame.n, frame.N
+    batch = tau.shape[1:]
+    w, a, b = principal_coefficients(frame, tau, c, g)
     t1, t2 = 0.5 * (a + b), 0.5 * (a - b)
     size = int(np.prod(batch, dtype=int))
     D = np.zeros((size, 3, 3, 3, 3))  # D[p, A, B, C, D] over the basis M_AB ⊗ M_CD

@@ -21,7 +21,7 @@ Small strain: with F = I + ε, ψ_iso ≈ μ dev ε : dev ε and U ≈ κ/2 (tr 
 bulk modulus of the scene's (E, ν): the same small-strain E and ν as the displacement model.
 
 Models without a natural split (St. Venant–Kirchhoff: μ tr E² holds volumetric strain too) have
-no entry in ``SPLIT_LAWS``; the scene refuses ``mesh.formulation = "mixed"`` for them.
+no ``split`` in the model registry (vlab.materials.registry); the scene refuses ``mesh.formulation = "mixed"`` for them.
 """
 
 from __future__ import annotations
@@ -35,7 +35,7 @@ from vlab.materials.base import Material
 from vlab.materials.linear import LinearElastic
 from vlab.tensor import as_tensor_field, det, dyad, dyad_il, inv_transpose, transpose
 
-__all__ = ["SplitNeoHookean", "SplitLinear", "SPLIT_LAWS", "make_split_law"]
+__all__ = ["SplitNeoHookean", "SplitLinear"]
 
 
 def _add_identity_ik_jl(A: np.ndarray, scale) -> None:
@@ -236,18 +236,3 @@ class SplitLinear(LinearElastic):
              - (2.0 * self.mu / 3.0) * np.einsum("ij,kl->ijkl", I, I))
         batch = F.shape[2:]
         return np.broadcast_to(C.reshape(C.shape + (1,) * len(batch)), C.shape + batch).copy()
-
-
-#: scene material.model -> split law class (the models that allow mesh.formulation = "mixed")
-SPLIT_LAWS: dict[str, type] = {"neo-hookean": SplitNeoHookean, "linear": SplitLinear}
-
-
-def make_split_law(model: str, lmbda: float, mu: float):
-    """The split law of a scene's ``material.model``; ValueError naming the allowed models."""
-    try:
-        cls = SPLIT_LAWS[model]
-    except KeyError:
-        raise ValueError(f"mesh.formulation = 'mixed' needs a volumetric–isochoric split; "
-                         f"material.model {model!r} has none (allowed: "
-                         f"{', '.join(SPLIT_LAWS)})") from None
-    return cls(lmbda=lmbda, mu=mu)

@@ -17,12 +17,22 @@ import numpy as np
 from vlab.report import figures as plt  # pyplot-free Agg figures
 
 COLOURS = {"linear": "tab:blue", "stvk": "tab:orange", "stvk-volumetric": "tab:brown",
-           "neo-hookean": "tab:green", "spring-network": "tab:purple"}
+           "neo-hookean": "tab:green", "spring-network": "tab:purple", "mooney-rivlin": "tab:red",
+           "yeoh": "tab:pink", "ogden": "tab:olive", "gent": "tab:cyan", "arruda-boyce": "navy"}
+_SPARE = ("darkgoldenrod", "teal", "indigo", "crimson", "slategray", "darkorange", "forestgreen", "orchid")
 DEPARTURE_MARKERS = {"5%": ("o", "none"), "10%": ("X", None)}
 
 
 def colour(model: str) -> str:
-    return COLOURS.get(model, "tab:gray")
+    """A model's (or a [compare] label's) colour; labels get a fixed spare colour by their name."""
+    import zlib
+
+    return COLOURS.get(model) or _SPARE[zlib.crc32(model.encode()) % len(_SPARE)]
+
+
+def label(d: dict) -> str:
+    """The name a run is shown under: its [compare] label, else its model."""
+    return d["input"].get("label", d["input"]["model"])
 
 
 def measured_curve(data: dict, true: bool) -> tuple[np.ndarray, np.ndarray]:
@@ -62,7 +72,7 @@ def _window(datas: list[dict]) -> tuple[float, float, float] | None:
 
 def _draw_curves(ax, datas, true, departures, marker_size=4):
     for d in datas:
-        model, c = d["input"]["model"], colour(d["input"]["model"])
+        model, c = label(d), colour(label(d))
         x, y = measured_curve(d, true)
         ax.plot(x, y, "-", marker="o", ms=marker_size * 0.7, color=c, lw=1.6, label=f"{model} (FE)")
         centre = d["curve"].get("centre_stress_x")
@@ -127,8 +137,8 @@ def _legend_handles(datas, departures, window):
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
-    handles = [Line2D([], [], color=colour(d["input"]["model"]), marker="o", ms=3,
-                      label=f"{d['input']['model']} (FE)") for d in datas]
+    handles = [Line2D([], [], color=colour(label(d)), marker="o", ms=3,
+                      label=f"{label(d)} (FE)") for d in datas]
     if any(analytic_curve(d, False) is not None for d in datas):
         handles.append(Line2D([], [], color="0.3", ls="--", label="analytic homogeneous (each model)"))
     if any(d["curve"].get("centre_stress_x") for d in datas):
@@ -156,13 +166,13 @@ def _inset(ax, datas, true, xs, sign):
         x, y = measured_curve(d, true)
         x, y = x[:_first_loading(x)], y[:_first_loading(x)]  # where E is fitted (unloading excluded)
         inside = (x >= min(x_lo, x_hi)) & (x <= max(x_lo, x_hi))
-        inset.plot(x[inside], y[inside], "-o", ms=2.5, lw=1.0, color=colour(d["input"]["model"]))
+        inset.plot(x[inside], y[inside], "-o", ms=2.5, lw=1.0, color=colour(label(d)))
         if inside.any():
             y_hi = max(y_hi, float(np.max(np.abs(y[inside]))))
         fit = d["measured"].get("E_fit")
         if fit and not true and "strain_y" not in d["curve"]:  # the fit is s against ε (uniaxial)
             line = np.linspace(x_lo, x_hi, 2)
-            inset.plot(line, fit["intercept"] + fit["slope"] * line, ":", lw=0.8, color=colour(d["input"]["model"]))
+            inset.plot(line, fit["intercept"] + fit["slope"] * line, ":", lw=0.8, color=colour(label(d)))
     inset.axvspan(*xs, color="gold", alpha=0.35, lw=0)
     inset.set_xlim(min(x_lo, x_hi), max(x_lo, x_hi))
     if y_hi > 0:
@@ -184,20 +194,20 @@ def lateral_strain(data: dict) -> tuple[np.ndarray, str]:
 def plot_lateral(datas: list[dict], path: Path) -> None:
     """Left: lateral against axial strain. Right: apparent Poisson's ratio −ε_lat/ε_axial as strain grows."""
     fig, (left, right) = plt.subplots(1, 2, figsize=(10.0, 4.2), dpi=120)
-    label = "lateral strain"
+    which = "lateral strain"
     for d in datas:
-        model, c = d["input"]["model"], colour(d["input"]["model"])
+        model, c = label(d), colour(label(d))
         axial = np.r_[0.0, d["curve"]["strain"]]
-        lateral, label = lateral_strain(d)
+        lateral, which = lateral_strain(d)
         left.plot(axial, lateral, "-o", ms=2.5, color=c, label=model)
         nonzero = np.abs(axial) > 0
         right.plot(axial[nonzero], -lateral[nonzero] / axial[nonzero], "-o", ms=2.5, color=c, label=model)
-    nu = datas[0]["input"]["nu"]
+    nu = datas[0]["input"]["nu"]  # the first model's (a [compare] card may imply another)
     span = np.array([0.0, max(np.r_[0.0, d["curve"]["strain"]].max() for d in datas)])
     left.plot(span, -nu * span, "k:", lw=1, label=f"small-strain slope −ν, ν = {nu:g}")
     right.axhline(nu, color="k", ls=":", lw=1, label=f"input ν = {nu:g}")
     left.set_xlabel("axial extensometer strain [–]")
-    left.set_ylabel(f"{label} [–]")
+    left.set_ylabel(f"{which} [–]")
     left.set_title("Lateral against axial strain", fontsize=10)
     right.set_xlabel("axial extensometer strain [–]")
     right.set_ylabel("apparent Poisson's ratio −ε_lat / ε_axial [–]")

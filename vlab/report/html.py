@@ -39,7 +39,8 @@ def summary_rows(data: dict) -> list[tuple[str, str]]:
     m, inp, solver, timing, mesh = (data["measured"], data["input"], data["solver"],
                                     data["timing"], data["mesh"])
     rows = [
-        ("model", inp["model"]),
+        ("model", inp["model"] if inp.get("label", inp["model"]) == inp["model"]
+                  else f"{inp['label']} ({inp['model']})"),
         ("E measured / input [MPa]", f"{_fmt(m['E'])} / {_fmt(inp['E'])}"),
         ("ν measured / input", f"{_fmt(m['nu'])} / {_fmt(inp['nu'])}"),
         ("E from crosshead strain [MPa]", _fmt(m.get("E_crosshead"))),
@@ -171,7 +172,7 @@ def comparison_rows(page: ReportPage) -> list[tuple[str, list[str]]]:
         return _fmt(ref.get("max_relative_error_x"), 3) if ref.get("max_relative_error_x") is not None else "—"
 
     def departure(key):
-        return lambda d: _fmt((page.departures.get(d["input"]["model"]) or {}).get(key), 4)
+        return lambda d: _fmt((page.departures.get(d["input"].get("label", d["input"]["model"])) or {}).get(key), 4)
 
     rows = [
         ("status", per(_model_status)),
@@ -202,7 +203,7 @@ def comparison_rows(page: ReportPage) -> list[tuple[str, list[str]]]:
             conf = next(c for c in cells if c)["confidence"]
             rows.append((f"{name} {100 * conf:g} % interval (noisy instruments)",
                          [f"[{_fmt(c['low'])}, {_fmt(c['high'])}]" if c else "—" for c in cells]))
-    taylor = [page.checks.get(d["input"]["model"], {}).get("taylor") for d in page.models]
+    taylor = [page.checks.get(d["input"].get("label", d["input"]["model"]), {}).get("taylor") for d in page.models]
     if any(taylor):
         rows.append(("Taylor test order: energy / force (2 = consistent)",
                      [f"{t['energy_order']:.3f} / {t['force_order']:.3f}" if t else "—" for t in taylor]))

@@ -6,7 +6,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from vlab.post.snapshot import Snapshot
-from vlab.scene import SPRING_NETWORK
+from vlab.materials.registry import MODELS
 
 __all__ = ["ModelOutcome", "outcome_of"]
 
@@ -22,20 +22,27 @@ class ModelOutcome:
     critical_mode: object = None  # eigenvector of the first loss of stability (full DOF vector), if any
 
 
-def outcome_of(result) -> ModelOutcome:
-    """Package a RunResult for the reports."""
+def outcome_of(result, label: str | None = None) -> ModelOutcome:
+    """Package a RunResult for the reports; ``label`` (default: the model name; vlab compare: a
+    [compare.<label>] card) names the outcome, its folder and its curves (input.label)."""
+    from dataclasses import replace
+
     from vlab.post.snapshot import take_snapshot
     from vlab.report.results import result_to_dict
 
+    label = label or result.scene.material.model
+    data = result_to_dict(result)
+    if label != result.scene.material.model:
+        data["input"]["label"] = label
     critical = result.extra.get("critical_state")
-    return ModelOutcome(result.scene.material.model, result_to_dict(result), take_snapshot(result),
+    return ModelOutcome(label, data, replace(take_snapshot(result), model=label),
                         _model_checks(result), None if critical is None else critical.mode)
 
 
 def _model_checks(result) -> dict:
     """Model-specific evidence shown in the report: a Taylor test for the spring network, whose
     force and stiffness have no analytic homogeneous oracle to be checked against."""
-    if result.scene.material.model != SPRING_NETWORK:
+    if MODELS[result.scene.material.model].continuum:
         return {}
     from vlab.fe.taylor import random_state, taylor_test
 

@@ -101,7 +101,7 @@ def result_to_dict(result: RunResult) -> dict:
             "uncertainty": result.extra.get("uncertainty"),  # effects.noise: intervals, noiseless E, nu
             "units": {"E": "MPa", "nu": "1"},
         },
-        "input": {"model": scene.material.model, **scene.material.moduli.as_dict()},
+        "input": material_input(scene.material),
         "curve": curve_columns(result) | {
             "units": {"stretch": "1 (grip)", "strain": "1 (extensometer, engineering)",
                       "stress": "MPa (engineering)", "force": "N", "true_stress": "MPa",
@@ -143,3 +143,18 @@ def result_to_dict(result: RunResult) -> dict:
         "failure": None if history.failure is None else failure_dict(scene, history.failure),
         "accuracy_estimate": result.extra.get("accuracy_estimate"),  # vlab.study.estimate; None if off
     })
+
+
+def material_input(material) -> dict:
+    """results.json → input: the model, its card (constants, volumetric form) and the small-strain
+    constants every model implies (μ0, K, E, ν; a Lamé-pair model's μ0 is its μ)."""
+    m = material.moduli
+    out = {"model": material.model, **m.as_dict(),
+           "small_strain": {"mu0": m.mu, "K": m.K, "E": m.E, "nu": m.nu,
+                            "units": {"mu0": "MPa", "K": "MPa", "E": "MPa", "nu": "1"}}}
+    if material.params:
+        out["parameters"] = {k: list(v) if isinstance(v, tuple) else v for k, v in material.params.items()}
+        out["bulk_as_given"] = dict(material.given)
+        out["volumetric"] = material.volumetric
+    return out
+

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING, Any
 from vlab import fields
 from vlab.effects import EFFECTS
 from vlab.fields import SceneError
-from vlab.scene.material import SPRING_NETWORK
+from vlab.scene.material import continuum
 
 if TYPE_CHECKING:
     from vlab.scene.material import MaterialSpec
@@ -24,8 +24,8 @@ def check_effects_scope(raw: Any, shape: str, mesh: MeshSpec, model: str) -> Non
     if not raw or not isinstance(raw, dict):
         return
     name = f"effects.{next(iter(raw))}"
-    if model == SPRING_NETWORK:
-        raise SceneError(f"{name}: material.model {SPRING_NETWORK!r} is a network of springs without "
+    if not continuum(model):
+        raise SceneError(f"{name}: material.model {model!r} is a network of springs without "
                          f"effects; use a continuum model with [effects]")
     if shape == "sheet":
         raise SceneError(f"{name}: [effects] are not available on specimen.shape = 'sheet' (2D) in "

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any, Mapping
 from vlab import fields
 from vlab.fields import SceneError
 from vlab.scene.effects import check_effects_scope, parse_effects
-from vlab.scene.material import SPRING_NETWORK, parse_material
+from vlab.scene.material import check_path, continuum, parse_compare, parse_material
 from vlab.scene.measure import parse_measure
 from vlab.scene.mesh import check_formulation, check_symmetry, parse_mesh
 from vlab.scene.solver import parse_solver
@@ -34,7 +34,7 @@ if TYPE_CHECKING:
 __all__ = ["Scene", "SECTIONS", "TOP_KEYS", "parse_scene", "load_scene", "load_scene_text"]
 
 
-SECTIONS = ("specimen", "mesh", "material", "test", "measure", "solver", "effects")
+SECTIONS = ("specimen", "mesh", "material", "test", "measure", "solver", "effects", "compare")
 
 
 TOP_KEYS = ("name", "description") + SECTIONS
@@ -91,13 +91,17 @@ def _parse(data: Mapping[str, Any]) -> Scene:
     specimen = parse_specimen(data["specimen"])
     mesh, material = parse_mesh(data["mesh"], specimen), parse_material(data["material"])
     check_formulation(mesh, material.model)
-    if material.model == SPRING_NETWORK and mesh.order != 1:
-        raise SceneError(f"material.model {SPRING_NETWORK!r} joins mesh vertices by springs and needs "
+    parse_compare(data.get("compare", {}))  # every [compare.<label>] card, validated now
+    model = material.model
+    if not continuum(model) and mesh.order != 1:
+        raise SceneError(f"material.model {model!r} joins mesh vertices by springs and needs "
                          f"mesh.order = 1, got {mesh.order}")
-    if material.model == SPRING_NETWORK and specimen.shape == "sheet":
-        raise SceneError(f"material.model {SPRING_NETWORK!r} is a 3D network of mesh edges; "
-                         f"specimen.shape = 'sheet' needs a continuum model (not {SPRING_NETWORK!r})")
+    if not continuum(model) and specimen.shape == "sheet":
+        raise SceneError(f"material.model {model!r} is a 3D network of mesh edges; "
+                         f"specimen.shape = 'sheet' needs a continuum model (not {model!r})")
     test = parse_test(data["test"], specimen.shape)
+    if continuum(model):
+        check_path(material, [test.stretch])  # a locking limit on the test's path (Gent)
     check_symmetry(mesh, test, specimen)
     check_effects_scope(data.get("effects", {}), specimen.shape, mesh, material.model)
     return Scene(name=name, description=description, specimen=specimen,

@@ -3,7 +3,7 @@
 Defaults: order = 1, cell = the specimen's first (tet; tri for a sheet), min_quality = 0.15,
 formulation = "displacement", symmetry = "none", max_dofs = none (the size budget's default,
 vlab/geometry/budget.py, checked before meshing). ``formulation = "mixed"`` (locking-free for
-ν → ½) needs a model with a volumetric–isochoric split (``SPLIT_LAWS``) and hexes or order-2 tets.
+ν → ½) needs a model with a volumetric–isochoric split (``split`` in vlab.materials.registry) and hexes or order-2 tets.
 An imported mesh is meshed already: its size is the mean edge length of its cells.
 """
 
@@ -18,7 +18,7 @@ import numpy as np
 from vlab import fields
 from vlab.fields import SceneError
 from vlab.geometry.symmetry import SYMMETRY_LEVELS
-from vlab.materials.split import SPLIT_LAWS
+from vlab.materials.registry import MODELS as REGISTRY
 from vlab.scene.specimen import _FINE_MESH_SHAPES, SYMMETRIC_SHAPES, MeshFileSpecimen, Specimen
 
 if TYPE_CHECKING:
@@ -91,10 +91,11 @@ def check_formulation(mesh: MeshSpec, model: str) -> None:
     """The mixed formulation needs a split law and an element pair that does not lock."""
     if mesh.formulation != "mixed":
         return
-    if model not in SPLIT_LAWS:
+    if REGISTRY[model].split is None:
+        split = ", ".join(n for n, m in REGISTRY.items() if m.split is not None)
         raise SceneError(f"mesh.formulation = 'mixed' needs a material with a volumetric–isochoric "
                          f"split; material.model {model!r} has none (allowed with 'mixed': "
-                         f"{', '.join(SPLIT_LAWS)}; or use mesh.formulation = 'displacement')")
+                         f"{split}; or use mesh.formulation = 'displacement')")
     if mesh.cell in ("tri", "quad"):
         raise SceneError("mesh.formulation = 'mixed' is for 3D solids (hex, or order-2 tet); a sheet "
                          "in plane stress has no volumetric locking (the thickness is free), so use "
