@@ -117,7 +117,7 @@ def test_reliability_and_notes_flag_a_noisy_strain_axis_and_coarse_resolution():
 
 
 def test_biaxial_or_empty_curves_are_not_measured_with_a_reason():
-    assert "uniaxial" in elastic_uncertainty(Curve(t=[0.0], stretch={0: [1.0], 1: [1.0]}), WINDOW, SPEC, GAUGES).note
+    assert "uniaxial" in elastic_uncertainty(Curve(t=[0.0], stretch={0: [1.0], 1: [1.0]}, kind="biaxial"), WINDOW, SPEC, GAUGES).note
     assert elastic_uncertainty(CURVE, (0.1, 0.2), SPEC, GAUGES).note.startswith("not measured")
 
 

@@ -83,8 +83,11 @@ def run(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (defa
             say(f"  level {n_levels[0]:3d}  t = {level.t:.4f}  Newton iterations {level.iterations}")
 
     if not quiet:
+        from vlab.loading.kinds import kind_of
+
+        kind = kind_of(parsed.test)
         say((parsed.name, "bold"), f": {parsed.material.model}, {parsed.test.kind} "
-            f"to stretch {list(parsed.test.stretch)}")
+            f"to {kind.load_key} {list(parsed.test.targets)}")
     try:
         result = run_scene(parsed, on_level=progress)
     except SceneError as exc:  # e.g. a mesh below mesh.min_quality: nothing is written

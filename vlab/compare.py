@@ -57,7 +57,10 @@ def scene_for_model(scene: Scene, model: str) -> Scene:
 
 
 def scheduled_levels(scene: Scene) -> int:
-    return len(monotonic_schedule(scene.test.stretch, scene.test.steps, scene.measure.modulus_window))
+    from vlab.loading.kinds import kind_of
+
+    grip = tuple(1.0 + g for g in kind_of(scene.test).grip_strain(scene.test.targets))
+    return len(monotonic_schedule(grip, scene.test.steps, scene.measure.modulus_window))
 
 
 def run_model(scene: Scene, model: str, on_level: Callable[[int], None] | None = None) -> ModelOutcome:

@@ -24,25 +24,18 @@ from vlab.fe.space import DisplacementSpace
 from vlab.fe.spring_network import SpringNetwork
 from vlab.fe.stepping import Failure, SolveHistory, Stepping, run_schedule
 from vlab.fe.timers import phase_clock
-from vlab.geometry.block import block_specimen
-from vlab.geometry.cruciform import cruciform_specimen
-from vlab.geometry.imported import imported_specimen
-from vlab.geometry.dogbone import dogbone_specimen
-from vlab.geometry.sheet import sheet_specimen
+from vlab.geometry.shapes import SHAPES
 from vlab.geometry.quality import MeshQuality, mesh_quality
 from vlab.geometry.mesh_check import MeshError, check_mesh
 from vlab.geometry.specimen import Specimen
-from vlab.loading.grips import grip_loading
+from vlab.loading.kinds import kind_of
 from vlab.loading.protocol import protocol_levels
 from vlab.materials import MODELS, build_material, build_split_law
 from vlab.materials.history import HistoryMaterial
 from vlab.materials.plane import plane_model
 from vlab.measure.centre_stress import CentreStressProbe, centre_report
-from vlab.measure.elastic_constants import (ElasticConstants, crosshead_modulus, elastic_constants,
-                                            first_loading)
-from vlab.measure.homogeneity import HomogeneityProbe
+from vlab.measure.elastic_constants import ElasticConstants, elastic_constants, first_loading
 from vlab.measure.recorder import Curve, Recorder
-from vlab.measure.reference import homogeneous_curve, relative_error
 from vlab.moduli import MIXED_NU_LIMIT
 from vlab.scene import Scene, SceneError
 from vlab.report.results import failure_dict, observed_order  # noqa: F401  (moved there; kept importable here)
@@ -83,24 +76,12 @@ class RunResult:
 
 
 def build_specimen(scene: Scene) -> Specimen:
-    """The specimen mesh; first the size budget (SceneError before anything is allocated)."""
+    """The specimen mesh (its shape's ``build``: vlab/geometry/shapes.py); first the size budget
+    (SceneError before anything is allocated)."""
     from vlab.geometry.budget import check_budget
 
     check_budget(scene)
-    spec = scene.specimen
-    mesh = scene.mesh
-    if spec.shape == "block":
-        return block_specimen(spec.size, mesh.size, mesh.cell, scene.measure.gauge_length, mesh.symmetry)
-    if spec.shape == "dogbone":
-        return dogbone_specimen(spec.dimensions, mesh.size, mesh.cell, mesh.gauge_size, mesh.symmetry)
-    if spec.shape == "sheet":
-        return sheet_specimen(spec.size, spec.thickness, mesh.size, mesh.cell, scene.measure.gauge_length)
-    if spec.shape == "cruciform":
-        return cruciform_specimen(spec.dimensions, mesh.size, mesh.cell, mesh.gauge_size, mesh.symmetry,
-                                  scene.measure.gauge_length)
-    if spec.shape == "mesh":
-        return imported_specimen(spec.spec, spec.data)
-    raise ValueError(f"specimen.shape {spec.shape!r} is not supported by this build")
+    return SHAPES[scene.specimen.shape].build(scene.specimen, scene.mesh, scene.measure.gauge_length)
 
 
 def checked_quality(scene: Scene, specimen: Specimen) -> MeshQuality:
@@ -176,17 +157,18 @@ def _run_scene(scene: Scene, on_level, specimen: Specimen | None) -> RunResult:
     ground = getattr(material, "elastic", material)  # a history law's elastic ground law
     if isinstance(material, HistoryMaterial) or scene.effect("gravity") is not None:
         material = None  # a history law or a dead load: the elastic homogeneous oracles do not apply
-    loading = grip_loading(specimen, space.node_coordinates, scene.test.stretch, scene.test.grips)
+    kind, targets = kind_of(scene.test), scene.test.targets
+    loading = kind.loading(specimen, space.node_coordinates, scene.test)
     partition = Partition.build(body.pattern, loading.prescribed)
     timing["mesh_s"] = clock() - t0
 
-    recorder = Recorder(space, specimen, scene.test.stretch, loading.moving_dofs, material,
+    recorder = Recorder(space, specimen, kind, targets, loading, material,
                         CentreStressProbe.build(space, specimen, material))
-    probe = HomogeneityProbe.build(space, specimen, material) if material is not None else None
+    probe = kind.probe(space, specimen, material) if material is not None else None
     homogeneity: list[dict] = []
     measure_time = [0.0]
 
-    monitor = StabilityMonitor(body, partition, loading.moving_dofs, scene.test.stretch,
+    monitor = StabilityMonitor(body, partition, {a: loading.moving_dofs[a] for a in kind.axes}, kind, targets,
                                _law_label(scene), loading.u_hat,
                                MonitorOptions(eigenvalues=scene.solver.eigenvalues,
                                               limit_points=_watch_limit_points(scene)))
@@ -205,7 +187,7 @@ def _run_scene(scene: Scene, on_level, specimen: Specimen | None) -> RunResult:
         if on_level is not None:
             on_level(level)
 
-    levels = protocol_levels(scene.test.protocol, scene.test.stretch, scene.test.steps,
+    levels = protocol_levels(scene.test.protocol, tuple(1.0 + g for g in kind.grip_strain(targets)), scene.test.steps,
                              scene.measure.modulus_window, scene.measure.modulus_points)
     linear_solver = choose_linear(scene.solver.linear, len(partition.free), solver_in_use())
     stepping = Stepping(
@@ -242,15 +224,11 @@ def _run_scene(scene: Scene, on_level, specimen: Specimen | None) -> RunResult:
         from vlab.measure.noise import measure_with_noise
         curve, constants, uncertainty = measure_with_noise(scene.effect("noise"), curve, specimen, scene.measure)
     reference = None
-    if material is not None and specimen.shape in ("block", "sheet") and scene.test.grips == "roller":
-        reference = homogeneous_curve(material, curve.stretch)
-        for axis in curve.axes:
-            key = f"stress_{'xy'[axis]}"
-            reference[f"max_relative_error_{'xy'[axis]}"] = relative_error(
-                curve.column("stress", axis), reference[key])
+    if material is not None and kind.has_oracle(specimen.shape, scene.test.grips):
+        reference = kind.reference(material, curve)
     extra = {"mesh_quality": quality.as_dict(),
-             "crosshead": crosshead_modulus(first_loading(curve) if scene.test.protocol.unloads else curve,
-                                            scene.measure.modulus_window, scene.measure.fit)}
+             "crosshead": kind.crosshead(first_loading(curve) if scene.test.protocol.unloads else curve,
+                                         scene.measure.modulus_window, scene.measure.fit)}
     if uncertainty is not None:
         extra["uncertainty"] = uncertainty
     centre = centre_report(curve, scene.measure.modulus_window, scene.measure.fit)
@@ -296,10 +274,7 @@ def _seeded_specimen(scene: Scene, specimen: Specimen) -> _Seeded:
 
 def specimen_thickness(scene: Scene) -> float:
     """The smallest cross-section dimension (mm), the scale of a buckling imperfection."""
-    spec = scene.specimen
-    if spec.shape == "block":
-        return float(min(spec.size[1], spec.size[2]))
-    return float(min(spec.dimensions.thickness, spec.dimensions.width))
+    return SHAPES[scene.specimen.shape].thickness(scene.specimen)
 
 
 def _buckling_extra(monitor: StabilityMonitor, deflection: list[float], seeded: "_Seeded | None") -> dict:
@@ -369,4 +344,4 @@ def _refusal(material, scene: Scene, space: DisplacementSpace, prescribed) -> st
     modes = unrestrained_modes(space.node_coordinates, prescribed)
     if modes:
         return under_constrained_message(modes)
-    return inadmissible_request(material, scene.test.stretch)
+    return inadmissible_request(material, kind_of(scene.test), scene.test.targets)

@@ -82,13 +82,17 @@ class StabilityMonitor:
     """
 
     def __init__(self, body: HyperelasticBody, partition: Partition, moving_dofs: dict[int, np.ndarray],
-                 target_stretch: tuple[float, ...], model: str, u_hat: np.ndarray,
+                 kind, targets: tuple[float, ...], model: str, u_hat: np.ndarray,
                  options: MonitorOptions = MonitorOptions(), tangents: TangentCache | None = None):
+        """``kind`` (vlab.loading.kinds) maps the load parameter t to the control values (grip
+        stretches, or the amount of shear) of ``targets`` and words them; ``moving_dofs`` holds
+        the load cells watched for limit points, by axis (the kind's)."""
         self.body, self.partition, self.u_hat, self.options = body, partition, u_hat, options
         # shared with the stepper: the tangent factorized here serves its next predictor
         self.tangents = tangents or TangentCache(body, partition)
         self.moving = {a: np.asarray(d) for a, d in moving_dofs.items()}
-        self.target = target_stretch
+        self.kind, self.target = kind, targets
+        self.direction = [float(np.sign(g)) for g in kind.grip_strain(targets)]  # sign of each grip's travel
         self.model = model
         self.records: list[LevelStability] = []
         self._accepted: LevelStability | None = None
@@ -96,7 +100,7 @@ class StabilityMonitor:
         self.critical: CriticalState | None = None
 
     def stretch_at(self, t: float) -> list[float]:
-        return [1.0 + t * (s - 1.0) for s in self.target]
+        return self.kind.at(self.target, t)
 
     def accept(self, ev: Evaluation, t: float) -> str | None:
         K, Kff, Kfp, found = self._inertia(ev)
@@ -107,7 +111,7 @@ class StabilityMonitor:
             except SingularSystem:  # a Cholesky that succeeded on a numerically singular K_ff
                 found = inertia(Kff)
                 slopes = self._path_stiffness(K, Kfp, found)
-        forces = [float(ev.f_int[self.moving[a]].sum()) for a in range(len(self.target))]
+        forces = [float(ev.f_int[self.moving[a]].sum()) for a in range(len(self.direction))]
         limit_axis = self._limit_axis(forces, slopes) if self.options.limit_points else None
         unstable = bool(found.negative) or bool(found.zero)
         solve = found.solve if not found.zero else None  # a singular K_ff: factorize K − σI instead
@@ -162,7 +166,7 @@ class StabilityMonitor:
         return CriticalState(
             stretch_stable=stable.stretch if stable else self.stretch_at(0.0), stretch_unstable=r.stretch,
             eigenvalue_stable=eig_stable, eigenvalue_unstable=None if pair is None else pair[0],
-            force_stable=stable.forces if stable else [0.0] * len(self.target),
+            force_stable=stable.forces if stable else [0.0] * len(self.direction),
             negative_eigenvalues=int(r.negative_eigenvalues or 0),
             lateral_fraction=None if mode is None else lateral_fraction(self.body.space.node_coordinates, mode, axis),
             mode=mode,
@@ -187,12 +191,12 @@ class StabilityMonitor:
         v = self.u_hat.copy()
         v[self.partition.free] = -found.solve(Kfp @ up)
         Kv = K @ v
-        return [float(Kv[self.moving[a]].sum()) for a in range(len(self.target))]
+        return [float(Kv[self.moving[a]].sum()) for a in range(len(self.direction))]
 
     def _limit_axis(self, forces: list[float], slopes: list[float] | None) -> int | None:
         last = self._accepted
         for a, f_new in enumerate(forces):
-            sign = np.sign(self.target[a] - 1.0)
+            sign = self.direction[a]
             if sign == 0:
                 continue
             if slopes is not None and sign * slopes[a] < 0.0:
@@ -202,22 +206,25 @@ class StabilityMonitor:
                 return a
         return None
 
+    def _fmt(self, values: list[float]) -> str:
+        return self.kind.describe(values)
+
     def _previous_stretch(self) -> str:
-        return _fmt(self._accepted.stretch if self._accepted else self.stretch_at(0.0))
+        return self._fmt(self._accepted.stretch if self._accepted else self.stretch_at(0.0))
 
     def _instability_message(self, r: LevelStability) -> str:
         c = self.critical
         if c is not None and c.is_buckling:
             lo, hi = c.strain_bracket()
-            return (f"no admissible state beyond stretch {self._previous_stretch()}: buckling — loss of "
-                    f"stability between grip strain {lo:.4g} and {hi:.4g} (stretch "
-                    f"{_fmt(r.stretch)}: {r.negative_eigenvalues} negative eigenvalue(s); the mode moves "
+            return (f"no admissible state beyond {self.kind.load_key} {self._previous_stretch()}: buckling — loss of "
+                    f"stability between grip strain {lo:.4g} and {hi:.4g} ({self.kind.load_key} "
+                    f"{self._fmt(r.stretch)}: {r.negative_eigenvalues} negative eigenvalue(s); the mode moves "
                     f"whole cross-sections sideways, lateral fraction {c.lateral_fraction:.2f}); set "
                     f"test.imperfection to follow the post-buckled path")
         what = (f"{r.negative_eigenvalues} negative eigenvalue(s)" if r.negative_eigenvalues
                 else f"{r.zero_eigenvalues} zero eigenvalue(s)")
-        return (f"no admissible state beyond stretch {self._previous_stretch()}: loss of stability "
-                f"at stretch {_fmt(r.stretch)} — the tangent on the free DOFs has {what}, so the "
+        return (f"no admissible state beyond {self.kind.load_key} {self._previous_stretch()}: loss of stability "
+                f"at {self.kind.load_key} {self._fmt(r.stretch)} — the tangent on the free DOFs has {what}, so the "
                 f"converged state is not an energy minimum ({self.model}; {self._kind(c)})")
 
     @staticmethod
@@ -234,12 +241,10 @@ class StabilityMonitor:
         advice = (" (St. Venant–Kirchhoff softens in compression, limit point at stretch 1/√3 "
                   "≈ 0.577 for a free block; stvk-volumetric and neo-hookean carry on)"
                   if self.model == "stvk" else "")
-        return (f"no admissible state beyond stretch {self._previous_stretch()}: load limit point — "
-                f"|force| along {'xy'[axis]} peaked and fell at stretch {_fmt(r.stretch)}{advice}")
+        return (f"no admissible state beyond {self.kind.load_key} {self._previous_stretch()}: load limit point — "
+                f"|force| along {'xy'[axis]} peaked and fell at {self.kind.load_key} {self._fmt(r.stretch)}{advice}")
 
 
-def _fmt(stretch: list[float]) -> str:
-    return ", ".join(f"{s:.4g}" for s in stretch) if len(stretch) > 1 else f"{stretch[0]:.4g}"
 
 
 def _eigenpair(Kff, negative, solve):

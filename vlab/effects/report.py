@@ -21,10 +21,18 @@ def effects_summary(scene, body, levels) -> dict:
                 elif name != "cauchy":
                     history.setdefault(name + "_max", []).append(float(np.max(values)))
     return {"declared": {spec.name: asdict(spec) for spec in scene.effects},
-            "protocol": asdict(scene.test.protocol),
+            "protocol": _protocol(scene.test.protocol),
             "history": history,
             "units": {"tau": "s", "g": "mm/s²", "strain_rate": "1/s", "ramp_time": "s",
                       "hold_time": "s", "viscous_stress_max": "MPa (‖Σ Q_i‖, largest cell)",
                       "plastic_strain_max": "1 (accumulated plastic strain α, largest cell)",
                       "max_energy_max": "MPa (Mullins W_max, largest cell)",
                       "softening_min": "1 (Mullins η, smallest cell; 1 = primary curve)"}}
+
+
+def _protocol(protocol) -> dict:
+    """The protocol's fields; ``reversed`` only when set (fully reversed shear cycles)."""
+    out = asdict(protocol)
+    if not out.get("reversed"):
+        out.pop("reversed", None)
+    return out

@@ -12,11 +12,15 @@ the extensometer marks sit on the top face (z = thickness) centred on the block.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 import skfem
 
+from vlab import fields
 from vlab.geometry.lattice import Lattice, divisions, swept_mesh, symmetric_mesh
-from vlab.geometry.specimen import GaugeMarks, Grip, Specimen
+from vlab.geometry.shape import Shape
+from vlab.geometry.specimen import GaugeMarks, Grip, SizedSpec, Specimen
 from vlab.geometry.symmetry import cut_axes, mirrored_planes
 
 
@@ -65,3 +69,23 @@ def block_specimen(size, element_size: float, cell: str, gauge_length: float | N
         length_scale=float(np.linalg.norm([L, W, H])),
         symmetry=tuple((a, (L, W, H)[a] / 2) for a in cut),
     )
+
+
+@dataclass(frozen=True)
+class BlockSpecimen(SizedSpec):
+    shape: str
+    size: tuple[float, float, float]  # mm: length (x, loading axis), width (y), thickness (z)
+
+
+def parse_block(t: fields.Table) -> BlockSpecimen:
+    size = fields.vector(t.field("size"), t.get("size"), 3, "[length, width, thickness] in mm", gt=0)
+    return BlockSpecimen(shape="block", size=size)  # type: ignore[arg-type]
+
+
+SHAPE = Shape(
+    "block", ("size",), parse_block,
+    lambda spec, mesh, gauge: block_specimen(spec.size, mesh.size, mesh.cell, gauge, mesh.symmetry),
+    tests={"uniaxial": ("roller", "clamped"), "biaxial": ("roller", "clamped"), "planar": ("roller",),
+           "simple-shear": ("kinematic",)},
+    symmetric=True, thickness=lambda spec: float(min(spec.size[1], spec.size[2])),
+    doc="rectangular block; the roller block is every stretch kind's oracle, the kinematic block simple shear's")

@@ -8,7 +8,8 @@ Counts (no array is allocated; every count is arithmetic on the dimensions):
   l_fine = parallel length + 2 × transition, across 2 ceil(w / 2 h_g), through 2 ceil(t / 2 min(h, h_g));
 - cruciform: the mapper's octant (central square and two arms, breakpoints at slits, fillets and
   ramps counted as extra divisions), mirrored;
-- sheet: n_x n_y quadrilaterals (two triangles each);
+- sheet: n_x n_y quadrilaterals (two triangles each); planar-tension strip, shear layer(s): as a
+  block of their dimensions (a double lap: two layers, as one of twice the gap);
 - imported mesh: its own nodes and cells (order 2 adds one node per edge, and per face and cell
   for hexahedra).
 Structured hexahedra: elements E = Π n_i; vertices Π(n_i + 1); order 2 (Q2, and P2 on the Kuhn
@@ -94,6 +95,11 @@ def _divisions(scene) -> tuple[tuple[int, ...], str]:
         return tuple(-(-k // 2) if a < cut else k for a, k in enumerate(n)), "dogbone mapper divisions"
     if spec.shape == "sheet":
         return (_div(spec.size[0], h), _div(spec.size[1], h)), "sheet divisions"
+    if spec.shape == "planar-tension":
+        return (_div(spec.height, h), _div(spec.width, h), _div(spec.thickness, h)), "strip divisions"
+    if spec.shape in ("shear", "double-lap"):  # a double lap: two layers, counted as one of twice the gap
+        layers = 2 if spec.shape == "double-lap" else 1
+        return (_div(spec.length, h), layers * _div(spec.gap, h), _div(spec.depth, h)), "layer divisions"
     raise ValueError(spec.shape)
 
 

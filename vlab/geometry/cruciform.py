@@ -32,10 +32,15 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
+from vlab import fields
+from vlab.fields import SceneError
+
 from vlab.geometry.dogbone import GeometryError
+from vlab.geometry.shape import Shape
 from vlab.geometry.lattice import Lattice, divisions, symmetric_mesh
 from vlab.geometry.specimen import GaugeMarks, Grip, Specimen
 from vlab.geometry.symmetry import mirrored_planes
@@ -237,3 +242,51 @@ def cruciform_specimen(d: CruciformDimensions, size: float, cell: str, gauge_siz
         centred=True,
         symmetry=tuple((a, planes[a]) for a in range(3) if a not in mirrored),
     )
+
+
+@dataclass(frozen=True)
+class CruciformSpecimen:
+    shape: str
+    dimensions: CruciformDimensions  # mm
+
+    @property
+    def length(self) -> float:
+        return 2 * self.dimensions.arm_end
+
+    @property
+    def max_dimension(self) -> float:
+        return 2 * self.dimensions.arm_end
+
+
+def parse_cruciform(t: fields.Table) -> CruciformSpecimen:
+    """All of arm_width, arm_length, gauge_region, fillet_radius, thickness, grip_length; slits
+    optional (slit_count = 0 by default; with slits, slit_width and slit_length are required); a
+    thinned centre optional (gauge_thickness with thinning_length)."""
+    values: dict[str, Any] = {}
+    for key in CRUCIFORM_KEYS[:6]:
+        values[key] = t.number(key, ge=0) if key == "fillet_radius" else t.number(key, gt=0)
+    values["slit_count"] = t.integer("slit_count", 0, 50, default=0)
+    if "gauge_thickness" in t.raw:
+        values["gauge_thickness"] = t.number("gauge_thickness", gt=0)
+        values["thinning_length"] = t.number("thinning_length", gt=0)
+    elif "thinning_length" in t.raw:
+        raise SceneError(f"{t.field('thinning_length')} needs specimen.gauge_thickness (a thinned centre)")
+    for key in CRUCIFORM_KEYS[7:9]:
+        if values["slit_count"]:
+            values[key] = t.number(key, gt=0)
+        elif key in t.raw:
+            raise SceneError(f"{t.field(key)} needs specimen.slit_count >= 1 (the number of slits per arm)")
+    dims = CruciformDimensions(**values)
+    try:
+        dims.check()
+    except GeometryError as exc:
+        raise SceneError(f"specimen.{exc}") from None
+    return CruciformSpecimen(shape="cruciform", dimensions=dims)
+
+
+SHAPE = Shape(
+    "cruciform", CRUCIFORM_KEYS, parse_cruciform,
+    lambda spec, mesh, gauge: cruciform_specimen(spec.dimensions, mesh.size, mesh.cell, mesh.gauge_size,
+                                                 mesh.symmetry, gauge),
+    tests={"biaxial": ("clamped",)}, symmetric=True, gauge_size=True,
+    doc="cruciform with optional slits and thinned centre, four clamped grips")

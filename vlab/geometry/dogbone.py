@@ -26,9 +26,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import skfem
+
+from vlab import fields
+from vlab.fields import SceneError
+from vlab.geometry.shape import Shape
 
 from vlab.geometry.lattice import Lattice, divisions, symmetric_mesh
 from vlab.geometry.specimen import GaugeMarks, Grip, Specimen
@@ -206,3 +211,52 @@ def dogbone_specimen(dims: DogboneDimensions, size: float, cell: str, gauge_size
         regions=regions,
         symmetry=tuple((a, {0: xc, 1: 0.0, 2: h / 2}[a]) for a in cut),
     )
+
+
+@dataclass(frozen=True)
+class DogboneSpecimen:
+    shape: str
+    dimensions: DogboneDimensions  # mm; dimensions.standard names the source ("" if explicit)
+
+    @property
+    def length(self) -> float:
+        return self.dimensions.overall_length
+
+    @property
+    def max_dimension(self) -> float:
+        return self.dimensions.overall_length
+
+
+def parse_dogbone(t: fields.Table) -> DogboneSpecimen:
+    """``standard = "<name>"`` loads the shipped dimensions; explicit keys override them."""
+    from vlab.geometry.standards import standard_dimensions, standard_names
+
+    values: dict[str, Any] = {"outer_radius": 0.0}
+    standard = t.get("standard", "")
+    if "standard" in t.raw:
+        data = standard_dimensions(standard) if isinstance(standard, str) else None
+        if data is None:
+            raise SceneError(f"{t.field('standard')} must be one of {', '.join(standard_names())}; "
+                             f"got {fields.show(standard)}{fields.suggest(str(standard), standard_names())}")
+        standard = data.pop("standard")
+        values.update(data)
+    for key in DIMENSION_KEYS:
+        if key in t.raw:
+            values[key] = t.number(key, ge=0) if key == "outer_radius" else t.number(key, gt=0)
+        elif key not in values:
+            raise SceneError(f"missing required key {t.field(key)} (or give specimen.standard, one of "
+                             f"{', '.join(standard_names())})")
+    dims = DogboneDimensions(**values, standard=standard)
+    try:
+        dims.check()
+    except GeometryError as exc:
+        raise SceneError(f"specimen.{exc}") from None
+    return DogboneSpecimen(shape="dogbone", dimensions=dims)
+
+
+SHAPE = Shape(
+    "dogbone", ("standard",) + DIMENSION_KEYS, parse_dogbone,
+    lambda spec, mesh, gauge: dogbone_specimen(spec.dimensions, mesh.size, mesh.cell, mesh.gauge_size, mesh.symmetry),
+    tests={"uniaxial": ("clamped",)}, symmetric=True, gauge_size=True,
+    thickness=lambda spec: float(min(spec.dimensions.thickness, spec.dimensions.width)),
+    doc="standard or custom dumb-bell between clamped grips")

@@ -18,14 +18,17 @@ from __future__ import annotations
 
 import contextlib
 import io
-from dataclasses import dataclass
+from contextvars import ContextVar
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 import skfem
 from scipy.spatial import cKDTree
 
+from vlab import fields
 from vlab.fields import SceneError
+from vlab.geometry.shape import Shape
 from vlab.geometry.specimen import GaugeMarks, Grip, Specimen
 
 MESH_SUFFIXES = (".msh", ".vtu")
@@ -184,3 +187,87 @@ def imported_specimen(spec: MeshImport, data: ImportedMesh) -> Specimen:
         area0={0: spec.area},
         length_scale=extent,
     )
+
+
+# --- the scene's [specimen] shape = "mesh" ----------------------------------------------------
+
+@dataclass(frozen=True)
+class MeshFileSpecimen:
+    shape: str
+    spec: MeshImport  # file (absolute), grip region names, loading axis, marks, area
+    data: ImportedMesh = field(compare=False, repr=False)  # the mesh as read at validation
+
+    @property
+    def extent(self) -> np.ndarray:
+        return self.data.points.max(axis=0) - self.data.points.min(axis=0)
+
+    @property
+    def length(self) -> float:
+        return float(self.extent[self.spec.axis])
+
+    @property
+    def max_dimension(self) -> float:
+        return float(self.extent.max())
+
+
+SCENE_DIR: ContextVar[Path] = ContextVar("scene_base_dir", default=Path("."))  # resolves specimen.file
+_AXES = ("x", "y", "z")
+
+
+def _marks(t: fields.Table, key: str) -> tuple[tuple[float, ...], tuple[float, ...]]:
+    v = t.get(key)
+    if not isinstance(v, list) or len(v) != 2:
+        raise SceneError(f"{t.field(key)} must be two points [[x, y, z], [x, y, z]] in the mesh file's "
+                         f"coordinates (mm), got {fields.show(v)}")
+    return tuple(fields.vector(f"{t.field(key)}[{i}]", p, 3, "[x, y, z] in mm") for i, p in enumerate(v))  # type: ignore
+
+
+def _parse_mesh_file(t: fields.Table) -> MeshFileSpecimen:
+    """``file`` (.msh or .vtu, relative to the scene file), ``grips = {a = "name", b = "name"}``
+    (two named regions of the file), ``axis`` (loading axis of the file, default "x"),
+    ``gauge_marks``, ``transverse_marks``, ``thickness_marks`` (two points each) and ``area`` (mm²,
+    the section the nominal stress divides by)."""
+    name = t.get("file")
+    if not isinstance(name, str) or not name:
+        raise SceneError(f"{t.field('file')} must be a path to a .msh or .vtu file, got {fields.show(name)}")
+    path = Path(name) if Path(name).is_absolute() else SCENE_DIR.get() / name
+    try:
+        data = read_mesh(path)
+    except MeshImportError as exc:
+        raise SceneError(f"{exc}") from None
+    grips = t.get("grips")
+    if not isinstance(grips, dict) or len(grips) != 2 or not all(isinstance(v, str) for v in grips.values()):
+        raise SceneError(f"{t.field('grips')} must be a table of two region names, e.g. {{left = \"grip_left\", "
+                         f"right = \"grip_right\"}}, got {fields.show(grips)}")
+    for key, region in grips.items():
+        if region not in data.regions:
+            raise SceneError(f"{t.field('grips')}.{key} = {region!r} is not a region of {path.name}; regions "
+                             f"found: {', '.join(data.names) or 'none'}")
+    spec = MeshImport(file=path.resolve(), grips=tuple(grips.values()),  # type: ignore[arg-type]
+                      axis=_AXES.index(t.choice("axis", _AXES, default="x")),
+                      gauge_marks=_marks(t, "gauge_marks"), transverse_marks=_marks(t, "transverse_marks"),
+                      thickness_marks=_marks(t, "thickness_marks"), area=t.number("area", gt=0))
+    _check_marks_inside(t, spec, data)
+    return MeshFileSpecimen(shape="mesh", spec=spec, data=data)
+
+
+def _check_marks_inside(t: fields.Table, spec: MeshImport, data: ImportedMesh) -> None:
+    import skfem
+
+    mesh = (skfem.MeshTet if data.cell == "tet" else skfem.MeshHex)(
+        np.ascontiguousarray(data.points.T), np.ascontiguousarray(data.cells.T))
+    find = mesh.element_finder()
+    for key in ("gauge_marks", "transverse_marks", "thickness_marks"):
+        for point in getattr(spec, key):
+            try:
+                find(*(np.array([c]) for c in point))
+            except ValueError:
+                raise SceneError(f"{t.field(key)}: point {list(point)} lies outside the mesh of "
+                                 f"{spec.file.name} (bounding box {data.points.min(axis=0).tolist()} to "
+                                 f"{data.points.max(axis=0).tolist()})") from None
+
+
+MESH_FILE_KEYS = ("file", "grips", "axis", "gauge_marks", "transverse_marks", "thickness_marks", "area")
+
+SHAPE = Shape("mesh", MESH_FILE_KEYS, _parse_mesh_file, lambda spec, mesh, gauge: imported_specimen(spec.spec, spec.data),
+              tests={"uniaxial": ("clamped",)}, doc="a user's mesh file (Gmsh .msh or .vtu) with named grips")

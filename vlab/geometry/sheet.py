@@ -11,11 +11,15 @@ the transverse marks span the width at the centre; the thickness "marks" are the
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 import skfem
 
-from vlab.geometry.specimen import GaugeMarks, Grip, Specimen
+from vlab import fields
+from vlab.geometry.shape import Shape
+
+from vlab.geometry.specimen import GaugeMarks, Grip, SizedSpec, Specimen
 
 
 def sheet_mesh(size: tuple[float, float], element_size: float, cell: str) -> skfem.Mesh:
@@ -58,3 +62,30 @@ def sheet_specimen(size, thickness: float, element_size: float, cell: str,
         length_scale=float(np.linalg.norm([L, W, t])),
         sheet_thickness=t,
     )
+
+
+@dataclass(frozen=True)
+class SheetSpecimen(SizedSpec):
+    """A thin sheet in the x-y plane, meshed in 2D (cells tri | quad) and solved in plane stress
+    (P₃₃ = 0, the thickness follows the material) or plane strain (thickness held)."""
+
+    shape: str
+    size: tuple[float, float]  # mm: length (x, loading axis), width (y)
+    thickness: float  # mm, through z
+    plane: str = "stress"  # "stress" | "strain"
+    cells = ("tri", "quad")  # 2D cells; the first is the default mesh.cell
+
+
+def parse_sheet(t: fields.Table) -> SheetSpecimen:
+    size = fields.vector(t.field("size"), t.get("size"), 2, "[length, width] in mm (a sheet is 2D; its "
+                   "thickness is specimen.thickness)", gt=0)
+    thickness = t.number("thickness", gt=0, note=" (mm)")
+    return SheetSpecimen(shape="sheet", size=size, thickness=thickness,  # type: ignore[arg-type]
+                         plane=t.choice("plane", ("stress", "strain"), default="stress"))
+
+
+SHAPE = Shape(
+    "sheet", ("size", "thickness", "plane"), parse_sheet,
+    lambda spec, mesh, gauge: sheet_specimen(spec.size, spec.thickness, mesh.size, mesh.cell, gauge),
+    tests={"uniaxial": ("roller", "clamped"), "biaxial": ("roller", "clamped"), "planar": ("roller",)},
+    doc="thin sheet in plane stress or plane strain (2D)")

@@ -85,3 +85,16 @@ class Specimen:
         """Full-specimen force / force on the kept part's grip along ``axis``: each symmetry plane
         parallel to the axis halves the grip's section, a plane normal to it leaves it whole."""
         return float(2 ** sum(1 for a, _ in self.symmetry if a != axis))
+
+
+@dataclass(frozen=True)
+class SizedSpec:
+    """A specimen spec given by ``size`` (mm), loaded along its first dimension (x)."""
+
+    @property
+    def length(self) -> float:
+        return self.size[0]  # type: ignore[attr-defined]
+
+    @property
+    def max_dimension(self) -> float:
+        return max(self.size)  # type: ignore[attr-defined]

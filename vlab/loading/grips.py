@@ -36,34 +36,32 @@ class GripLoading:
 
 
 def grip_loading(specimen: Specimen, X: np.ndarray, stretch: tuple[float, ...], kind: str) -> GripLoading:
-    """Prescribed displacements for grip stretches ``stretch`` on axes 0 (and 1 if biaxial)."""
+    """Prescribed displacements for grip stretches ``stretch`` on axes 0, 1, … (one per entry;
+    the test kind decides which: vlab.loading.kinds)."""
     dim = X.shape[1]  # 3, or 2 for a sheet; dof = dim * node + component
-    n_dofs = dim * len(X)
-    u_hat = np.zeros(n_dofs)
+    u_hat = np.zeros(dim * len(X))
     fixed: set[int] = set()
     moving: dict[int, np.ndarray] = {}
-    axes = range(len(stretch))
+    axes = dict(enumerate(stretch))
     clamped = kind == "clamped"
-    others = [g.select(X) for g in specimen.grips if g.axis in axes]
-    for axis in axes:
+    for axis, target in axes.items():
+        # a clamp leaves out the nodes it shares with the clamps of another loaded axis
+        shared = [g.select(X) for g in specimen.grips if g.axis in axes and g.axis != axis] if clamped else []
         for grip in specimen.grips_on(axis):
             nodes = grip.select(X)
-            if clamped and len(stretch) > 1:
-                nodes &= ~np.any([m for g, m in zip(specimen.grips, others) if g.axis != axis], axis=0)
+            if shared:
+                nodes &= ~np.any(shared, axis=0)
             nodes = np.flatnonzero(nodes)
-            comps = range(dim) if clamped else (axis,)
-            for c in comps:
+            for c in (range(dim) if clamped else (axis,)):
                 fixed.update(dim * nodes + c)
-            travel = _travel(specimen, axis, grip.side, stretch[axis])
             dofs = dim * nodes + axis
-            u_hat[dofs] = travel
+            u_hat[dofs] = _travel(specimen, axis, grip.side, target)
             if grip.side > 0:
                 moving[axis] = dofs
     fixed.update(_symmetry_dofs(specimen, X))
     if not clamped:
-        fixed.update(_rigid_body_supports(specimen, X, len(stretch), sorted(fixed)))
-    prescribed = np.array(sorted(fixed), dtype=np.int64)
-    return GripLoading(prescribed, u_hat, moving)
+        fixed.update(_rigid_body_supports(specimen, X, tuple(axes), sorted(fixed)))
+    return GripLoading(np.array(sorted(fixed), dtype=np.int64), u_hat, moving)
 
 
 def _travel(specimen: Specimen, axis: int, side: int, stretch: float) -> float:
@@ -81,16 +79,16 @@ def _symmetry_dofs(specimen: Specimen, X: np.ndarray) -> list[int]:
             for d in dim * np.flatnonzero(np.abs(X[:, axis] - value) <= tol) + axis]
 
 
-def _rigid_body_supports(specimen: Specimen, X: np.ndarray, n_axes: int, prescribed: list[int]) -> list[int]:
+def _rigid_body_supports(specimen: Specimen, X: np.ndarray, axes: tuple[int, ...], prescribed: list[int]) -> list[int]:
     """DOFs that pin the modes roller grips (and symmetry planes) leave free, at nodes that stay
     put homogeneously; a candidate is taken only if it restrains a mode still free, so the
     supports never over-constrain the body."""
     lo, hi = X.min(axis=0), X.max(axis=0)
     origin = int(np.argmin(np.linalg.norm(X - lo, axis=1)))
     if X.shape[1] == 2:  # sheet: the x edges hold x and the rotation; one node holds y
-        return [] if n_axes == 2 else [2 * origin + 1]
+        return [] if 1 in axes else [2 * origin + 1]
     side = int(np.argmin(np.linalg.norm(X - np.array([lo[0], hi[1], lo[2]]), axis=1)))
-    candidates = [3 * origin + 2] if n_axes == 2 else [3 * origin + 1, 3 * origin + 2, 3 * side + 2]
+    candidates = [3 * origin + 2] if 1 in axes else [3 * origin + 1, 3 * origin + 2, 3 * side + 2]
     if not specimen.symmetry:
         return candidates
     chosen: list[int] = []

@@ -1,14 +1,16 @@
 """Test protocols: how the grips move in time (``[test] protocol``).
 
 The grips prescribe u_p = t · û_p, where û_p moves the grips to the scene's ``stretch`` (for
-``cyclic``: the largest amplitude), so the grip stretch is λ(t) = 1 + t (λ_max − 1). A protocol
+``cyclic``: the largest amplitude), so the grip stretch is λ(t) = 1 + t (λ_max − 1). Only the grip
+strain λ − 1 at t = 1 enters here: a simple-shear test passes 1 + γ (its kind's ``grip_strain``). A protocol
 becomes a list of *levels*: the load parameter t_k, the physical time τ_k (s) and whether the
 moving grip is held by displacement or by force there.
 
 - ``monotonic``    1 → stretch (today's test; time only if a rate is given)
 - ``load-unload``  1 → stretch → 1
 - ``cyclic``       1 → a₁ → λ_min → a₂ → λ_min → … (``amplitudes`` rising; λ_min =
-                   ``min_stretch``, default 1)
+                   ``min_stretch``, default 1); simple shear: fully reversed cycles
+                   0 → γ₁ → −γ₁ → γ₂ → −γ₂ → … → 0 (``reversed``)
 - ``relaxation``   1 → stretch, then the stretch held for ``hold_time`` s
 - ``creep``        1 → stretch under displacement control, then the force reached there held
                    for ``hold_time`` s (force control: the crosshead position is an unknown
@@ -47,6 +49,8 @@ class ProtocolSpec:
     hold_time: float = 0.0  # s (relaxation, creep)
     hold_steps: int = 20  # levels over the hold
     force: float | None = None  # N, creep: the load ramped to under force control and held
+    reversed: bool = False  # cyclic: fully reversed cycles 0 → a₁ → −a₁ → a₂ → … → 0 (amplitudes in
+    #                         the control's own units, e.g. the amount of shear γ)
 
     @property
     def timed(self) -> bool:
@@ -117,6 +121,9 @@ def _turning_points(protocol: ProtocolSpec, stretch: tuple[float, ...]) -> list[
     """Load parameters where the ramps after the first one start and end."""
     if protocol.name == "load-unload":
         return [1.0, 0.0]
+    if protocol.name == "cyclic" and protocol.reversed:
+        top = protocol.amplitudes[-1]
+        return [x for a in protocol.amplitudes for x in (a / top, -a / top)] + [0.0]
     if protocol.name == "cyclic":
         top = stretch[0] - 1.0
         low = (protocol.min_stretch - 1.0) / top

@@ -6,6 +6,8 @@ grips deforms homogeneously, so the stress–stretch curve follows from one scal
 - Uniaxial: F = diag(λ, t, t) with the lateral stretch t > 0 solving P₂₂(F) = 0 (by isotropy
   P₃₃ = P₂₂); the nominal (engineering) stress is P₁₁.
 - Biaxial: F = diag(λx, λy, t) with P₃₃(F) = 0.
+- Planar (pure shear): F = diag(λ, 1, t) with P₃₃(F) = 0, the biaxial state at (λ, 1).
+- Simple shear: F = I + γ e₁⊗e₂ prescribed on the whole boundary, nothing to solve.
 
 The root is found with a bracketing solver (``scipy.optimize.brentq``) on g(t) = P_free(t)/t,
 starting from t = 1 and expanding the bracket geometrically. For the four built-in models
@@ -33,7 +35,8 @@ import numpy as np
 from scipy.optimize import brentq
 
 __all__ = ["InadmissibleState", "HomogeneousState", "uniaxial", "biaxial", "plane_strain_uniaxial",
-           "plane_strain_biaxial", "homogeneous_state", "isochoric_path_limit"]
+           "plane_strain_biaxial", "homogeneous_uniaxial", "homogeneous_biaxial", "planar", "simple_shear",
+           "isochoric_path_limit"]
 
 _T_MIN = 1e-6      # smallest lateral stretch searched
 _T_MAX = 1e6       # largest lateral stretch searched
@@ -235,26 +238,62 @@ def plane_strain_biaxial(material, stretch_x: float, stretch_y: float) -> Homoge
     return _state(material, (lx, ly, 1.0), 1.0)
 
 
-def isochoric_path_limit(material, stretch: tuple[float, ...]) -> float | None:
-    """The grip stretch where the isochoric path of a test, F = diag(λ, λ^(−1/2), λ^(−1/2))
-    (uniaxial) or diag(λx, λy, 1/(λx λy)) (biaxial), straight from (1, 1) to ``stretch``, first
-    has infinite isochoric energy (a locking limit: Gent's Ī₁ − 3 = Jm), as the fraction s of
-    the path (limit = 1 + s (stretch − 1)); None if the whole path is admissible."""
-    def F(s: float) -> np.ndarray:
-        g = [1.0 + s * (v - 1.0) for v in stretch]
-        third = [g[0] ** -0.5] * 2 if len(g) == 1 else [1.0 / (g[0] * g[1])]
-        return np.diag(g + third)[..., None]
+def _plane(material):
+    """(3D base law, "stress" | "strain" | "") of a material or of a 2D reduction of one
+    (vlab.materials.plane: ``base`` and ``plane``)."""
+    return getattr(material, "base", material), getattr(material, "plane", "")
 
+
+def homogeneous_uniaxial(material, stretch: float) -> HomogeneousState:
+    """The roller-grip uniaxial state of a 3D material or of its plane reduction (plane stress:
+    the 3D state, its free faces carry no stress; plane strain: F₃₃ = 1)."""
+    base, plane = _plane(material)
+    return plane_strain_uniaxial(base, stretch) if plane == "strain" else uniaxial(base, stretch)
+
+
+def homogeneous_biaxial(material, stretch_x: float, stretch_y: float) -> HomogeneousState:
+    """The roller-grip biaxial state of a 3D material or of its plane reduction."""
+    base, plane = _plane(material)
+    if plane == "strain":
+        return plane_strain_biaxial(base, stretch_x, stretch_y)
+    return biaxial(base, stretch_x, stretch_y)
+
+
+def planar(material, stretch: float) -> HomogeneousState:
+    """Pure shear (planar tension): F = diag(λ, 1, t), the lateral stretch held at 1 by the grips
+    and the thickness free, P₃₃ = 0 — the biaxial state at (λ, 1). Nominal stress P₁₁; the lateral
+    grips carry P₂₂ (≠ 0). On a 2D reduction: plane stress is this state, plane strain diag(λ, 1, 1).
+
+    Incompressible Neo-Hookean (t = 1/λ): P₁₁ = μ (λ − λ⁻³)."""
+    return homogeneous_biaxial(material, stretch, 1.0)
+
+
+def simple_shear(material, gamma: float) -> HomogeneousState:
+    """Simple shear x = X + γ Y e₁ imposed on the whole boundary: F = I + γ e₁⊗e₂ (J = 1), nothing
+    to solve. P = P(F); the Cauchy stress σ = P Fᵀ/J carries the Poynting normal stresses, even in
+    γ, beside the shear stress σ₁₂, odd in γ. Compressible Neo-Hookean (ψ = μ/2 (I₁ − 3) − μ ln J
+    + λ_L/2 ln² J): σ = μ (B − I), so σ₁₂ = μ γ, σ₁₁ = μ γ², σ₂₂ = σ₃₃ = 0 and σ₁₁ − σ₂₂ = μ γ²
+    (the incompressible result, since J = 1 here). ``lateral_stretch`` is 1 (no free stretch)."""
+    gamma = float(gamma)
+    if not np.isfinite(gamma):
+        raise ValueError(f"gamma must be finite, got {gamma}")
+    F = np.eye(3)
+    F[0, 1] = gamma
+    base, plane = _plane(material)
+    if plane:
+        raise ValueError("simple shear is a 3D state in vlab (F = I + γ e1⊗e2 on a block)")
+    P = np.asarray(base.stress(F), dtype=float)
+    F.setflags(write=False)
+    P.setflags(write=False)
+    return HomogeneousState(F=F, P=P, lateral_stretch=1.0)
+
+
+def isochoric_path_limit(material, path) -> float | None:
+    """The fraction s of a test's isochoric path ``path(s) -> F`` (3, 3), s in [0, 1] from the
+    unloaded state to the target (the test kind's: vlab.loading.kinds ``isochoric``, e.g.
+    diag(λ, λ^(−1/2), λ^(−1/2)) uniaxially), where the isochoric energy first becomes infinite
+    (a locking limit: Gent's Ī₁ − 3 = Jm); None if the whole path is admissible."""
     def ok(s: float) -> bool:
-        return bool(np.isfinite(material.isochoric_energy(F(s))[0]))
+        return bool(np.isfinite(material.isochoric_energy(np.asarray(path(s))[..., None])[0]))
 
     return None if ok(1.0) else _limit_along(ok)
-
-
-def homogeneous_state(material, stretch: tuple[float, ...]) -> HomogeneousState:
-    """The homogeneous roller-grip state at grip stretch (s,) or (sx, sy) for a 3D material or a
-    2D reduction of one (vlab.materials.plane: ``base`` and ``plane`` = "stress" | "strain")."""
-    base = getattr(material, "base", material)
-    if getattr(material, "plane", "") == "strain":
-        return plane_strain_uniaxial(base, *stretch) if len(stretch) == 1 else plane_strain_biaxial(base, *stretch)
-    return uniaxial(base, stretch[0]) if len(stretch) == 1 else biaxial(base, *stretch)

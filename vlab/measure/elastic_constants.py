@@ -25,7 +25,7 @@ it: it is off by the correction factor.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -41,6 +41,7 @@ class ElasticConstants:
     nu_fit: dict | None
     per_axis: list[dict]
     note: str = ""
+    extra: dict = field(default_factory=dict)  # a kind's own measures (planar modulus, G, N1), results.json → measured
 
 
 def first_loading(curve: Curve) -> Curve:
@@ -54,18 +55,32 @@ def first_loading(curve: Curve) -> Curve:
                  force={a: v[:n] for a, v in curve.force.items()},
                  strain={a: v[:n] for a, v in curve.strain.items()},
                  transverse_strain=curve.transverse_strain[:n], thickness_strain=curve.thickness_strain[:n],
-                 area0=dict(curve.area0), time=curve.time[:n])
+                 area0=dict(curve.area0), time=curve.time[:n], kind=curve.kind,
+                 extra={k: v[:n] for k, v in curve.extra.items()})
 
 
 def elastic_constants(curve: Curve, window: tuple[float, float], method: str) -> ElasticConstants:
+    """What the curve's test kind measures (vlab.loading.kinds: ``measure``) over the window."""
+    from vlab.loading.kinds import kind_of
+
     if not curve.t:
         return ElasticConstants(None, None, None, None, [], "not measured: no level was recorded")
+    return kind_of(curve.kind).measure(curve, window, method)
+
+
+def uniaxial_constants(curve: Curve, window, method) -> ElasticConstants:
+    """E and ν of a uniaxial test (module docstring)."""
     try:
-        if len(curve.axes) == 1:
-            return _uniaxial(curve, window, method)
-        if curve.centre:
-            return _centre(curve, window, method)
-        return _biaxial(curve, window, method)
+        return _uniaxial(curve, window, method)
+    except FitError as exc:
+        return ElasticConstants(None, None, None, None, [], f"not measured: {exc}")
+
+
+def biaxial_constants(curve: Curve, window, method) -> ElasticConstants:
+    """E and ν of a biaxial test: from the centre averages on a cruciform, else the block's
+    plane-stress relations (module docstring)."""
+    try:
+        return _centre(curve, window, method) if curve.centre else _biaxial(curve, window, method)
     except FitError as exc:
         return ElasticConstants(None, None, None, None, [], f"not measured: {exc}")
 
@@ -73,10 +88,8 @@ def elastic_constants(curve: Curve, window: tuple[float, float], method: str) ->
 def crosshead_modulus(curve: Curve, window, method) -> dict | None:
     """The modulus a lab without an extensometer would report: slope of engineering stress
     against crosshead strain λ_grip − 1 = Δ(grip separation)/(initial grip separation), fitted
-    over the same |strain| window (uniaxial tests only). It includes the fillets' and tabs'
-    compliance and the grips' lateral constraint, so on a dogbone it is not E."""
-    if len(curve.axes) != 1:
-        return None
+    over the same |strain| window (uniaxial tests: vlab.loading.kinds.uniaxial). It includes the
+    fillets' and tabs' compliance and the grips' lateral constraint, so on a dogbone it is not E."""
     try:
         fit = fit_line(np.array(curve.stretch[0]) - 1.0, curve.column("stress", 0), window, method)
     except FitError as exc:

@@ -95,3 +95,22 @@ class ThicknessGauge:
     def strain(self, u: np.ndarray) -> float:
         """Thickness strain λ₃ − 1."""
         return self.stretch(u) - 1.0
+
+
+class ShearGauge:
+    """Shear strain from two gauge marks one above the other (along y) on a free face: the change
+    of their x offset over their initial y separation, γ_g = (u_x(b) − u_x(a)) / (Y_b − Y_a) (a
+    lab's marks read by video or a clip gauge; equal to γ in a homogeneous simple shear)."""
+
+    def __init__(self, space: DisplacementSpace, marks: GaugeMarks):
+        self.marks = marks
+        self.height0 = float(marks.b[1] - marks.a[1])
+        if self.height0 <= 0:
+            raise ValueError("shear gauge marks must be one above the other (b above a along y)")
+        self._probe = space.probe_matrix(np.array([marks.a, marks.b]).T)
+        self._dim = space.dim
+
+    def strain(self, u: np.ndarray) -> float:
+        """γ_g (1)."""
+        ux = (self._probe @ u.reshape(-1, self._dim))[:, 0]
+        return float(ux[1] - ux[0]) / self.height0

@@ -89,6 +89,8 @@ def noisy_curve(curve: Curve, spec: NoiseSpec, gauges: GaugeLengths) -> Curve:
         thickness_strain=strain(curve.thickness_strain, gauges.thickness),
         area0=dict(curve.area0),
         time=list(curve.time),
+        kind=curve.kind,
+        extra={k: list(v) for k, v in curve.extra.items()},
     )
 
 
@@ -130,7 +132,7 @@ def _interval(slope: float, stderr: float, n: int, confidence: float, sign: floa
 def elastic_uncertainty(curve: Curve, window: tuple[float, float], spec: NoiseSpec,
                         gauges: GaugeLengths) -> ElasticUncertainty:
     """E and ν with their ``spec.confidence`` intervals from a (noisy) uniaxial curve."""
-    if len(curve.axes) != 1:
+    if curve.kind != "uniaxial":
         return ElasticUncertainty(None, None, None, "not measured: uncertainty is implemented for uniaxial tests only")
     eps = np.array(curve.strain[0])
     try:

@@ -20,7 +20,7 @@ import numpy as np
 from vlab.fe.space import DisplacementSpace
 from vlab.fe.stepping import Level
 from vlab.geometry.specimen import Specimen
-from vlab.measure.instruments import LoadCell, ThicknessGauge, extensometers
+from vlab.measure.instruments import LoadCell, ThicknessGauge
 
 
 @dataclass
@@ -28,6 +28,8 @@ class Curve:
     """Columns of the test record; every list has one entry per recorded level."""
 
     t: list[float] = field(default_factory=list)
+    # per load cell (axis): the control value (grip stretch; simple shear: the plate-travel shear γ),
+    # the force (N) and the strain gauge (extensometer strain; simple shear: gauge-mark shear)
     stretch: dict[int, list[float]] = field(default_factory=dict)
     force: dict[int, list[float]] = field(default_factory=dict)
     strain: dict[int, list[float]] = field(default_factory=dict)
@@ -36,6 +38,8 @@ class Curve:
     area0: dict[int, float] = field(default_factory=dict)
     time: list[float] = field(default_factory=list)  # s, physical time of each level (timed tests only)
     centre: dict[str, list[float]] = field(default_factory=dict)  # FE centre averages (cruciform)
+    kind: str = "uniaxial"  # the test kind (vlab.loading.kinds) whose record this is
+    extra: dict[str, list[float]] = field(default_factory=dict)  # the kind's other readings (normal force, ...)
 
     @property
     def axes(self) -> list[int]:
@@ -49,31 +53,29 @@ class Curve:
         if name == "true_strain":
             return np.log1p(eps)
         if name == "true_stress":
-            lateral = (np.array(self.transverse_strain) if len(self.axes) == 1
-                       else np.array(self.strain[1 - axis]))
+            other = self.strain.get(1 - axis)  # a biaxial test's other axis, else the width gauge
+            lateral = np.array(self.transverse_strain if other is None else other)
             return F / (self.area0[axis] * (1 + lateral) * (1 + np.array(self.thickness_strain)))
         raise KeyError(name)
 
 
 class Recorder:
-    """Observer hooked after every converged level; reads the instruments into a Curve."""
+    """Observer hooked after every converged level; reads the instruments into a Curve.
 
-    def __init__(self, space: DisplacementSpace, specimen: Specimen, stretch: tuple[float, ...],
-                 moving_dofs: dict[int, np.ndarray], material=None, centre=None):
+    The test kind (vlab.loading.kinds) decides which load cells (``kind.axes``), strain gauges and
+    other readers there are, the control value of each axis at load parameter t (grip stretch, or
+    the amount of shear) and each load cell's reference area."""
+
+    def __init__(self, space: DisplacementSpace, specimen: Specimen, kind, targets: tuple[float, ...],
+                 loading, material=None, centre=None):
         self.centre = centre  # CentreStressProbe or None
-        self.axes = list(range(len(stretch)))
-        self.target = stretch
-        planes = specimen.symmetry
-        self.load_cells = {a: LoadCell(moving_dofs[a], specimen.force_factor(a)) for a in self.axes}
-        marks = [specimen.extensometers[a] for a in self.axes] + [specimen.transverse[0]]
-        if space.dim == 3:
-            marks.append(specimen.thickness)
-        found = extensometers(space, marks, planes)
-        self.extensometers = dict(zip(self.axes, found))
-        self.width = found[len(self.axes)]
-        self.thickness = (ThicknessGauge(space, material, specimen.thickness) if space.dim == 2
-                          else found[-1])
-        self.curve = Curve(area0={a: specimen.area0[a] for a in self.axes})
+        self.kind, self.targets = kind, targets
+        self.axes = list(kind.axes)
+        self.load_cells = {a: LoadCell(loading.moving_dofs[a], specimen.force_factor(a)) for a in self.axes}
+        self.extensometers, self.width, thickness = kind.gauges(space, specimen)
+        self.thickness = ThicknessGauge(space, material, specimen.thickness) if thickness is None else thickness
+        self.readers = kind.extra_readers(space, specimen, loading, material)
+        self.curve = Curve(area0=kind.areas(specimen), kind=kind.name, extra={k: [] for k in self.readers})
         for a in self.axes:
             self.curve.stretch[a], self.curve.force[a], self.curve.strain[a] = [], [], []
 
@@ -83,12 +85,15 @@ class Recorder:
         c.t.append(level.t)
         if level.time is not None:
             c.time.append(level.time)
+        control = self.kind.at(self.targets, level.t)
         for a in self.axes:
-            c.stretch[a].append(1.0 + level.t * (self.target[a] - 1.0))
+            c.stretch[a].append(control[a])
             c.force[a].append(self.load_cells[a].read(f_int))
             c.strain[a].append(self.extensometers[a].strain(u))
         if self.centre is not None:
             for key, value in self.centre.read(level.evaluation.F).items():
                 c.centre.setdefault(key, []).append(value)
+        for key, read in self.readers.items():
+            c.extra[key].append(read(level))
         c.transverse_strain.append(self.width.strain(u))
         c.thickness_strain.append(self.thickness.strain(u))

@@ -1,30 +1,14 @@
-"""Analytic homogeneous responses used as the oracle for block tests with roller grips.
+"""Helpers of the analytic reference curves (the oracles are the test kinds' ``state`` and
+``reference``: vlab.loading.kinds, from vlab.materials.homogeneous).
 
 With roller grips and free lateral faces a block deforms homogeneously: F = diag(λ, t, t)
-(uniaxial, P22 = 0) or diag(λx, λy, t) (biaxial, P33 = 0); the load-cell stress equals P11.
-A sheet in plane stress has the same states; in plane strain F₃₃ = 1 (materials.homogeneous).
+(uniaxial, P22 = 0), diag(λx, λy, t) (biaxial, P33 = 0) or diag(λ, 1, t) (planar); the load-cell
+stress equals P11. A block whose whole boundary follows x = X + γ Y e₁ is in simple shear.
 """
 
 from __future__ import annotations
 
 import numpy as np
-
-from vlab.materials.homogeneous import InadmissibleState, homogeneous_state
-
-
-def homogeneous_curve(material, stretches: dict[int, list[float]]) -> dict | None:
-    """Nominal stress per axis and lateral stretch at the recorded grip stretches, or None."""
-    axes = sorted(stretches)
-    out = {f"stress_{'xy'[a]}": [] for a in axes} | {"lateral_stretch": []}
-    try:
-        for row in zip(*(stretches[a] for a in axes)):
-            state = homogeneous_state(material, row)
-            for a in axes:
-                out[f"stress_{'xy'[a]}"].append(float(state.P[a, a]))
-            out["lateral_stretch"].append(float(state.lateral_stretch))
-    except InadmissibleState as exc:
-        out["note"] = str(exc)
-    return out
 
 
 def relative_error(measured, reference) -> float:

@@ -31,6 +31,7 @@ class Snapshot:
     displacement: np.ndarray
     fields: dict[str, np.ndarray]
     marks: dict[str, tuple[np.ndarray, np.ndarray]]
+    control: str = "grip stretch"  # what ``stretch`` holds: the test kind's control ("shear": the amount γ)
 
     @property
     def n_frames(self) -> int:
@@ -80,5 +81,9 @@ def take_snapshot(result) -> Snapshot:
         probe = space.probe_matrix(X.T)
         marks[name] = (_in_3d(X), np.stack([_in_3d(X + probe @ ev.u.reshape(-1, d)) for ev in states]))
     t = np.array([0.0] + [lv.t for lv in result.history.levels])
-    stretch = 1.0 + t * (result.scene.test.stretch[0] - 1.0)
-    return Snapshot(result.scene.material.model, mesh, t, stretch, u, fields, marks)
+    from vlab.loading.kinds import kind_of
+
+    kind = kind_of(result.scene.test)
+    stretch = np.array([kind.at(result.scene.test.targets, x)[0] for x in t])
+    control = "grip stretch" if kind.load_key == "stretch" else kind.load_key  # "shear": the amount γ
+    return Snapshot(result.scene.material.model, mesh, t, stretch, u, fields, marks, control)

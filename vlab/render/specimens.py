@@ -139,7 +139,7 @@ def _label(snapshot: Snapshot, field: str, frame: int) -> str:
     span = f"{lo:.3g}{unit}" if f"{lo:.3g}" == f"{hi:.3g}" else f"{lo:.3g} to {hi:.3g}{unit}"
     stopped = snapshot.t[frame] < 1.0 - 1e-12 and frame in (-1, snapshot.n_frames - 1)
     return (f"{snapshot.model}{' (test stopped)' if stopped else ''}\n"
-            f"grip stretch {snapshot.stretch[frame]:.4g}\n{FIELDS[field][0]}\n{span}")
+            f"{snapshot.control} {snapshot.stretch[frame]:.4g}\n{FIELDS[field][0]}\n{span}")
 
 
 def _add_label(plotter, text: str):
@@ -209,7 +209,7 @@ def render_animation(snapshot: Snapshot, path: Path, options: RenderOptions = Re
         for frame in frames:
             plotter.subplot(0, 0)
             scene.show_frame(frame)
-            text.input = f"{snapshot.model}\ngrip stretch {snapshot.stretch[frame]:.4f}"
+            text.input = f"{snapshot.model}\n{snapshot.control} {snapshot.stretch[frame]:.4f}"
             plotter.render()
             images.append(Image.fromarray(plotter.screenshot(return_img=True)))
     finally:

@@ -8,6 +8,8 @@ from pathlib import Path
 
 import numpy as np
 
+from vlab.report.kind_rows import kind_of_data, kind_rows
+
 
 def _fmt(value, digits: int = 5) -> str:
     if value is None:
@@ -38,13 +40,19 @@ def _solvers(solver: dict) -> str:
 def summary_rows(data: dict) -> list[tuple[str, str]]:
     m, inp, solver, timing, mesh = (data["measured"], data["input"], data["solver"],
                                     data["timing"], data["mesh"])
-    rows = [
-        ("model", inp["model"] if inp.get("label", inp["model"]) == inp["model"]
-                  else f"{inp['label']} ({inp['model']})"),
+    kind = kind_of_data(data)
+    force = kind.force_column
+    elastic = [
         ("E measured / input [MPa]", f"{_fmt(m['E'])} / {_fmt(inp['E'])}"),
         ("ν measured / input", f"{_fmt(m['nu'])} / {_fmt(inp['nu'])}"),
         ("E from crosshead strain [MPa]", _fmt(m.get("E_crosshead"))),
-        ("force at last level [N]", _fmt(data["curve"]["force"][-1] if data["curve"]["force"] else None)),
+    ] if kind.measures_E else []
+    rows = [
+        ("model", inp["model"] if inp.get("label", inp["model"]) == inp["model"]
+                  else f"{inp['label']} ({inp['model']})"),
+        *elastic,
+        *((name, cells[0]) for name, cells in kind_rows([data])),
+        ("force at last level [N]", _fmt(data["curve"][force][-1] if data["curve"][force] else None)),
         ("Newton iterations (total)", _newton_cost(solver)),
         ("linear solver; tangent kernel", _solvers(solver)),
         ("cutbacks", _fmt(sum(solver["cutbacks"]))),
@@ -151,7 +159,8 @@ def _model_status(data: dict) -> str:
     if data["converged"]:
         return "<span class=ok>completed</span>"
     f = data["failure"]
-    return (f"<span class=fail>stopped at step {f['step']}, stretch {_fmt(f['stretch'])}: "
+    load = kind_of_data(data).load_key
+    return (f"<span class=fail>stopped at step {f['step']}, {load} {_fmt(f['stretch'])}: "
             f"{html.escape(f['reason'])}</span>")
 
 
@@ -160,30 +169,38 @@ def comparison_rows(page: ReportPage) -> list[tuple[str, list[str]]]:
     def per(fn):
         return [fn(d) for d in page.models]
 
+    kind = kind_of_data(page.models[0])
+
     def force(d):
-        forces, stretch = d["curve"]["force"], d["curve"]["stretch"]
+        forces, control = d["curve"][kind.force_column], d["curve"][kind.control_column]
         if not forces:
             return "—"
-        peak = int(np.argmax(np.abs(np.asarray(stretch, dtype=float) - 1.0)))  # cyclic tests end at 1
-        return f"{_fmt(forces[peak])} at grip stretch {_fmt(stretch[peak], 4)}"
+        rest = 1.0 if kind.load_key == "stretch" else 0.0
+        peak = int(np.argmax(np.abs(np.asarray(control, dtype=float) - rest)))  # cyclic tests end at rest
+        return f"{_fmt(forces[peak])} at {'grip stretch' if rest else 'shear'} {_fmt(control[peak], 4)}"
 
     def error(d):
         ref = d.get("reference") or {}
-        return _fmt(ref.get("max_relative_error_x"), 3) if ref.get("max_relative_error_x") is not None else "—"
+        errors = [v for k, v in ref.items() if k.startswith("max_relative_error") and v is not None]
+        return _fmt(max(errors), 3) if errors else "—"
 
     def departure(key):
         return lambda d: _fmt((page.departures.get(d["input"].get("label", d["input"]["model"])) or {}).get(key), 4)
 
-    rows = [
-        ("status", per(_model_status)),
+    elastic = [
         ("E measured [MPa]", per(lambda d: _fmt(d["measured"]["E"]))),
         ("E input [MPa]", per(lambda d: _fmt(d["input"]["E"]))),
         ("ν measured", per(lambda d: _fmt(d["measured"]["nu"]))),
         ("ν input", per(lambda d: _fmt(d["input"]["nu"]))),
         ("E fit R²", per(lambda d: _fmt((d["measured"].get("E_fit") or {}).get("r2"), 8))),
-        ("force at max stretch [N]", per(force)),
-        ("strain where |s − s_NH|/s_NH ≥ 5 %", per(departure("5%"))),
-        ("strain where |s − s_NH|/s_NH ≥ 10 %", per(departure("10%"))),
+    ] if kind.measures_E else []
+    rows = [
+        ("status", per(_model_status)),
+        *elastic,
+        *kind_rows(page.models),
+        (f"force at max {kind.load_key} [N]", per(force)),
+        *([("strain where |s − s_NH|/s_NH ≥ 5 %", per(departure("5%"))),
+           ("strain where |s − s_NH|/s_NH ≥ 10 %", per(departure("10%")))] if kind.lateral_ratio else []),
         ("stress vs analytic, max rel. error", per(error)),
         ("Newton iterations (total)", per(lambda d: _newton_cost(d["solver"]))),
         ("linear solver; tangent kernel", per(lambda d: _solvers(d["solver"]))),

@@ -18,7 +18,10 @@ if TYPE_CHECKING:
 
 
 def stretch_at(scene: Scene, t: float) -> list[float]:
-    return [1.0 + t * (s - 1.0) for s in scene.test.stretch]
+    """The control values at load parameter t (grip stretches; simple shear: γ)."""
+    from vlab.loading.kinds import kind_of
+
+    return kind_of(scene.test).at(scene.test.targets, t)
 
 
 def failure_dict(scene: Scene, failure: Failure) -> dict:
@@ -60,19 +63,12 @@ def _clean(value):
 
 
 def curve_columns(result: RunResult) -> dict[str, list[float]]:
-    """Named curve columns; axis 0 unsuffixed, axis 1 (biaxial) suffixed ``_y``."""
+    """Named curve columns: the test kind's (vlab.loading.kinds: ``columns``; stretch kinds: axis 0
+    unsuffixed, axis 1 suffixed ``_y``), then time, centre averages and the lateral gauges."""
+    from vlab.loading.kinds import kind_of
+
     c = result.curve
-    cols: dict[str, list[float]] = {}
-    for axis in c.axes:
-        sfx = "" if axis == 0 else "_y"
-        cols["stretch" + sfx] = list(c.stretch[axis])
-        cols["strain" + sfx] = list(c.strain[axis])
-        cols["stress" + sfx] = list(c.column("stress", axis))
-        cols["force" + sfx] = list(c.force[axis])
-        cols["true_strain" + sfx] = list(c.column("true_strain", axis))
-        cols["true_stress" + sfx] = list(c.column("true_stress", axis))
-    if len(c.axes) == 1:
-        cols["crosshead_strain"] = [s - 1.0 for s in c.stretch[0]]
+    cols = kind_of(c.kind).columns(c)
     if c.time:
         cols["time"] = list(c.time)
     for key, values in c.centre.items():  # cruciform: FE centre averages, e.g. centre_stress_x
@@ -83,7 +79,10 @@ def curve_columns(result: RunResult) -> dict[str, list[float]]:
 
 
 def result_to_dict(result: RunResult) -> dict:
+    from vlab.loading.kinds import kind_of
+
     scene, history, const = result.scene, result.history, result.constants
+    kind = kind_of(scene.test)
     levels = history.levels
     residuals = [[x for rec in lv.newton for x in rec.residuals] for lv in levels]
     space = result.space
@@ -99,15 +98,10 @@ def result_to_dict(result: RunResult) -> dict:
             "E_crosshead_fit": (result.extra.get("crosshead") or {}).get("fit"),
             "window": list(scene.measure.modulus_window),  # |extensometer strain| of the E, nu fits
             "uncertainty": result.extra.get("uncertainty"),  # effects.noise: intervals, noiseless E, nu
-            "units": {"E": "MPa", "nu": "1"},
-        },
+            "units": {"E": "MPa", "nu": "1"} | kind.measured_units,
+        } | const.extra,
         "input": material_input(scene.material),
-        "curve": curve_columns(result) | {
-            "units": {"stretch": "1 (grip)", "strain": "1 (extensometer, engineering)",
-                      "stress": "MPa (engineering)", "force": "N", "true_stress": "MPa",
-                      "crosshead_strain": "1 (grip separation change / initial grip separation)",
-                      "time": "s"},
-        },
+        "curve": curve_columns(result) | {"units": dict(kind.units)},
         "reference": result.reference,
         "homogeneity": result.extra.get("homogeneity"),
         "cruciform": result.extra.get("cruciform"),

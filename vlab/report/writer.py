@@ -69,8 +69,8 @@ def write_report(outcomes: list, out: Path, scene, scene_text: str | None,
                  options: ReportOptions = ReportOptions()) -> dict:
     """Write the report of one scene run with one or more models; returns comparison.json's dict."""
     from vlab.measure.departure import REFERENCE_MODEL, departure_strains
-    from vlab.report.comparison_plots import plot_lateral, plot_overlay
-    from vlab.report.html import Figure, ReportPage, write_comparison
+    from vlab.report.html import ReportPage, write_comparison
+    from vlab.report.kind_plots import kind_of_data
 
     single = len(outcomes) == 1
     if options.gif_model is not None and options.gif_model not in [o.model for o in outcomes]:
@@ -78,26 +78,16 @@ def write_report(outcomes: list, out: Path, scene, scene_text: str | None,
                          f"{', '.join(o.model for o in outcomes)}")
     datas = [o.data for o in outcomes]
     by_model = {o.model: o for o in outcomes}
+    test_kind = kind_of_data(datas[0])
     departures = {}
-    if REFERENCE_MODEL in by_model and not single:
+    if REFERENCE_MODEL in by_model and not single and test_kind.lateral_ratio:
         ref = by_model[REFERENCE_MODEL].data
         departures = {o.model: departure_strains(ref, o.data) for o in outcomes if o.model != REFERENCE_MODEL}
     kind = "true" if options.true_measures else "engineering"
     with report_folder(out, "run" if single else "compare") as tmp:
         links = {o.model: _write_model_files(o, tmp, "." if single else o.model, options) for o in outcomes}
-        plot_overlay(datas, tmp / "stress_strain.png", options.true_measures, departures)
-        plot_lateral(datas, tmp / "lateral_strain.png")
-        from vlab.report.effect_plots import effect_figures
-        extra_figures = effect_figures(datas, tmp)
-        figures = [
-            Figure("stress_strain.png", f"{kind.capitalize()} stress against extensometer strain for every "
-                   "model; dashed: the analytic homogeneous solution where the specimen has one; shaded: "
-                   "the E fit window (inset: zoom on it); ○/✕: where a model's stress first differs from "
-                   "Neo-Hookean's by 5 %/10 %."),
-            Figure("lateral_strain.png", "Lateral against axial strain and the apparent Poisson's ratio "
-                   "−ε_lat/ε_axial as the strain grows."),
-        ]
-        figures += extra_figures
+        figures = (_stretch_figures(datas, tmp, options, departures, kind) if test_kind.lateral_ratio
+                   else _kind_figures(datas, tmp))
         renders, notes = _renders(outcomes, tmp, options, figures)
         if scene_text is not None:
             (tmp / "scene.toml").write_text(scene_text, encoding="utf-8")
@@ -109,6 +99,38 @@ def write_report(outcomes: list, out: Path, scene, scene_text: str | None,
                           provenance=_provenance(scene, scene_text, outcomes), notes=notes)
         write_comparison(page, tmp, inline_images=options.single_file)
     return summary
+
+
+def _stretch_figures(datas: list[dict], tmp: Path, options: ReportOptions, departures: dict, kind: str) -> list:
+    """Uniaxial and biaxial tests: stress–strain overlay, lateral strain, the protocol's figures."""
+    from vlab.report.comparison_plots import plot_lateral, plot_overlay
+    from vlab.report.effect_plots import effect_figures
+    from vlab.report.html import Figure
+
+    plot_overlay(datas, tmp / "stress_strain.png", options.true_measures, departures)
+    plot_lateral(datas, tmp / "lateral_strain.png")
+    figures = [
+        Figure("stress_strain.png", f"{kind.capitalize()} stress against extensometer strain for every "
+               "model; dashed: the analytic homogeneous solution where the specimen has one; shaded: "
+               "the E fit window (inset: zoom on it); ○/✕: where a model's stress first differs from "
+               "Neo-Hookean's by 5 %/10 %."),
+        Figure("lateral_strain.png", "Lateral against axial strain and the apparent Poisson's ratio "
+               "−ε_lat/ε_axial as the strain grows."),
+    ]
+    return figures + effect_figures(datas, tmp)
+
+
+def _kind_figures(datas: list[dict], tmp: Path) -> list:
+    """Planar and simple-shear tests: the kind's own figure (vlab/report/kind_plots.py)."""
+    from vlab.report.html import Figure
+    from vlab.report.kind_plots import KIND_CAPTIONS, kind_of_data, plot_kind
+
+    from vlab.report.effect_plots import effect_figures
+
+    plot_kind(datas, tmp / "stress_strain.png")
+    kind = kind_of_data(datas[0])
+    figures = [Figure("stress_strain.png", KIND_CAPTIONS[kind.name])]
+    return figures + (effect_figures(datas, tmp) if kind.effects else [])
 
 
 def _write_model_files(outcome, root: Path, sub: str, options: ReportOptions) -> list[str]:

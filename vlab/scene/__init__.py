@@ -21,12 +21,15 @@ from vlab.scene.measure import MeasureSpec
 from vlab.scene.mesh import FORMULATIONS, MeshSpec
 from vlab.scene.overrides import apply_overrides
 from vlab.scene.solver import SolverSpec
-from vlab.scene.specimen import (MESH_FILE_KEYS, SPECIMEN_SHAPES, SPECIMEN_TESTS, SYMMETRIC_SHAPES, BlockSpecimen,
-                                 CruciformSpecimen, DogboneSpecimen, MeshFileSpecimen, SheetSpecimen, Specimen)
-from vlab.scene.test import PROTOCOL_KEYS, TestSpec
+from vlab.scene.specimen import (MESH_FILE_KEYS, SHAPES, SPECIMEN_TESTS, SYMMETRIC_SHAPES, BlockSpecimen, DoubleLapSpecimen,
+                                 CruciformSpecimen, DogboneSpecimen, MeshFileSpecimen, PlanarSpecimen, SheetSpecimen,
+                                 ShearSpecimen, Specimen)
+from vlab.scene.test import GRIP_KINDS, PROTOCOL_KEYS, TestSpec
 
 __all__ = ["SceneError", "Scene", "BlockSpecimen", "DogboneSpecimen", "SheetSpecimen", "CruciformSpecimen",
-           "MeshFileSpecimen", "Specimen", "MeshSpec", "MaterialSpec", "TestSpec", "MeasureSpec", "SolverSpec",
-           "load_scene", "load_scene_text", "parse_scene", "apply_overrides", "SPECIMEN_SHAPES", "SPECIMEN_TESTS", "SYMMETRIC_SHAPES",
-           "MESH_FILE_KEYS", "MODELS", "SPRING_NETWORK", "KG_PER_M3", "FORMULATIONS", "PROTOCOL_KEYS", "SECTIONS",
+           "MeshFileSpecimen", "PlanarSpecimen", "ShearSpecimen", "DoubleLapSpecimen", "Specimen", "MeshSpec",
+           "MaterialSpec", "TestSpec", "MeasureSpec", "SolverSpec",
+           "load_scene", "load_scene_text", "parse_scene", "apply_overrides", "SHAPES", "SPECIMEN_TESTS",
+           "SYMMETRIC_SHAPES", "MESH_FILE_KEYS", "MODELS", "SPRING_NETWORK", "KG_PER_M3", "FORMULATIONS", "GRIP_KINDS",
+           "PROTOCOL_KEYS", "SECTIONS",
            "TOP_KEYS"]

@@ -15,12 +15,13 @@ from typing import TYPE_CHECKING, Any, Mapping
 
 from vlab import fields
 from vlab.fields import SceneError
+from vlab.loading.kinds import kind_of
 from vlab.scene.effects import check_effects_scope, parse_effects
 from vlab.scene.material import check_path, continuum, parse_compare, parse_material
 from vlab.scene.measure import parse_measure
 from vlab.scene.mesh import check_formulation, check_symmetry, parse_mesh
 from vlab.scene.solver import parse_solver
-from vlab.scene.specimen import _BASE_DIR, parse_specimen
+from vlab.scene.specimen import SCENE_DIR, SHAPES, parse_specimen
 from vlab.scene.test import parse_test
 
 if TYPE_CHECKING:
@@ -100,29 +101,40 @@ def _parse(data: Mapping[str, Any]) -> Scene:
         raise SceneError(f"material.model {model!r} is a 3D network of mesh edges; "
                          f"specimen.shape = 'sheet' needs a continuum model (not {model!r})")
     test = parse_test(data["test"], specimen.shape)
-    if continuum(model):
-        check_path(material, [test.stretch])  # a locking limit on the test's path (Gent)
+    _check_test(test, specimen, data.get("effects", {}))
+    if continuum(model):  # a locking limit on the test's path (Gent)
+        check_path(material, kind_of(test), [test.targets])
     check_symmetry(mesh, test, specimen)
     check_effects_scope(data.get("effects", {}), specimen.shape, mesh, material.model)
     return Scene(name=name, description=description, specimen=specimen,
                  mesh=mesh, material=material, test=test,
                  measure=parse_measure(data.get("measure", {}), specimen),
                  solver=parse_solver(data.get("solver", {})),
-                 source=copy.deepcopy(dict(data)), base_dir=str(_BASE_DIR.get()),
+                 source=copy.deepcopy(dict(data)), base_dir=str(SCENE_DIR.get()),
                  effects=parse_effects(data.get("effects", {}), material, test))
+
+
+def _check_test(test: TestSpec, specimen: Specimen, effects: Any) -> None:
+    """What the test kind refuses (vlab.loading.kinds: ``check``) and an imperfection on a shape
+    without a cross-section thickness."""
+    kind_of(test).check(test, effects if isinstance(effects, dict) else {})
+    if test.imperfection is not None and SHAPES[specimen.shape].thickness is None:
+        raise SceneError(f"test.imperfection needs a specimen with a cross-section thickness (specimen.shape = "
+                         f"{' or '.join(repr(n) for n, sh in SHAPES.items() if sh.thickness)}), "
+                         f"got {specimen.shape!r}")
 
 
 def parse_scene(data: dict, origin: str = "<scene>", base_dir: str | Path | None = None) -> Scene:
     """Validate a parsed scene dict; errors are ``SceneError("<origin>: <message>")``. Relative
     paths in the scene (specimen.file) are taken from ``base_dir`` (default: the current folder)."""
     # absolute: the scene may be run from another folder later (a Dask worker, a companion solve)
-    token = _BASE_DIR.set(Path(base_dir if base_dir is not None else ".").resolve())
+    token = SCENE_DIR.set(Path(base_dir if base_dir is not None else ".").resolve())
     try:
         return _parse(data)
     except SceneError as exc:
         raise SceneError(f"{origin}: {exc}") from None
     finally:
-        _BASE_DIR.reset(token)
+        SCENE_DIR.reset(token)
 
 
 def load_scene(path: str | Path) -> Scene:

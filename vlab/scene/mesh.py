@@ -19,7 +19,7 @@ from vlab import fields
 from vlab.fields import SceneError
 from vlab.geometry.symmetry import SYMMETRY_LEVELS
 from vlab.materials.registry import MODELS as REGISTRY
-from vlab.scene.specimen import _FINE_MESH_SHAPES, SYMMETRIC_SHAPES, MeshFileSpecimen, Specimen
+from vlab.scene.specimen import FINE_MESH_SHAPES, SYMMETRIC_SHAPES, MeshFileSpecimen, Specimen
 
 if TYPE_CHECKING:
     from vlab.scene.test import TestSpec
@@ -51,9 +51,9 @@ def parse_mesh(raw: Any, specimen: Specimen) -> MeshSpec:
         return dataclasses.replace(_parse_mesh_of_file(t, specimen), max_dofs=max_dofs)
     size = t.number("size", gt=0, le=specimen.max_dimension, note=" (the largest specimen dimension)")
     gauge_size = t.number("gauge_size", default=None, gt=0, le=size, note=" (mesh.size)")
-    if gauge_size is not None and specimen.shape not in _FINE_MESH_SHAPES:
+    if gauge_size is not None and specimen.shape not in FINE_MESH_SHAPES:
         raise SceneError(f"{t.field('gauge_size')} applies to specimen.shape = "
-                         f"{' or '.join(map(repr, _FINE_MESH_SHAPES))} only, not {specimen.shape!r}")
+                         f"{' or '.join(map(repr, FINE_MESH_SHAPES))} only, not {specimen.shape!r}")
     symmetry = t.choice("symmetry", SYMMETRY_LEVELS, default="none")
     if symmetry != "none" and specimen.shape not in SYMMETRIC_SHAPES:
         raise SceneError(f"{t.field('symmetry')} must be 'none' for specimen.shape = {specimen.shape!r} "
@@ -112,6 +112,11 @@ def check_symmetry(mesh: MeshSpec, test: TestSpec, specimen: Specimen) -> None:
     hold u_y = 0), so its solution is not mirror-symmetric. (Roller grips are: their 3-2-1
     supports pin rigid motions only and give way to the symmetry planes; dogbones and centred
     cruciforms are.)"""
+    from vlab.loading.kinds import kind_of
+
+    if mesh.symmetry != "none" and not kind_of(test).symmetric:
+        raise SceneError(f"mesh.symmetry must be 'none' for test.kind = {test.kind!r} (its loading is not "
+                         f"mirror-symmetric), got {mesh.symmetry!r}")
     if (mesh.symmetry != "none" and specimen.shape == "block" and test.kind == "biaxial"
             and test.grips == "clamped"):
         raise SceneError(f"mesh.symmetry must be 'none' for a biaxial block between clamped grips (one "

@@ -1,9 +1,11 @@
-"""``[test]``: kind, grips, stretch, steps, protocol (monotonic, load-unload, cyclic, relaxation,
-creep) with its time keys, and a buckling imperfection.
+"""``[test]``: kind, grips, the kind's load (``stretch`` or ``shear``), steps, protocol (monotonic,
+load-unload, cyclic, relaxation, creep) with its time keys, and a buckling imperfection.
 
-Stretches lie in 0.2..10 (grip stretch; < 1 is compression); steps default to 10; the grips
-default to the first the specimen allows. The test-kind registry of vlab.loading replaces the
-kind handling here by delegation (issue 17).
+The kind comes from the test-kind registry (vlab/loading/kinds/), which parses its own load key:
+grip stretches in 0.2..10 (< 1 is compression) for uniaxial, biaxial and planar tests, the amount
+of shear |γ| <= 5 for simple shear (a list of rising amplitudes with protocol = "cyclic": fully
+reversed cycles). Steps default to 10; the grips default to the first the specimen's shape allows
+with that kind (vlab/geometry/shapes.py).
 """
 
 from __future__ import annotations
@@ -16,77 +18,90 @@ from vlab.fields import SceneError
 from vlab.loading.protocol import HOLDS, PROTOCOLS, ProtocolSpec
 from vlab.scene.specimen import SPECIMEN_TESTS
 
-__all__ = ["TestSpec", "PROTOCOL_KEYS", "parse_test"]
+__all__ = ["TestSpec", "PROTOCOL_KEYS", "GRIP_KINDS", "parse_test"]
 
 
 PROTOCOL_KEYS = ("protocol", "amplitudes", "min_stretch", "strain_rate", "ramp_time", "hold_time",
                  "hold_steps", "force")
+GRIP_KINDS = ("roller", "clamped", "kinematic", "plates")  # test.grips
 
 
 @dataclass(frozen=True)
 class TestSpec:
     __test__ = False  # not a pytest test class
-    kind: str  # "uniaxial" | "biaxial"
-    grips: str  # "roller" | "clamped"
-    stretch: tuple[float, ...]  # (s,) uniaxial, (sx, sy) biaxial
+    kind: str  # a name in vlab.loading.kinds.KINDS: uniaxial | biaxial | planar | simple-shear
+    grips: str  # roller | clamped (stretch kinds); kinematic | plates (simple shear)
+    stretch: tuple[float, ...]  # grip stretches at t = 1: (s,) uniaxial, planar; (sx, sy) biaxial; () shear
     steps: int
     protocol: ProtocolSpec = ProtocolSpec()  # vlab.loading.protocol: monotonic unless given
     imperfection: float | None = None  # buckling-mode imperfection, amplitude / thickness
+    shear: tuple[float, ...] = ()  # simple shear: (γ,) at t = 1 (cyclic: the largest amplitude)
 
-
-def _stretch_value(field: str, v: Any) -> float:
-    v = fields.number(field, v, note=" (allowed 0.2..10)")
-    if v <= 0:
-        raise SceneError(f"{field} must be > 0 (allowed 0.2..10), got {v:g}")
-    if not 0.2 <= v <= 10:
-        raise SceneError(f"{field} must be in the allowed range 0.2..10, got {v:g}")
-    return v
+    @property
+    def targets(self) -> tuple[float, ...]:
+        """The control values at load parameter t = 1, whatever the kind (its ``load_key``)."""
+        return self.shear or self.stretch
 
 
 def parse_test(raw: Any, shape: str = "block") -> TestSpec:
-    t = fields.Table("test", raw, ("kind", "grips", "stretch", "steps", "imperfection") + PROTOCOL_KEYS)
-    kinds, grip_kinds = SPECIMEN_TESTS[shape]
-    kind = t.choice("kind", ("uniaxial", "biaxial"))
-    if kind not in kinds:
-        raise SceneError(f"{t.field('kind')} must be one of {', '.join(kinds)} for specimen.shape = "
-                         f"{shape!r}, got {kind!r}")
-    grips = t.choice("grips", ("roller", "clamped"), default=grip_kinds[0])
+    """[test]: the kind (vlab.loading.kinds) parses its own load key; grips per specimen shape."""
+    from vlab.loading.kinds import KINDS
+
+    load_keys = tuple(dict.fromkeys(k.load_key for k in KINDS.values()))
+    t = fields.Table("test", raw, ("kind", "grips") + load_keys + ("steps", "imperfection") + PROTOCOL_KEYS)
+    tests = SPECIMEN_TESTS[shape]
+    kind = KINDS[t.choice("kind", tuple(KINDS))]
+    if kind.name not in tests:
+        raise SceneError(f"{t.field('kind')} must be one of {', '.join(tests)} for specimen.shape = "
+                         f"{shape!r}, got {kind.name!r}")
+    grip_kinds = tests[kind.name]
+    grips = t.choice("grips", GRIP_KINDS, default=grip_kinds[0])
     if grips not in grip_kinds:
         raise SceneError(f"{t.field('grips')} must be one of {', '.join(grip_kinds)} for specimen.shape = "
-                         f"{shape!r}, got {grips!r}")
+                         f"{shape!r} with test.kind = {kind.name!r}, got {grips!r}")
+    for key in load_keys:
+        if key != kind.load_key and key in t.raw:
+            owners = " or ".join(repr(k.name) for k in KINDS.values() if k.load_key == key)
+            raise SceneError(f"{t.field(key)} applies to test.kind = {owners}, not {kind.name!r}; "
+                             f"give test.{kind.load_key}")
     protocol_name = t.choice("protocol", PROTOCOLS, default="monotonic")
-    field, v = t.field("stretch"), t.get("stretch", None if protocol_name == "cyclic" else fields.REQUIRED)
-    if protocol_name == "cyclic":
-        amplitudes = _amplitudes(t, kind)
-        if v is not None:
-            raise SceneError(f"{field} is not used with test.protocol = 'cyclic' (the largest of "
-                             f"test.amplitudes is the peak stretch); remove it, got {fields.show(v)}")
-        v = amplitudes[-1]
-    if kind == "uniaxial":
-        if isinstance(v, list):
-            raise SceneError(f"{field} must be a single number for kind = 'uniaxial', got {fields.show(v)}")
-        stretch: tuple[float, ...] = (_stretch_value(field, v),)
-    else:
-        if not isinstance(v, list) or len(v) != 2:
-            raise SceneError(f"{field} must be a list [sx, sy] of 2 numbers for kind = 'biaxial' "
-                             f"(each 0.2..10), got {fields.show(v)}")
-        stretch = tuple(_stretch_value(f"{field}[{i}]", x) for i, x in enumerate(v))
-    if all(s == 1.0 for s in stretch):
-        raise SceneError(f"{field} must not be 1 everywhere (a stretch of 1 applies no load), "
-                         f"got {fields.show(v)}")
-    return TestSpec(kind=kind, grips=grips, stretch=stretch,
+    if protocol_name == "cyclic" and not kind.cyclic:
+        raise SceneError(f"test.protocol = 'cyclic' needs test.kind = "
+                         f"{' or '.join(repr(k.name) for k in KINDS.values() if k.cyclic)}, got {kind.name!r}")
+    targets = _targets(t, kind, protocol_name)
+    if kind.load_key == "stretch" and all(s == 1.0 for s in targets):
+        raise SceneError(f"{t.field('stretch')} must not be 1 everywhere (a stretch of 1 applies no load), "
+                         f"got {fields.show(t.raw['stretch'])}")
+    stretch = targets if kind.load_key == "stretch" else ()
+    return TestSpec(kind=kind.name, grips=grips, stretch=stretch,
                     steps=t.integer("steps", 1, 10000, default=10),
-                    protocol=_parse_protocol(t, protocol_name, stretch),
-                    imperfection=_imperfection(t, stretch))
+                    protocol=_parse_protocol(t, protocol_name, targets, kind),
+                    imperfection=_imperfection(t, kind.name, targets),
+                    shear=targets if kind.load_key == "shear" else ())
 
 
-def _amplitudes(t: fields.Table, kind: str) -> tuple[float, ...]:
+def _targets(t: fields.Table, kind, protocol_name: str) -> tuple[float, ...]:
+    """The kind's load at t = 1; a stretch-driven cyclic test peaks at its largest amplitude."""
+    if protocol_name != "cyclic" or kind.load_key != "stretch":
+        if "amplitudes" in t.raw and protocol_name == "cyclic":
+            raise SceneError(f"{t.field('amplitudes')} is for stretch-driven cycles; with test.kind = "
+                             f"{kind.name!r} give the amplitudes as test.{kind.load_key} = [..]")
+        t.get(kind.load_key)  # a missing key is an error naming it
+        return kind.parse_load(t, protocol_name)
+    amplitudes = _amplitudes(t)
+    if "stretch" in t.raw:
+        raise SceneError(f"{t.field('stretch')} is not used with test.protocol = 'cyclic' (the largest of "
+                         f"test.amplitudes is the peak stretch); remove it, got {fields.show(t.raw['stretch'])}")
+    return (amplitudes[-1],)
+
+
+def _amplitudes(t: fields.Table) -> tuple[float, ...]:
+    from vlab.loading.kinds.base import stretch_value
+
     field, v = t.field("amplitudes"), t.get("amplitudes")
-    if kind != "uniaxial":
-        raise SceneError(f"test.protocol = 'cyclic' needs test.kind = 'uniaxial', got {kind!r}")
     if not isinstance(v, list) or not 1 <= len(v) <= 50:
         raise SceneError(f"{field} must be a list of 1..50 peak grip stretches, got {fields.show(v)}")
-    amps = tuple(_stretch_value(f"{field}[{i}]", x) for i, x in enumerate(v))
+    amps = tuple(stretch_value(f"{field}[{i}]", x) for i, x in enumerate(v))
     side = [a > 1.0 for a in amps]
     growing = all(abs(b - 1.0) > abs(a - 1.0) for a, b in zip(amps, amps[1:]))
     if 1.0 in amps or len(set(side)) > 1 or not growing:
@@ -95,8 +110,12 @@ def _amplitudes(t: fields.Table, kind: str) -> tuple[float, ...]:
     return amps
 
 
-def _parse_protocol(t: fields.Table, name: str, stretch: tuple[float, ...]) -> ProtocolSpec:
+def _parse_protocol(t: fields.Table, name: str, stretch: tuple[float, ...], kind) -> ProtocolSpec:
     """The [test] protocol keys: each allowed only for the protocols that use it."""
+    reversed_cycles = name == "cyclic" and kind.load_key != "stretch"  # the kind's own load, 0 -> a -> -a
+    if reversed_cycles and "min_stretch" in t.raw:
+        raise SceneError(f"{t.field('min_stretch')} is for stretch-driven cycles; test.kind = {kind.name!r} "
+                         f"cycles fully reversed, 0 -> a -> -a -> ...")
     uses = {"amplitudes": ("cyclic",), "min_stretch": ("cyclic",), "hold_time": HOLDS,
             "hold_steps": HOLDS, "force": ("creep",)}
     for key, protocols in uses.items():
@@ -117,17 +136,18 @@ def _parse_protocol(t: fields.Table, name: str, stretch: tuple[float, ...]) -> P
         if abs(min_stretch - 1.0) >= abs(first - 1.0):
             raise SceneError(f"{t.field('min_stretch')} must lie between 1 and the first amplitude "
                              f"{first:g}, got {min_stretch:g}")
+    amplitudes = tuple(t.raw.get("amplitudes", ())) if name == "cyclic" else ()
     return ProtocolSpec(
-        name=name, amplitudes=tuple(t.raw.get("amplitudes", ())) if name == "cyclic" else (),
-        min_stretch=min_stretch,
+        name=name, amplitudes=kind.amplitudes(t) if reversed_cycles else amplitudes,
+        min_stretch=min_stretch, reversed=reversed_cycles,
         strain_rate=t.number("strain_rate", default=None, gt=0, le=1e4, note=" 1/s"),
         ramp_time=t.number("ramp_time", default=None, gt=0, le=1e9, note=" s"),
         hold_time=t.number("hold_time", gt=0, le=1e9, note=" s") if name in HOLDS else 0.0,
         hold_steps=t.integer("hold_steps", 1, 10000, default=20),
-        force=_creep_force(t, stretch) if name == "creep" else None)
+        force=_creep_force(t, stretch, kind.name) if name == "creep" else None)
 
 
-def _creep_force(t: fields.Table, stretch: tuple[float, ...]) -> float | None:
+def _creep_force(t: fields.Table, stretch: tuple[float, ...], kind: str) -> float | None:
     """test.force (N): the creep load, ramped under force control over test.ramp_time, then held.
     Its sign follows test.stretch (which then only gives the direction and scale of the grip
     travel): > 0 in tension (stretch > 1), < 0 in compression."""
@@ -136,20 +156,20 @@ def _creep_force(t: fields.Table, stretch: tuple[float, ...]) -> float | None:
     if "ramp_time" not in t.raw:
         raise SceneError(f"{t.field('force')} is ramped under force control: give test.ramp_time (s), "
                          "the time to reach it (test.strain_rate sets a grip speed, not a load rate)")
-    if len(stretch) != 1:
+    if kind != "uniaxial":
         raise SceneError(f"{t.field('force')} needs test.kind = 'uniaxial'")
     if stretch[0] > 1.0:
         return t.number("force", gt=0, le=1e9, note=" N, tension as test.stretch > 1")
     return t.number("force", ge=-1e9, lt=0, note=" N, compression as test.stretch < 1")
 
 
-def _imperfection(t: fields.Table, stretch: tuple[float, ...]) -> float | None:
+def _imperfection(t: fields.Table, kind: str, stretch: tuple[float, ...]) -> float | None:
     """``[test] imperfection``: amplitude of the buckling-mode imperfection / specimen thickness,
     0 < a <= 0.5, for uniaxial compression only (a tension test has no buckling mode)."""
     if "imperfection" not in t.raw:
         return None
     value = t.number("imperfection", gt=0, le=0.5, note=" (amplitude / specimen thickness)")
-    if len(stretch) != 1 or stretch[0] >= 1.0:
+    if kind != "uniaxial" or stretch[0] >= 1.0:
         raise SceneError(f"{t.field('imperfection')} applies to uniaxial compression (test.stretch < 1), "
                          f"got test.stretch = {list(stretch)}")
     return value

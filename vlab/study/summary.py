@@ -134,7 +134,7 @@ def analytic_quantities(result) -> dict | None:
     from vlab.measure.fit import FitError, fit_line
 
     ref, curve, scene = result.reference, result.curve, result.scene
-    if not ref or len(curve.axes) != 1 or "stress_x" not in ref or not ref["stress_x"]:
+    if not ref or curve.kind != "uniaxial" or "stress_x" not in ref or not ref["stress_x"]:
         return None
     n = len(ref["stress_x"])
     strain = np.asarray(curve.stretch[0][:n]) - 1.0  # homogeneous: extensometer strain = grip strain

@@ -130,6 +130,7 @@ def missing_grip(context: CaseContext) -> Outcome:
     finite "solution" (the load is orthogonal to the free modes); the stability monitor's inertia
     counts the zero pivots and rejects the state; the stepper checks the unloaded K_ff first."""
     from vlab.checks.monitor import StabilityMonitor
+    from vlab.loading.kinds import KINDS
 
     scene = block("neo-hookean", 1.2, size=5.0)
     spec = build_specimen(scene)
@@ -139,7 +140,8 @@ def missing_grip(context: CaseContext) -> Outcome:
     grip_dofs = loading.prescribed[loading.prescribed % 3 == 0]  # the grips alone, no 3-2-1 supports
     modes = unrestrained_modes(space.node_coordinates, grip_dofs)
     partition = Partition.build(body.pattern, grip_dofs)
-    monitor = StabilityMonitor(body, partition, loading.moving_dofs, (1.2,), "neo-hookean", loading.u_hat)
+    monitor = StabilityMonitor(body, partition, loading.moving_dofs, KINDS["uniaxial"], (1.2,), "neo-hookean",
+                               loading.u_hat)
     history = run_schedule(body, partition, loading.u_hat, Stepping(np.array([1.0]), max_cutbacks=2,
                                                                     accept=monitor.accept), (1e-12, 17.3))
     zeros = max((r.zero_eigenvalues or 0 for r in monitor.records), default=0)

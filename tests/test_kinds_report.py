@@ -1,0 +1,59 @@
+"""Reports of planar and simple-shear tests show their own curves and quantities, not a uniaxial
+test's (no E, ν or apparent Poisson's ratio where the width is held or sheared)."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from vlab.report.outcome import outcome_of
+from vlab.report.writer import ReportOptions, write_report
+from vlab.run import run_scene
+from vlab.scene import parse_scene
+
+OPTIONS = ReportOptions(render=False, vtu=False)
+
+
+def scene(model: str, test: dict):
+    return parse_scene({"name": "kinds-report", "specimen": {"shape": "block", "size": [4.0, 3.0, 2.0]},
+                        "mesh": {"size": 1.0, "cell": "hex"}, "material": {"model": model, "E": 3.0, "nu": 0.45},
+                        "test": {"steps": 3} | test})
+
+
+@pytest.mark.parametrize("test,shown,hidden", [
+    ({"kind": "simple-shear", "shear": 0.3}, ["G measured (gauge marks)", "N₁ = σ₁₁ − σ₂₂", "force at max shear"],
+     ["ν measured", "E measured", "−ε_lat", "s_NH"]),
+    ({"kind": "planar", "stretch": 1.3}, ["planar modulus measured", "ν measured", "force at max stretch"],
+     ["−ε_lat", "s_NH"]),
+], ids=["simple-shear", "planar"])
+def test_a_new_kind_report_draws_its_own_curves_for_several_models(tmp_path, test, shown, hidden):
+    outcomes = [outcome_of(run_scene(scene(model, test))) for model in ("neo-hookean", "stvk-volumetric")]
+    write_report(outcomes, tmp_path / "r", scene("neo-hookean", test), None, OPTIONS)
+    page = (tmp_path / "r" / "index.html").read_text(encoding="utf-8")
+    files = {p.name for p in (tmp_path / "r").iterdir()}
+    assert "stress_strain.png" in files and "lateral_strain.png" not in files
+    for text in shown:
+        assert text in page, text
+    for text in hidden:
+        assert text not in page, text
+    data = json.loads((tmp_path / "r" / "neo-hookean" / "results.json").read_text(encoding="utf-8"))
+    key = "G" if test["kind"] == "simple-shear" else "planar_modulus"
+    assert data["measured"][key] is not None and data["measured"]["units"][key] == "MPa"
+
+
+def test_a_uniaxial_report_keeps_its_lateral_strain_figure(tmp_path):
+    outcome = outcome_of(run_scene(scene("neo-hookean", {"kind": "uniaxial", "stretch": 1.2})))
+    write_report([outcome], tmp_path / "r", scene("neo-hookean", {"kind": "uniaxial", "stretch": 1.2}), None, OPTIONS)
+    assert (tmp_path / "r" / "lateral_strain.png").exists()
+    assert "ν measured" in (tmp_path / "r" / "index.html").read_text(encoding="utf-8")
+
+
+def test_a_planar_load_unload_report_adds_the_hysteresis_loop(tmp_path):
+    raw = {"name": "planar-mullins", "specimen": {"shape": "block", "size": [4.0, 3.0, 2.0]},
+           "mesh": {"size": 1.0, "cell": "hex"}, "material": {"model": "neo-hookean", "E": 3.0, "nu": 0.45},
+           "test": {"kind": "planar", "stretch": 1.4, "steps": 3, "protocol": "load-unload"},
+           "effects": {"mullins": {"r": 2.0, "m": 0.5}}}
+    s = parse_scene(raw)
+    write_report([outcome_of(run_scene(s))], tmp_path / "r", s, None, OPTIONS)
+    assert (tmp_path / "r" / "hysteresis.png").exists() and not (tmp_path / "r" / "lateral_strain.png").exists()

@@ -1,0 +1,21 @@
+"""One entry of the specimen-shape registry (the contract: vlab/geometry/shapes.py)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Callable
+
+__all__ = ["Shape"]
+
+
+@dataclass(frozen=True)
+class Shape:
+    name: str
+    keys: tuple[str, ...]
+    parse: Callable[..., Any]
+    build: Callable[..., Any]
+    tests: dict[str, tuple[str, ...]]
+    symmetric: bool = False
+    gauge_size: bool = False
+    thickness: Callable[[Any], float] | None = None
+    doc: str = ""

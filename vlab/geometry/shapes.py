@@ -1,0 +1,48 @@
+"""The registry of specimen shapes a scene may ask for with ``[specimen] shape``.
+
+Each entry (a :class:`Shape`) says, for one name, everything the scene and the run need to know
+about the shape, next to its geometry (the module that meshes it):
+
+- ``keys``: the allowed keys of [specimen] besides ``shape`` (anything else is a SceneError);
+- ``parse(table) -> spec``: validates the table (vlab.fields.Table) into a frozen spec dataclass
+  with ``shape``, ``length`` (mm, along the first loading axis: bounds measure.gauge_length) and
+  ``max_dimension`` (mm: bounds mesh.size); a GeometryError of impossible dimensions becomes a
+  SceneError naming ``specimen.<key>`` and its range;
+- ``build(spec, mesh, gauge_length) -> Specimen``: the meshed specimen with its named grips,
+  gauge marks and regions (``mesh`` the scene's MeshSpec);
+- ``tests``: {test kind: grips it can run with}, the first grips the default (vlab.loading.kinds);
+- ``symmetric``: its mesh is built mirror-symmetric, so [mesh] symmetry may reduce it;
+  ``gauge_size``: it takes a finer [mesh] gauge_size over its gauge section;
+- ``thickness(spec) -> mm``: the smallest cross-section dimension, the scale of a buckling
+  imperfection (None: test.imperfection does not apply).
+
+Adding a shape is one module (its spec dataclass, parser, mesh and the ``SHAPE`` entry) and one
+line in ``_BUILTIN`` below.
+"""
+
+from __future__ import annotations
+
+from importlib import import_module
+
+from vlab.geometry.shape import Shape
+
+__all__ = ["Shape", "SHAPES", "register", "build_specimen"]
+
+
+SHAPES: dict[str, Shape] = {}
+
+
+def register(shape: Shape) -> Shape:
+    SHAPES[shape.name] = shape
+    return shape
+
+
+def build_specimen(spec, mesh, gauge_length: float | None):
+    """The meshed Specimen of a parsed spec (its shape's ``build``)."""
+    return SHAPES[spec.shape].build(spec, mesh, gauge_length)
+
+
+_BUILTIN = ("block", "dogbone", "sheet", "cruciform", "imported", "planar", "shear", "double_lap")  # vlab.geometry.<module>.SHAPE
+
+for _module in _BUILTIN:
+    register(import_module(f"vlab.geometry.{_module}").SHAPE)

@@ -1,0 +1,69 @@
+"""The registry of test kinds a scene may ask for with ``[test] kind``.
+
+A test kind is everything that differs between a uniaxial, a biaxial, a planar (pure-shear) and a
+simple-shear test, in one object, so that no code outside this package asks how long a stretch
+list is. Each entry of ``KINDS`` (a :class:`~vlab.loading.kinds.base.TestKind`) says, for one
+name:
+
+- **grammar**: ``load_key`` (the [test] key of its load: ``stretch`` or ``shear``) and
+  ``parse_load(table, protocol) -> targets``, the control values at load parameter t = 1 (the
+  grip stretches (λ,), (λx, λy), or the amount of shear (γ,)); every error is a SceneError naming
+  ``test.<key>`` and the allowed range; ``check(test)`` refuses what the kind cannot run
+  (a creep force, an imperfection, effects);
+- **grips**: ``loading(specimen, X, test) -> GripLoading`` (prescribed DOFs, their values at
+  t = 1, the moving grip's DOFs per load cell) and ``at(targets, t)`` (the control values at t:
+  λ(t) = 1 + t (λ − 1), or γ(t) = t γ), ``grip_strain(targets)`` (λ − 1 or γ: what the load
+  schedule and the protocol's rates count), ``describe(values)`` (text for messages);
+- **oracle**: ``state(material, values) -> HomogeneousState`` (materials.homogeneous: the exact
+  homogeneous state on the kind's oracle set-up, ``oracle_setups`` = {shape: grips}; raises
+  InadmissibleState when none exists), and ``reference(material, curve)`` (its curve at the
+  recorded rows);
+- **instruments**: ``axes`` (the load cells recorded, by axis), ``areas(specimen)`` (each load
+  cell's reference area), ``gauges(space, specimen)`` (the strain instrument of each axis, the
+  width and thickness gauges), ``extra_readers(space, specimen, loading, material)`` (other
+  readings, e.g. the normal force on a shear plate, the FE centre stress) and ``probe(...)`` (the
+  field statistics of results.json → homogeneity: a dogbone's gauge section, the distance from
+  pure shear or from simple shear);
+- **measures**: ``measure(curve, window, method) -> ElasticConstants`` (E, ν uniaxially; the
+  biaxial constants; the planar modulus E/(1 − ν²); the shear modulus G and the normal-stress
+  difference, in ``extra``), each over the stated window with its fit quality; ``crosshead``
+  (uniaxial: the modulus from grip strain), ``measured_units``;
+- **results and report**: ``columns(curve)`` and ``units`` (results.json → curve),
+  ``force_column`` / ``control_column``, ``plot`` (the report's axes and labels),
+  ``measures_E`` and ``lateral_ratio`` (whether E, ν and the apparent Poisson's ratio mean
+  something), ``cyclic``, ``effects`` and ``symmetric`` (what the scene may combine it with).
+
+Adding a kind is one module here defining its TestKind and one ``register`` call below; the
+specimen shapes that can run it say so in their registry entry (vlab/geometry/shapes.py).
+"""
+
+from __future__ import annotations
+
+from vlab.loading.kinds.base import TestKind
+
+__all__ = ["KINDS", "TestKind", "kind_of", "register"]
+
+KINDS: dict[str, TestKind] = {}
+
+
+def register(kind: TestKind) -> TestKind:
+    KINDS[kind.name] = kind
+    return kind
+
+
+def kind_of(test) -> TestKind:
+    """The kind of a TestSpec (or of a kind name)."""
+    return KINDS[test if isinstance(test, str) else test.kind]
+
+
+def _register_builtins() -> None:
+    from vlab.loading.kinds.biaxial import BIAXIAL
+    from vlab.loading.kinds.planar import PLANAR
+    from vlab.loading.kinds.simple_shear import SIMPLE_SHEAR
+    from vlab.loading.kinds.uniaxial import UNIAXIAL
+
+    for kind in (UNIAXIAL, BIAXIAL, PLANAR, SIMPLE_SHEAR):
+        register(kind)
+
+
+_register_builtins()

@@ -1,0 +1,172 @@
+"""The TestKind contract (vlab/loading/kinds/__init__.py) and what stretch-driven kinds share.
+
+A stretch-driven kind moves grips along the axes in ``axes``: the grip stretch at load parameter t
+is λ_a(t) = 1 + t (λ_a − 1) (λ_a the scene's ``stretch``), each grip's travel (λ_a − 1) L_grip
+(vlab.loading.grips). Its load cells read the moving grips' reactions, its extensometers the gauge
+marks along each loaded axis.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from vlab import fields
+from vlab.fields import SceneError
+
+__all__ = ["TestKind", "stretch_value", "PlotSpec"]
+
+STRETCH_RANGE = (0.2, 10.0)  # grip stretches a scene may ask for
+
+
+def stretch_value(field: str, v: Any) -> float:
+    """A grip stretch in the allowed range 0.2..10 (SceneError naming ``field`` otherwise)."""
+    v = fields.number(field, v, note=" (allowed 0.2..10)")
+    if v <= 0:
+        raise SceneError(f"{field} must be > 0 (allowed 0.2..10), got {v:g}")
+    if not STRETCH_RANGE[0] <= v <= STRETCH_RANGE[1]:
+        raise SceneError(f"{field} must be in the allowed range 0.2..10, got {v:g}")
+    return v
+
+
+class PlotSpec:
+    """The report's main plot of a kind: results.json curve columns and axis labels."""
+
+    def __init__(self, x: str, y: str, xlabel: str, ylabel: str, series: tuple[tuple[str, str, str], ...],
+                 reference_x: str = "stretch"):
+        self.x, self.y, self.xlabel, self.ylabel = x, y, xlabel, ylabel
+        self.series = series  # (x column, y column, reference key in results.json → reference)
+        self.reference_x = reference_x  # the curve column the reference rows are read at
+
+
+class TestKind:
+    """Base of every kind; the defaults are those of a stretch-driven test (module docstring)."""
+
+    __test__ = False  # not a pytest class
+    name = ""
+    load_key = "stretch"
+    axes: tuple[int, ...] = (0,)
+    oracle_setups: dict[str, str] = {}  # specimen shape -> grips on which ``state`` is the exact answer
+    cyclic = False  # may run test.protocol = "cyclic"
+    effects = False  # may carry [effects]
+    symmetric = True  # a mirror-symmetric specimen may be reduced ([mesh] symmetry)
+    lateral_ratio = False  # the report's lateral-strain plot and apparent Poisson's ratio mean something
+    plot: PlotSpec
+    force_column, control_column = "force", "stretch"  # results.json → curve: load cell, control value
+    measures_E = True  # measures Young's modulus (and ν): the report's E and ν rows mean something
+    doc = ""
+
+    # --- grammar -------------------------------------------------------------------------------
+    def parse_load(self, t: fields.Table, protocol: str) -> tuple[float, ...]:
+        raise NotImplementedError
+
+    def check(self, test, effects: dict) -> None:
+        """Refuse what this kind cannot run (SceneError naming the field); a creep force and an
+        imperfection (uniaxial only) are refused where their keys are parsed (vlab/scene/test.py)."""
+        if effects and not self.effects:
+            name = f"effects.{next(iter(effects))}"
+            raise SceneError(f"{name}: [effects] are not available with test.kind = {self.name!r} in this "
+                             f"build (they are with uniaxial, biaxial and planar tests)")
+
+    # --- grips ---------------------------------------------------------------------------------
+    def at(self, targets: tuple[float, ...], t: float) -> list[float]:
+        """Control values at load parameter t: grip stretches λ(t) = 1 + t (λ − 1)."""
+        return [1.0 + t * (s - 1.0) for s in targets]
+
+    def grip_strain(self, targets: tuple[float, ...]) -> tuple[float, ...]:
+        """Grip strain at t = 1 per control (λ − 1): what schedules and rates count."""
+        return tuple(s - 1.0 for s in targets)
+
+    def grip_stretches(self, targets: tuple[float, ...]) -> tuple[float, ...]:
+        """The grip stretch of every axis the grips move or hold (vlab.loading.grips)."""
+        return tuple(targets)
+
+    def describe(self, values) -> str:
+        return ", ".join(f"{s:.4g}" for s in values)
+
+    def loading(self, specimen, X, test):
+        from vlab.loading.grips import grip_loading
+
+        return grip_loading(specimen, X, self.grip_stretches(test.targets), test.grips)
+
+    def isochoric(self, values):
+        """The isochoric (incompressible) deformation gradient (3, 3) at control values ``values``:
+        the path a locking limit is checked on (vlab.materials.card.check_path)."""
+        raise NotImplementedError
+
+    def has_oracle(self, shape: str, grips: str) -> bool:
+        return self.oracle_setups.get(shape) == grips
+
+    # --- oracle --------------------------------------------------------------------------------
+    def state(self, material, values):
+        raise NotImplementedError
+
+    def reference(self, material, curve) -> dict:
+        """The oracle's nominal stress per loaded axis and lateral stretch at the recorded rows,
+        with the largest relative error of the load-cell stress against it."""
+        from vlab.materials.homogeneous import InadmissibleState
+        from vlab.measure.reference import relative_error
+
+        out: dict = {f"stress_{'xy'[a]}": [] for a in self.axes} | {"lateral_stretch": []}
+        try:
+            for row in zip(*(curve.stretch[a] for a in self.axes)):
+                state = self.state(material, row)
+                for a in self.axes:
+                    out[f"stress_{'xy'[a]}"].append(float(state.P[a, a]))
+                out["lateral_stretch"].append(float(state.lateral_stretch))
+        except InadmissibleState as exc:
+            out["note"] = str(exc)
+        for a in self.axes:
+            key = "xy"[a]
+            out[f"max_relative_error_{key}"] = relative_error(curve.column("stress", a), out[f"stress_{key}"])
+        return out
+
+    # --- instruments ---------------------------------------------------------------------------
+    def gauges(self, space, specimen) -> tuple[dict, object, object]:
+        """(axis -> extensometer, width extensometer, thickness extensometer or None on a sheet)."""
+        from vlab.measure.instruments import extensometers
+
+        marks = [specimen.extensometers[a] for a in self.axes] + [specimen.transverse[0]]
+        if space.dim == 3:
+            marks.append(specimen.thickness)
+        found = extensometers(space, marks, specimen.symmetry)
+        return dict(zip(self.axes, found)), found[len(self.axes)], (found[-1] if space.dim == 3 else None)
+
+    def extra_readers(self, space, specimen, loading, material) -> dict:
+        """Readings beyond load cells and extensometers: name -> reader(level) -> float."""
+        return {}
+
+    # --- measures ------------------------------------------------------------------------------
+    def measure(self, curve, window, method):
+        raise NotImplementedError
+
+    def columns(self, curve) -> dict[str, list[float]]:
+        """results.json → curve: axis 0 unsuffixed, axis 1 suffixed ``_y``."""
+        cols: dict[str, list[float]] = {}
+        for axis in self.axes:
+            sfx = "" if axis == 0 else "_y"
+            cols["stretch" + sfx] = list(curve.stretch[axis])
+            cols["strain" + sfx] = list(curve.strain[axis])
+            cols["stress" + sfx] = list(curve.column("stress", axis))
+            cols["force" + sfx] = list(curve.force[axis])
+            cols["true_strain" + sfx] = list(curve.column("true_strain", axis))
+            cols["true_stress" + sfx] = list(curve.column("true_stress", axis))
+        return cols
+
+    measured_units: dict[str, str] = {}  # units of the kind's own measures (results.json → measured)
+    units = {"stretch": "1 (grip)", "strain": "1 (extensometer, engineering)",
+             "stress": "MPa (engineering)", "force": "N", "true_stress": "MPa",
+             "crosshead_strain": "1 (grip separation change / initial grip separation)", "time": "s"}
+
+    def probe(self, space, specimen, material):
+        """The field probe read at every level (results.json → homogeneity), or None."""
+        from vlab.measure.homogeneity import HomogeneityProbe
+
+        return HomogeneityProbe.build(space, specimen, material)
+
+    def areas(self, specimen) -> dict[int, float]:
+        """Reference area (mm²) each load cell's force is divided by."""
+        return {a: specimen.area0[a] for a in self.axes}
+
+    def crosshead(self, curve, window, method) -> dict | None:
+        """The modulus from grip (crosshead) strain, where the kind has one (uniaxial)."""
+        return None

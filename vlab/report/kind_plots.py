@@ -1,0 +1,94 @@
+"""Figures and table rows of the test kinds that are not uniaxial or biaxial (planar, simple
+shear), from results dicts only: each kind's own axes (vlab.loading.kinds: ``plot``), no
+"uniaxial" labels and no apparent Poisson's ratio where the width is held or sheared.
+
+- planar: nominal stress F/A₀ against the grip stretch λ (analytic pure shear dashed where the
+  set-up has it); beside it the thickness and transverse strains against λ (the width is held, so
+  the transverse strain stays ≈ 0 on the block and small at the strip's centre).
+- simple shear: nominal shear stress τ = F_s/A₀ and normal stress σ_n = F_n/A₀ on the moving plate
+  against the gauge-mark shear γ (analytic dashed against the plate γ); beside it the FE
+  centre-average normal-stress difference N₁ = σ₁₁ − σ₂₂ against γ.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from vlab.report import figures as plt  # pyplot-free Agg figures
+from vlab.report.comparison_plots import colour
+from vlab.report.kind_rows import kind_of_data
+
+__all__ = ["kind_of_data", "plot_kind", "KIND_CAPTIONS"]
+
+KIND_CAPTIONS = {
+    "planar": ("Planar tension (pure shear): nominal stress F/A₀ against grip stretch for every model; dashed: "
+               "the analytic pure-shear state F = diag(λ, 1, t) where the set-up has one. Right: thickness and "
+               "transverse strain at the gauge centre (the width is held by the grips: no apparent Poisson's ratio)."),
+    "simple-shear": ("Simple shear: nominal shear stress τ = F_s/A₀ (solid) and normal stress σ_n = F_n/A₀ "
+                     "(dotted) on the moving plate against the gauge-mark shear γ; dashed: the analytic simple "
+                     "shear F = I + γ e₁⊗e₂ where the set-up has one. Right: the normal-stress difference "
+                     "N₁ = σ₁₁ − σ₂₂ of the FE centre average (Poynting effect)."),
+}
+
+
+def _with_origin(values) -> np.ndarray:
+    return np.r_[0.0, np.asarray(values, dtype=float)]
+
+
+def _main_panel(ax, datas: list[dict], kind) -> None:
+    spec = kind.plot
+    origin = 1.0 if spec.x == "stretch" else 0.0
+    for d in datas:
+        c, curve, ref = colour(d["input"]["model"]), d["curve"], d.get("reference") or {}
+        for i, (x, y, key) in enumerate(spec.series):
+            style = "-" if i == 0 else ":"
+            ax.plot(np.r_[origin, curve[x]], _with_origin(curve[y]), style, marker="o", ms=2.5, color=c,
+                    label=f"{d['input']['model']} {y.replace('_', ' ')} (FE)")
+            if ref.get(key):
+                n = len(ref[key])
+                ax.plot(np.r_[origin, curve[spec.reference_x][:n]], _with_origin(ref[key]), "--", color="0.15",
+                        lw=0.9, zorder=4)
+    ax.set_xlabel(spec.xlabel)
+    ax.set_ylabel(spec.ylabel)
+    ax.axhline(0, color="0.7", lw=0.5)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+
+
+def _side_panel(ax, datas: list[dict], kind) -> None:
+    for d in datas:
+        c, curve = colour(d["input"]["model"]), d["curve"]
+        if kind.name == "planar":
+            ax.plot(np.r_[1.0, curve["stretch"]],
+                    _with_origin(curve["thickness_strain"]), "-o", ms=2.5, color=c, label=f"{d['input']['model']} thickness")
+            ax.plot(np.r_[1.0, curve["stretch"]], _with_origin(curve["transverse_strain"]), ":", color=c,
+                    label=f"{d['input']['model']} transverse (held)")
+        elif "centre_cauchy_xx" in curve:
+            N1 = np.asarray(curve["centre_cauchy_xx"]) - np.asarray(curve["centre_cauchy_yy"])
+            ax.plot(_with_origin(curve["shear_gauge"]), _with_origin(N1), "-o", ms=2.5, color=c,
+                    label=f"{d['input']['model']} N₁ (FE centre)")
+    if kind.name == "planar":
+        ax.set_xlabel("grip stretch λ [–]")
+        ax.set_ylabel("strain at the gauge centre [–]")
+        ax.set_title("Thickness and transverse strain", fontsize=10)
+    else:
+        ax.set_xlabel("shear strain γ [–] (gauge marks)")
+        ax.set_ylabel("N₁ = σ₁₁ − σ₂₂ [MPa]")
+        ax.set_title("Normal-stress difference (Poynting)", fontsize=10)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+
+
+def plot_kind(datas: list[dict], path: Path) -> None:
+    """The kind's main figure (module docstring): its curves left, its side quantity right."""
+    kind = kind_of_data(datas[0])
+    fig, (left, right) = plt.subplots(1, 2, figsize=(11.0, 4.6), dpi=120)
+    _main_panel(left, datas, kind)
+    _side_panel(right, datas, kind)
+    title = {"planar": "Planar tension (pure shear)", "simple-shear": "Simple shear"}.get(kind.name, kind.name)
+    left.set_title(f"{title}: {', '.join(d['input']['model'] for d in datas)}", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)

@@ -1,0 +1,47 @@
+"""Table rows of what planar and simple-shear tests measure, from results dicts (html reports)."""
+
+from __future__ import annotations
+
+from vlab.loading.kinds import KINDS
+
+__all__ = ["kind_of_data", "kind_rows"]
+
+
+def kind_of_data(data: dict):
+    """The test kind of a results dict (from the scene as run)."""
+    return KINDS[data["scene"]["source"]["test"]["kind"]]
+
+
+def _f(value, digits: int = 5) -> str:
+    return "—" if value is None else f"{value:.{digits}g}"
+
+
+def kind_rows(models: list[dict]) -> list[tuple[str, list[str]]]:
+    """The table rows of what planar and simple-shear tests measure (none for other kinds)."""
+    kind = kind_of_data(models[0])
+
+    def final(d, key):
+        return ((d.get("homogeneity") or {}).get("final") or {}).get(key)
+
+    if kind.name == "planar":
+        return [
+            ("planar modulus measured / E/(1−ν²) input [MPa]",
+             [f"{_f(d['measured'].get('planar_modulus'))} / {_f(d['input']['E'] / (1 - d['input']['nu'] ** 2))}"
+              for d in models]),
+            ("distance from pure shear at the end (max |ε_yy| / ε_xx, gauge centre)",
+             [_f(final(d, "distance_from_pure_shear"), 3) for d in models]),
+            ("nominal stress / pure-shear stress at the end", [_f(final(d, "nominal_over_pure_shear"), 4) for d in models]),
+        ]
+    if kind.name == "simple-shear":
+        return [
+            ("G measured (gauge marks) / μ input [MPa]", [f"{_f(d['measured'].get('G'))} / {_f(d['input']['mu'])}"
+                                                          for d in models]),
+            ("G from plate travel [MPa]", [_f(d["measured"].get("G_plate")) for d in models]),
+            ("G fit R²", [_f((d["measured"].get("G_fit") or {}).get("r2"), 8) for d in models]),
+            ("normal stress σ_n at the largest |γ| [MPa]", [_f(d["measured"].get("normal_stress_at_peak")) for d in models]),
+            ("N₁ = σ₁₁ − σ₂₂ at the largest |γ| (FE centre) [MPa]",
+             [_f(d["measured"].get("normal_stress_difference")) for d in models]),
+            ("distance from simple shear at the end (centre)", [_f(final(d, "distance_from_simple_shear"), 3) for d in models]),
+            ("centre / nominal shear stress at the end", [_f(final(d, "centre_over_nominal"), 4) for d in models]),
+        ]
+    return []
