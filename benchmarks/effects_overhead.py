@@ -40,7 +40,7 @@ if sys.argv[2] == "inert":
     data["test"]["ramp_time"] = 1.0
 r = run_scene(parse_scene(data))
 print(json.dumps({"solve_s": r.timing["solve_s"], "total_s": r.timing["total_s"],
-                  "force": r.curve.force[0][-1], "body": type(r.extra["body"]).__name__}))
+                  "force": r.curve.force[0][-1], "body": type(r.solver.body).__name__}))
 """
 
 

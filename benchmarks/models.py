@@ -22,7 +22,9 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-import vlab  # noqa: E402,F401
+import vlab  # noqa: E402  before numpy, as in the CLI
+
+vlab.serial_blas_process()  # numpy's BLAS serial (import vlab no longer sets it)
 
 MU0, K = 10.0 / 2.6, 10.0 / (3 * 0.4)
 AB_FACTOR = 1 + 3 / 45 + 99 / (175 * 81) + 513 / (875 * 729) + 42039 / (67375 * 6561)  # λm = 3
@@ -56,7 +58,7 @@ def one(scene) -> dict:
     return {"wall": wall, "converged": result.converged,
             "iterations": int(sum(lv.iterations for lv in h.levels)),
             "factorizations": h.factorizations,
-            "kernel": result.extra.get("tangent_kernel"),
+            "kernel": result.diagnostics.tangent_kernel,
             "error": (result.reference or {}).get("max_relative_error_x")}
 
 

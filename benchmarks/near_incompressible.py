@@ -28,7 +28,9 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-import vlab  # noqa: E402,F401  numpy's BLAS serial, as in the CLI
+import vlab  # noqa: E402  numpy's BLAS serial, as in the CLI
+
+vlab.serial_blas_process()
 import numpy as np  # noqa: E402
 
 from vlab.fe.assembly import Partition  # noqa: E402

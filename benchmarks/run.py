@@ -54,7 +54,9 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-import vlab  # noqa: E402,F401  before numpy, as in the CLI: numpy's BLAS serial (vlab/__init__.py)
+import vlab  # noqa: E402  before numpy, as in the CLI: numpy's BLAS serial (vlab/__init__.py)
+
+vlab.serial_blas_process()
 import numpy as np  # noqa: E402
 
 E, NU, STRETCH, STEPS, RTOL = 10.0, 0.3, 1.5, 10, 1e-8
@@ -140,7 +142,7 @@ def run_vlab(problem: str) -> dict:
     out = {"dofs": int(result.space.n_dofs), "iterations": int(iterations), "total": total,
            "newton": scene.solver.newton,
            "factorizations": int(result.history.factorizations),
-           "kernel": result.extra.get("tangent_kernel"),
+           "kernel": result.diagnostics.tangent_kernel,
            "force": float(result.curve.force[0][-1]), "solver": linsolve.solver_in_use(),
            **clock.seconds}
     out["other"] = total - sum(clock.seconds.values())

@@ -48,9 +48,9 @@ def test_lowest_eigenvalue_is_recorded_only_when_asked_and_equals_the_dense_one(
     result = run_scene(parse_scene(base | {"solver": {"eigenvalues": True}}))
     records = result_to_dict(result)["stability"]
     assert len(records) == 2 and all(s["lowest_eigenvalue"] > 0 for s in records)
-    body, level = result.extra["body"], result.history.levels[-1]
+    body, level = result.solver.body, result.history.levels[-1]
     K = body.stiffness(level.evaluation).toarray()
-    free = result.extra["partition"].free
+    free = result.solver.partition.free
     assert records[-1]["lowest_eigenvalue"] == pytest.approx(np.linalg.eigvalsh(K[np.ix_(free, free)])[0], rel=1e-6)
 
 
@@ -70,8 +70,8 @@ def test_clamped_strip_buckles_near_the_shear_corrected_euler_strain():
     # geometry (shorter, thicker strip) 0.8 % above (0.03250)
     assert 0.0 < fe / euler.critical_strain - 1.0 < 0.12
     assert abs(fe / euler.current_geometry_strain - 1.0) < 0.02
-    mode = result.extra["critical_state"].mode
-    assert np.all(mode[result.extra["partition"].prescribed] == 0.0)
+    mode = result.solver.critical_state.mode
+    assert np.all(mode[result.solver.partition.prescribed] == 0.0)
     assert np.linalg.norm(mode) == pytest.approx(1.0)
     # the last accepted level is below the critical strain; nothing beyond it is returned
     assert max(abs(s - 1.0) for s in data["curve"]["stretch"]) <= lo + 1e-12

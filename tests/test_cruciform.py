@@ -160,8 +160,8 @@ def test_thinned_centre_has_the_gauge_thickness_and_stays_symmetric(runs):
 
 
 def test_slits_bring_the_correction_factor_towards_one(runs):
-    plain = runs(specimen=PLAIN).extra["cruciform"]["small_strain"]["correction_factor_x"]
-    slotted = runs(specimen=SLOTTED).extra["cruciform"]["small_strain"]["correction_factor_x"]
+    plain = runs(specimen=PLAIN).diagnostics.cruciform["small_strain"]["correction_factor_x"]
+    slotted = runs(specimen=SLOTTED).diagnostics.cruciform["small_strain"]["correction_factor_x"]
     assert plain < slotted < 1.0
 
 
@@ -183,4 +183,4 @@ def test_E_and_nu_are_recovered_from_the_centre_state(stretch, model, specimen, 
     assert result.constants.nu == pytest.approx(0.3, rel=TOLERANCE)
     # the lab's nominal-stress figure is off by about 1/k: visibly not E
     if stretch[0] == stretch[1]:
-        assert result.extra["cruciform"]["E_nominal"] > 1.2 * result.constants.E
+        assert result.diagnostics.cruciform["E_nominal"] > 1.2 * result.constants.E

@@ -56,13 +56,13 @@ def test_crosshead_strain_gives_a_visibly_wrong_modulus(path, small_strain_runs)
     """Fillets and tabs are wider than the gauge section and the clamps stop the tabs contracting:
     grip-to-grip strain understates the gauge strain, so the crosshead modulus reads high."""
     result = run_cached(small_strain_runs, path, "neo-hookean")
-    E_crosshead = result.extra["crosshead"]["E"]
+    E_crosshead = result.diagnostics.crosshead["E"]
     assert E_crosshead > 1.05 * result.constants.E
 
 
 @pytest.mark.parametrize("path", DOGBONES, ids=lambda p: p.stem)
 def test_gauge_section_is_nearly_homogeneous_and_fillets_concentrate_stress(path, small_strain_runs):
-    h = run_cached(small_strain_runs, path, "linear").extra["homogeneity"]["small_strain"]
+    h = run_cached(small_strain_runs, path, "linear").diagnostics.homogeneity["small_strain"]
     # equilibrium: the mean of P11 over a slab between two cross-sections is F/A0 (the region is
     # whole elements by centroid, so tet layers at its ends are split: a small deviation remains)
     assert h["axial_stress"]["mean"] == pytest.approx(h["nominal_stress"], rel=1e-3)
@@ -75,7 +75,7 @@ def test_results_json_carries_crosshead_modulus_homogeneity_and_quality(tmp_path
 
     result = run_cached(small_strain_runs, DOGBONES[0], "neo-hookean")
     data = json.loads(json.dumps(write_run(result, tmp_path / "out")))
-    assert data["measured"]["E_crosshead"] == pytest.approx(result.extra["crosshead"]["E"])
+    assert data["measured"]["E_crosshead"] == pytest.approx(result.diagnostics.crosshead["E"])
     assert len(data["curve"]["crosshead_strain"]) == len(data["curve"]["strain"])
     assert set(data["homogeneity"]) == {"small_strain", "final"}
     q = data["mesh"]["quality"]

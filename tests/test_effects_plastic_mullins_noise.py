@@ -55,7 +55,7 @@ def test_plastic_loading_yields_at_the_initial_yield_stress_and_follows_the_hard
     law = _law(s)
     lam = np.array(r.curve.stretch[0])
     tau = np.array(r.curve.force[0]) / AREA * lam  # Kirchhoff τ11 = P11 λ (homogeneous block)
-    alpha = np.array(r.extra["effects"]["history"]["plastic_strain_max"])
+    alpha = np.array(r.diagnostics.effects["history"]["plastic_strain_max"])
     peak = int(np.argmax(lam))
     eps_y = law.yield_stress / E
     for k in range(peak + 1):
@@ -135,7 +135,7 @@ def test_mullins_reloading_lies_below_first_loading_up_to_the_previous_maximum_a
     ratio = P[below] / primary[below]
     assert np.all(ratio < 1.0 - 1e-3) and np.all(ratio > 1.0 - 1.0 / 2.0)
     np.testing.assert_allclose(P[beyond], primary[beyond], rtol=1e-8)
-    softening = r.extra["effects"]["history"]["softening_min"]
+    softening = r.diagnostics.effects["history"]["softening_min"]
     assert min(softening) < 0.9 and max(softening) == pytest.approx(1.0)
 
 
@@ -176,14 +176,14 @@ def _noisy(seed):
 def test_noise_with_a_fixed_seed_repeats_exactly_and_other_seeds_differ():
     a, b, c = _noisy(7), _noisy(7), _noisy(8)
     assert a.curve.force == b.curve.force and a.constants.E == b.constants.E
-    assert a.extra["uncertainty"] == b.extra["uncertainty"]
+    assert a.diagnostics.uncertainty == b.diagnostics.uncertainty
     assert a.curve.force != c.curve.force and a.constants.E != c.constants.E
     assert a.curve.stretch == c.curve.stretch  # the crosshead encoder is exact
 
 
 def test_noise_reports_intervals_that_cover_the_input_and_the_noiseless_values():
     r = _noisy(7)
-    u = r.extra["uncertainty"]
+    u = r.diagnostics.uncertainty
     assert u["noiseless"]["E"] == pytest.approx(E, rel=3e-3)  # the block's exact curve: E of the input
     assert u["E"]["low"] < E < u["E"]["high"] and u["E"]["value"] == pytest.approx(r.constants.E)
     assert u["E"]["n_points"] >= 10 and u["E"]["confidence"] == 0.95

@@ -292,17 +292,19 @@ def test_assembly_outside_the_main_thread_is_serial_and_the_same():
 @needs_numba
 @pytest.mark.parametrize("value", ["0", "two", "999"])
 def test_bad_assembly_thread_count_names_the_variable_and_range(monkeypatch, value):
+    from vlab import settings
+
     monkeypatch.setenv("VLAB_ASSEMBLY_THREADS", value)
     with pytest.raises(ValueError, match=r"VLAB_ASSEMBLY_THREADS must be an integer from 1 to"):
-        compiled.threads()
+        settings.Settings.from_environment()
     from typer.testing import CliRunner
 
     from vlab.cli import app
     refused = CliRunner().invoke(app, ["info"])
     assert refused.exit_code == 2 and "invalid environment" in refused.output
     assert "VLAB_ASSEMBLY_THREADS must be an integer from 1 to" in refused.output
-    monkeypatch.setenv("VLAB_ASSEMBLY_THREADS", "1")
-    assert compiled.threads() == 1
+    with settings.using(settings.Settings(assembly_threads=1)):
+        assert compiled.threads() == 1
 
 
 def test_vlab_kernel_numpy_keeps_numba_out(tmp_path):
@@ -320,6 +322,36 @@ def test_vlab_kernel_numpy_keeps_numba_out(tmp_path):
 def test_unknown_kernel_name_is_refused():
     with pytest.raises(ValueError, match="kernel must be"):
         HyperelasticBody(_space("tet", 1), make_material("linear", 5.0, 2.0), kernel="fast")
+
+
+def test_the_cli_fills_the_settings_from_its_flags_over_the_environment(monkeypatch):
+    from typer.testing import CliRunner
+
+    from vlab import settings
+    from vlab.cli import app
+
+    monkeypatch.setenv("VLAB_LINEAR_SOLVER", "superlu")
+    monkeypatch.setenv("VLAB_KERNEL", "auto")
+    before = settings.current()
+    try:
+        out = CliRunner().invoke(app, ["--kernel", "numpy", "--threads", "1", "moduli", "--E", "10", "--nu", "0.3"])
+        assert out.exit_code == 0, out.output
+        assert settings.current() == settings.Settings(kernel="numpy", assembly_threads=1, linear_solver="superlu")
+        bad = CliRunner().invoke(app, ["--linear-solver", "cholmod", "moduli", "--E", "10", "--nu", "0.3"])
+        assert bad.exit_code == 2 and "VLAB_LINEAR_SOLVER must be one of" in bad.output
+    finally:
+        settings.use(before)
+
+
+def test_run_scene_applies_its_settings_for_that_run_only():
+    from helpers_scenes import block_scene
+
+    from vlab import settings
+    from vlab.run import run_scene
+
+    before = settings.current()
+    result = run_scene(block_scene("neo-hookean", 1.05, steps=2), settings=settings.Settings(kernel="numpy"))
+    assert result.diagnostics.tangent_kernel == "numpy" and settings.current() == before
 
 
 @pytest.mark.parametrize("kernel", KERNELS)

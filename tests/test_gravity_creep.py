@@ -31,7 +31,7 @@ def test_self_weight_of_a_block_held_at_both_ends_matches_the_bar_solution():
     weight adds u_x(x) = −b x (L − x)/(2E) (b = ρ g) to the stretched state, b L²/(8E) at mid-length,
     and the upper (moving) grip carries half the weight on top of E A (λ − 1)."""
     loaded, plain = run_scene(_gravity_scene()), run_scene(_gravity_scene(effects=False))
-    assert loaded.converged and "gravity" not in type(plain.extra["body"]).__name__
+    assert loaded.converged and "gravity" not in type(plain.solver.body).__name__
     b = RHO * 1e-12 * G * 1e3  # N/mm³
     X = loaded.space.node_coordinates
     du = (loaded.final_displacement - plain.final_displacement).reshape(-1, 3)
@@ -59,7 +59,7 @@ def test_creep_under_a_held_force_rises_monotonically_to_the_long_term_complianc
     stretch = np.array(r.curve.stretch[0])[-hold - 1:]
     assert np.allclose(force, force[0], rtol=1e-7)  # the force is held
     assert np.all(np.diff(stretch) > 0)  # and the specimen creeps
-    law = r.extra["body"].material
+    law = r.solver.body.material
     s_held = force[0] / r.curve.area0[0]
     lam_inf = brentq(lambda lam: uniaxial(law.elastic, lam).nominal_stress - s_held, 1.0, 2.0, xtol=1e-14)
     assert stretch[-1] == pytest.approx(lam_inf, rel=2e-4)
@@ -110,6 +110,7 @@ def test_hanging_block_under_self_weight_stretches_by_the_bar_solution():
     from vlab.fe.assembly import Partition
     from vlab.fe.space import DisplacementSpace
     from vlab.fe.stepping import Stepping, run_schedule
+    from vlab.fe.system import System
     from vlab.loading.grips import grip_loading
     from vlab.run import build_specimen, make_body
 
@@ -120,7 +121,7 @@ def test_hanging_block_under_self_weight_stretches_by_the_bar_solution():
     loading = grip_loading(specimen, space.node_coordinates, s.test.stretch, s.test.grips)
     partition = Partition.build(body.pattern, loading.prescribed)
     hanging = Stepping(schedule=np.array([1.0]), force_held=np.array([True]), force_targets=np.array([0.0]))
-    history = run_schedule(body, partition, loading.u_hat, hanging, (1e-12, 10.0))
+    history = run_schedule(System(body, partition, loading.u_hat, (1e-12, 10.0)), hanging)
     assert history.failure is None, history.failure
     u = history.levels[-1].evaluation.u.reshape(-1, 3)
     x = space.node_coordinates[:, 0] if space.node_coordinates.shape[1] == 3 else space.node_coordinates[0]

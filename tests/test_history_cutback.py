@@ -16,7 +16,9 @@ def test_a_rejected_plastic_substep_leaves_the_history_state_untouched(monkeypat
     seen = {"calls": 0}
     original = stepping_module.run_schedule
 
-    def forcing_a_cutback(body, partition, u_hat, stepping, scales, on_level=None):
+    def forcing_a_cutback(system, stepping, on_level=None):
+        body = system.body
+
         def accept(candidate, t):
             seen["calls"] += 1
             if seen["calls"] == 1:  # the first converged substep (into the plastic range): reject it
@@ -26,10 +28,9 @@ def test_a_rejected_plastic_substep_leaves_the_history_state_untouched(monkeypat
             if seen["calls"] == 2:  # the retry with half the increment sees the old state
                 seen["at_retry"] = {k: v.copy() for k, v in body.state.items()}
             return stepping.accept(candidate, t) if stepping.accept else None
-        return original(body, partition, u_hat, stepping.__class__(**{**stepping.__dict__, "accept": accept}),
-                        scales, on_level)
+        return original(system, stepping.__class__(**{**stepping.__dict__, "accept": accept}), on_level)
 
-    monkeypatch.setattr("vlab.run.run_schedule", forcing_a_cutback)
+    monkeypatch.setattr("vlab.pipeline.solve.run_schedule", forcing_a_cutback)
     r = run_scene(s)
     assert r.converged and r.history.levels[0].cutbacks == 1
     assert np.max(seen["would_be"]["alpha"]) > 0.0  # the rejected substep was plastic
@@ -39,4 +40,4 @@ def test_a_rejected_plastic_substep_leaves_the_history_state_untouched(monkeypat
     # and the end result is that of the accepted path: a cut-back-free run reaches the same α
     # (radial uniaxial loading: the return map is exact for any step size)
     plain = run_scene(s)
-    np.testing.assert_allclose(r.extra["body"].state["alpha"], plain.extra["body"].state["alpha"], rtol=1e-9)
+    np.testing.assert_allclose(r.solver.body.state["alpha"], plain.solver.body.state["alpha"], rtol=1e-9)

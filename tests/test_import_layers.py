@@ -11,7 +11,7 @@ Layers, bottom to top (a module may import its own layer and any layer below):
     5 measure      instruments, recorder, fits
     6 post, render cell fields, snapshots, VTU; off-screen renders
     7 report       results.json, CSV, PNG, HTML
-    8 run          the one sequencer
+    8 run          the one sequencer, and its stages (vlab.pipeline: prepare, solve, measure)
     9 compare, study, verification, identify
    10 cli          (and vlab.cli_io, vlab.__main__)
 
@@ -42,7 +42,7 @@ LAYERS = {
     "vlab.measure": 5,
     "vlab.post": 6, "vlab.render": 6,
     "vlab.report": 7,
-    "vlab.run": 8,
+    "vlab.run": 8, "vlab.pipeline": 8,
     "vlab.compare": 9, "vlab.study": 9, "vlab.verification": 9, "vlab.identify": 9,
     "vlab.cli": 10, "vlab.cli_io": 10, "vlab.__main__": 10,
 }
@@ -213,6 +213,21 @@ def test_no_import_of_the_package_starts_numba():
     out = subprocess.run([sys.executable, "-c", code], cwd=PACKAGE.parent, capture_output=True, text=True,
                          check=True).stdout
     assert out.strip() == "False"
+
+
+def test_importing_vlab_writes_no_environment_variable_and_the_cli_makes_blas_serial():
+    import os
+
+    env = {k: v for k, v in os.environ.items() if k != "OPENBLAS_NUM_THREADS"}
+    code = ("import os, vlab, vlab.scene, vlab.run; print(os.environ.get('OPENBLAS_NUM_THREADS'), "
+            "vlab.SERIAL_BLAS)")
+    library = subprocess.run([sys.executable, "-c", code], cwd=PACKAGE.parent, capture_output=True, text=True,
+                             check=True, env=env).stdout
+    assert library.split() == ["None", "False"]
+    code = "import os, vlab.cli, vlab; print(os.environ.get('OPENBLAS_NUM_THREADS'), vlab.SERIAL_BLAS)"
+    cli = subprocess.run([sys.executable, "-c", code], cwd=PACKAGE.parent, capture_output=True, text=True,
+                         check=True, env=env).stdout
+    assert cli.split() == ["1", "True"]
 
 
 def test_the_checker_sees_an_upward_import_and_a_cycle():

@@ -7,6 +7,7 @@ from vlab.fe.assembly import Partition
 from vlab.fe.newton import NewtonOptions
 from vlab.fe.problem import HyperelasticBody
 from vlab.fe.space import DisplacementSpace
+from vlab.fe.system import System
 from vlab.fe.stepping import Stepping, run_schedule
 from vlab.loading.grips import grip_loading
 from vlab.materials import make_material
@@ -21,9 +22,8 @@ def test_pushing_a_grip_through_the_specimen_stops_with_element_point_and_min_J(
     # grip stretch -0.2: the moving grip ends up beyond the fixed one, no admissible state exists
     loading = grip_loading(spec, space.node_coordinates, (-0.2,), "clamped")
     partition = Partition.build(body.pattern, loading.prescribed)
-    history = run_schedule(body, partition, loading.u_hat,
-                           Stepping(np.array([1.0]), max_cutbacks=6, newton=NewtonOptions(max_iterations=15)),
-                           (1e-12, 17.3))
+    history = run_schedule(System(body, partition, loading.u_hat, (1e-12, 17.3)),
+                           Stepping(np.array([1.0]), max_cutbacks=6, newton=NewtonOptions(max_iterations=15)))
     failure = history.failure
     assert failure is not None and failure.t_converged < 1.0 / 1.2  # the grips meet at t = 1/1.2
     assert failure.t_attempted > failure.t_converged

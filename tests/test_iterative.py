@@ -23,7 +23,7 @@ def _scene(linear: str):
 def test_cg_amg_newton_reaches_the_direct_solution():
     direct, cg = run_scene(_scene("direct")), run_scene(_scene("cg-amg"))
     assert direct.converged and cg.converged
-    assert cg.extra["linear_solver"]["newton"] == "cg-amg"
+    assert cg.diagnostics.linear_solver["newton"] == "cg-amg"
     np.testing.assert_allclose(cg.curve.force[0], direct.curve.force[0], rtol=1e-8)
 
 

@@ -14,7 +14,8 @@ from scipy.special import erf
 
 from helpers_history import Frozen, assert_quadratic, random_F, random_rotation, taylor_ratios
 from vlab.materials.homogeneous import uniaxial
-from vlab.materials.mullins import OgdenRoxburgh, parse_params
+from vlab.effects.mullins import parse_params
+from vlab.materials.mullins import OgdenRoxburgh
 from vlab.materials.neo_hookean import NeoHookean
 from vlab.moduli import from_pair
 

@@ -7,6 +7,7 @@ import pytest
 import scipy.sparse as sp
 
 from scenes import scene_dict
+from vlab.fe.system import System
 from vlab.fe.newton import NewtonOptions, solve_equilibrium
 from vlab.fe.problem import Evaluation
 from vlab.report.results import result_to_dict
@@ -50,7 +51,8 @@ def test_an_indefinite_tangent_is_repaired_recorded_and_the_solve_still_converge
     r = start.f_int
     newton = np.linalg.solve(K, -r)
     assert np.all(np.linalg.eigvalsh(K) < 0) and r @ newton > 0  # the Newton step goes uphill
-    ev, record, _ = solve_equilibrium(body, partition, start, (1.0, 1.0), NewtonOptions(rtol=1e-12))
+    found = solve_equilibrium(System(body, partition, None, (1.0, 1.0)), start, NewtonOptions(rtol=1e-12))
+    ev, record = found.evaluation, found.record
     assert record.converged and record.repairs >= 1
     assert np.all(np.abs(ev.u) > 0.9) and ev.W < start.W  # out of the non-convex region, downhill
     assert np.all(np.linalg.eigvalsh(body.stiffness(ev).toarray()) > 0)
@@ -58,8 +60,9 @@ def test_an_indefinite_tangent_is_repaired_recorded_and_the_solve_still_converge
 
 def test_a_convex_start_needs_no_repair_and_converges_quadratically():
     body, partition = DoubleWell(6), AllFree(np.arange(6), np.array([], dtype=np.int64))
-    ev, record, _ = solve_equilibrium(body, partition, body.evaluate(np.full(6, 1.4)), (1.0, 1.0),
-                                      NewtonOptions(rtol=1e-14))
+    found = solve_equilibrium(System(body, partition, None, (1.0, 1.0)), body.evaluate(np.full(6, 1.4)),
+                              NewtonOptions(rtol=1e-14))
+    ev, record = found.evaluation, found.record
     assert record.converged and record.repairs == 0 and all(a == 1.0 for a in record.step_lengths)
     r = [x for x in record.residuals if x > 1e-13]
     assert np.log(r[-1] / r[-2]) / np.log(r[-2] / r[-3]) > 1.8

@@ -8,6 +8,7 @@ from scenes import scene_dict
 
 from vlab.fe.linsolve import factorize
 from vlab.fe.newton import NewtonOptions, _chord_pays, _SecantMemory, tangent_at
+from vlab.fe.system import System
 from vlab.fe.stepping import PathPoint, Stepping, _substep, path_increment
 from vlab.loading.grips import grip_loading
 from vlab.run import run_scene
@@ -96,7 +97,7 @@ def test_the_extrapolating_predictors_start_a_load_step_much_nearer_equilibrium(
                                    test={"stretch": 1.5, "steps": 5, "grips": "clamped"},
                                    measure={"modulus_points": 0}))
     result = run_scene(scene)
-    body, partition = result.extra["body"], result.extra["partition"]
+    body, partition = result.solver.body, result.solver.partition
     u_hat = grip_loading(result.specimen, result.space.node_coordinates, scene.test.stretch,
                          scene.test.grips).u_hat
     before, now = result.history.levels[-3], result.history.levels[-2]
@@ -113,9 +114,9 @@ def test_the_extrapolating_predictors_start_a_load_step_much_nearer_equilibrium(
                            ("quadratic", PathPoint(before.t, before.evaluation.u)),
                            ("cubic", PathPoint(before.t, before.evaluation.u, slope)),
                            ("jumped", PathPoint(before.t, jumped, slope))):
-        record = _substep(body, partition, now.evaluation, tangent, u_hat, now.t, 1.0,
+        record = _substep(System(body, partition, u_hat, (1e-9, 10.0)), now.evaluation, tangent, now.t, 1.0,
                           Stepping(np.array([1.0]), newton=NewtonOptions(chord_contraction=0.0)),
-                          (1e-9, 10.0), tangent, previous)[1]
+                          tangent, previous).record
         first[name] = record.residuals[0]
     # measured on this block: 7.2e-3 (tangent), 7.7e-4 (quadratic), 9.7e-5 (cubic)
     assert first["quadratic"] < 0.2 * first["tangent"]

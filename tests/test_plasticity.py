@@ -16,7 +16,8 @@ from helpers_history import Frozen, assert_quadratic, random_F, random_rotation,
 from vlab.materials.hencky import Hencky
 from vlab.materials.homogeneous import uniaxial
 from vlab.materials.neo_hookean import NeoHookean
-from vlab.materials.plasticity import J2Plasticity, parse_params
+from vlab.effects.plasticity import parse_params
+from vlab.materials.plasticity import J2Plasticity
 from vlab.moduli import from_pair
 
 E, NU = 1000.0, 0.3

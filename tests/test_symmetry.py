@@ -57,8 +57,8 @@ def readings(raw: dict, symmetry: str) -> tuple[dict, int, float]:
         out[f"force_{axis}"] = c.force[axis][-1]
         out[f"strain_{axis}"] = c.strain[axis][-1]
     out["thickness_strain"] = c.thickness_strain[-1]
-    if "cruciform" in result.extra:
-        out["k_x"] = result.extra["cruciform"]["final"]["correction_factor_x"]
+    if result.diagnostics.cruciform is not None:
+        out["k_x"] = result.diagnostics.cruciform["final"]["correction_factor_x"]
     return out, result.space.n_dofs, seconds
 
 

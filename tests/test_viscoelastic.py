@@ -65,7 +65,7 @@ def test_all_betas_zero_equals_the_elastic_run():
     test = {"protocol": "load-unload", "ramp_time": 1.0}
     elastic = _run(test)
     inert = _run(test, {"viscoelastic": {"tau": [1.0], "beta": [0.0]}})
-    assert inert.converged and type(inert.extra["body"]).__name__ == "HistoryBody"
+    assert inert.converged and type(inert.solver.body).__name__ == "HistoryBody"
     assert np.allclose(inert.curve.force[0], elastic.curve.force[0], rtol=1e-12, atol=1e-12)
     assert np.allclose(inert.curve.strain[0], elastic.curve.strain[0], rtol=1e-12, atol=1e-14)
 
@@ -95,7 +95,7 @@ def test_relaxation_follows_the_discrete_law_and_decays_to_the_long_term_ground_
     r = _run({"stretch": 1.2, "protocol": "relaxation", "ramp_time": 0.01, "hold_time": 200.0,
               "hold_steps": 30}, {"viscoelastic": {"tau": list(tau), "beta": list(beta)}})
     assert r.converged
-    law = r.extra["body"].material
+    law = r.solver.body.material
     stress = np.array(r.curve.force[0]) / r.curve.area0[0]
     oracle = point_uniaxial_history(law, r.curve.stretch[0], r.curve.time)
     assert np.max(np.abs(stress - oracle)) < 1e-6 * np.max(np.abs(oracle))

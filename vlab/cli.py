@@ -2,7 +2,11 @@
 
 from __future__ import annotations
 
-from importlib import resources
+import vlab
+
+vlab.serial_blas_process()  # the CLI owns its process: numpy's BLAS serial from the start (before numpy)
+
+from importlib import resources  # noqa: E402
 from pathlib import Path
 from typing import Optional
 
@@ -23,12 +27,24 @@ FORCE_HELP = ("Replace a non-empty folder vlab did not make (never one holding t
 
 
 @app.callback()
-def _environment() -> None:
-    """Refuse a bad VLAB_ASSEMBLY_THREADS before any command starts work."""
-    from vlab.jit import requested_threads  # numba itself is started only by the solver
+def _environment(
+    kernel: Optional[str] = typer.Option(None, "--kernel", help="auto | numpy (default: VLAB_KERNEL, else auto)"),
+    threads: Optional[int] = typer.Option(None, "--threads",
+                                          help="assembly threads (default: VLAB_ASSEMBLY_THREADS, else all cores)"),
+    linear_solver: Optional[str] = typer.Option(None, "--linear-solver",
+                                                help="auto | pardiso | superlu (default: VLAB_LINEAR_SOLVER, else auto)"),
+) -> None:
+    """Fill the process-wide settings (vlab.settings) from the flags, else the environment,
+    refusing a bad value (VLAB_KERNEL, VLAB_ASSEMBLY_THREADS, VLAB_LINEAR_SOLVER or its flag)
+    before any command starts work."""
+    import dataclasses
+
+    from vlab import settings  # numba itself is started only by the solver
 
     try:
-        requested_threads()
+        chosen = settings.Settings.from_environment()
+        flags = {"kernel": kernel, "assembly_threads": threads, "linear_solver": linear_solver}
+        settings.use(dataclasses.replace(chosen, **{k: v for k, v in flags.items() if v is not None}))
     except ValueError as exc:
         fail("invalid environment", exc)
 
@@ -95,7 +111,7 @@ def run(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (defa
     if estimate:
         from vlab.study.estimate import accuracy_estimate
 
-        result.extra["accuracy_estimate"] = accuracy_estimate(result)
+        result.diagnostics.accuracy_estimate = accuracy_estimate(result)
     data = _write(write_run, result, dest, text, options)
     _print_summary(data)
     _print_estimate(data.get("accuracy_estimate"))

@@ -9,6 +9,7 @@ progress display (the library itself never prints).
 from __future__ import annotations
 
 import copy
+import dataclasses
 import logging
 import multiprocessing as mp
 import os
@@ -16,6 +17,7 @@ import queue as queue_module
 from concurrent.futures import ProcessPoolExecutor, wait, FIRST_COMPLETED
 from typing import Callable
 
+from vlab import settings
 from vlab.loading.schedule import monotonic_schedule
 from vlab.materials.registry import MODELS
 from vlab.measure.departure import REFERENCE_MODEL, departure_strains  # noqa: F401  (public here too)
@@ -81,11 +83,12 @@ def run_model(scene: Scene, model: str, on_level: Callable[[int], None] | None =
 _events = None  # the worker's end of the progress queue (set by the pool initializer)
 
 
-def _init_worker(events) -> None:
+def _init_worker(events, parent: settings.Settings) -> None:
     global _events
     _events = events
-    # the workers already share the cores: one assembly thread each
-    os.environ["VLAB_ASSEMBLY_THREADS"] = "1"
+    # the parent's settings (also under spawn); the workers already share the cores: one
+    # assembly thread each
+    settings.use(dataclasses.replace(parent, assembly_threads=1))
 
 
 def _worker(scene: Scene, model: str) -> ModelOutcome:
@@ -109,7 +112,7 @@ def compare_models(scene: Scene, models: tuple[str, ...], workers: int | None = 
     context = mp.get_context("fork" if "fork" in mp.get_all_start_methods() else "spawn")
     events = context.Queue()
     with ProcessPoolExecutor(workers, mp_context=context, initializer=_init_worker,
-                             initargs=(events,)) as pool:
+                             initargs=(events, settings.current())) as pool:
         futures = {model: pool.submit(_worker, scene, model) for model in models}
         pending = set(futures.values())
         while pending:

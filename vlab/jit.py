@@ -22,6 +22,8 @@ import tempfile
 import types
 from pathlib import Path
 
+from vlab import settings
+
 log = logging.getLogger(__name__)
 
 
@@ -35,7 +37,7 @@ def _start():
     numba's one-time set-up (import ~0.1 s, then ~0.2 s of type registries on the first
     compiled call, measured on the benchmark machine) is paid here, on the first call of
     :func:`available` (vlab.run makes it before its clocks start), not on any import."""
-    if os.environ.get("VLAB_KERNEL", "auto").lower() == "numpy":
+    if settings.current().kernel == "numpy":
         return None
     try:
         import numba
@@ -64,8 +66,9 @@ def numba():
 
 
 def available() -> bool:
-    """True if compiled kernels can be used (numba importable, not disabled)."""
-    return numba() is not None
+    """True if compiled kernels can be used (numba importable, not disabled by the installed
+    settings: a run under ``Settings(kernel="numpy")`` assembles with numpy even after numba started)."""
+    return settings.current().kernel != "numpy" and numba() is not None
 
 
 def in_use() -> str:
@@ -74,22 +77,12 @@ def in_use() -> str:
 
 
 def requested_threads() -> int | None:
-    """``VLAB_ASSEMBLY_THREADS`` as an integer from 1 to the cores numba may use, or None if
-    unset (checked without starting numba, so the CLI can refuse a bad value up front)."""
-    asked = os.environ.get("VLAB_ASSEMBLY_THREADS", "").strip()
-    if not asked:
-        return None
-    cores = (len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity")  # Linux only
-             else os.cpu_count() or 1)
-    most = int(os.environ.get("NUMBA_NUM_THREADS", "").strip() or cores)
-    if not asked.isdigit() or not 1 <= int(asked) <= most:
-        raise ValueError(f"VLAB_ASSEMBLY_THREADS must be an integer from 1 to {most} (the cores "
-                         f"numba may use); got {asked!r}")
-    return int(asked)
+    """The installed settings' assembly thread count (vlab.settings), None for numba's own."""
+    return settings.current().assembly_threads
 
 
 def threads() -> int:
-    """Threads a kernel may use: ``VLAB_ASSEMBLY_THREADS`` if set, else numba's thread count
+    """Threads a kernel may use: ``settings.assembly_threads`` if set, else numba's thread count
     (NUMBA_NUM_THREADS, all cores by default); 1 without numba."""
     if not available():
         return 1

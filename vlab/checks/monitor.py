@@ -173,14 +173,12 @@ class StabilityMonitor:
             non_elliptic_fraction=self._non_elliptic(ev))
 
     def _non_elliptic(self, ev: Evaluation) -> float | None:
-        material = getattr(self.body, "material", None)  # the spring network has no tangent field
+        material = self.body.material  # None: the spring network has no tangent field
         if material is None or self.body.space.dim != 3:  # the 2D plane laws: not sampled here
             return None
-        if hasattr(material, "respond"):  # a history law: the algorithmic tangent K_ff was built from
-            state = getattr(self.body, "state", None)
-            if state is None:
-                return None
-            return non_elliptic_fraction(material.respond(ev.F, state, self.body.dt, with_tangent=True).tangent)
+        history = self.body.history
+        if history is not None:  # a history law: the algorithmic tangent K_ff was built from
+            return non_elliptic_fraction(material.respond(ev.F, history.state, history.dt, with_tangent=True).tangent)
         return non_elliptic_fraction(material.tangent(ev.F))
 
     def _path_stiffness(self, K, Kfp, found) -> list[float] | None:

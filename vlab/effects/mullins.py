@@ -17,8 +17,25 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from vlab.effects.registry import Effect
-from vlab.fields import SceneError
-from vlab.materials.mullins import PARAM_KEYS, OgdenRoxburgh, parse_params
+from vlab.materials.base import Material
+from vlab.fields import SceneError, Table
+from vlab.materials.mullins import OgdenRoxburgh
+
+
+PARAM_KEYS = ("r", "m", "beta")
+
+
+def parse_params(raw: dict, prefix: str, elastic: Material) -> OgdenRoxburgh:
+    """Build the law from ``[effects.mullins]`` over the ground law ``elastic``.
+
+    Keys: r > 1 (required; the largest softening is 1/r), m > 0 MPa (required; energy scale),
+    beta ≥ 0 (default 0; growth of the scale with W_max).
+    """
+    t = Table(prefix, raw, PARAM_KEYS)
+    r = t.number("r", gt=1.0, note=" (dimensionless; the largest softening is 1/r)")
+    m = t.number("m", gt=0.0, note=" (MPa, energy scale of the softening)")
+    beta = t.number("beta", 0.0, ge=0.0, note=" (dimensionless; growth of m with the maximum energy)")
+    return OgdenRoxburgh(elastic, r=r, m=m, beta=beta)
 
 
 @dataclass(frozen=True)

@@ -19,10 +19,33 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from vlab.effects.registry import Effect
+from vlab.materials.base import Material
 from vlab.materials.registry import models_where
-from vlab.fields import SceneError
+from vlab.fields import SceneError, Table
 from vlab.materials.hencky import Hencky
-from vlab.materials.plasticity import PARAM_KEYS, J2Plasticity, parse_params
+from vlab.materials.plasticity import J2Plasticity
+
+
+PARAM_KEYS = ("yield_stress", "hardening_modulus", "saturation_stress", "saturation_exponent")
+
+
+def parse_params(raw: dict, prefix: str, elastic: Material) -> J2Plasticity:
+    """Build the law from ``[effects.plasticity]``; the elastic part is Hencky with the Lamé
+    constants of ``elastic`` (the scene's ground law).
+
+    Keys: yield_stress σ_y0 > 0 MPa (required), hardening_modulus H ≥ 0 MPa (default 0),
+    saturation_stress Q ≥ 0 MPa (default 0), saturation_exponent δ > 0 (required when Q > 0).
+    """
+    t = Table(prefix, raw, PARAM_KEYS)
+    sy = t.number("yield_stress", gt=0.0, note=" (MPa, initial yield stress)")
+    H = t.number("hardening_modulus", 0.0, ge=0.0, note=" (MPa, linear hardening modulus)")
+    Q = t.number("saturation_stress", 0.0, ge=0.0, note=" (MPa, Voce saturation increase of the yield stress)")
+    if Q > 0.0:
+        d = t.number("saturation_exponent", gt=0.0, note=" (Voce exponent, required when saturation_stress > 0)")
+    else:
+        d = t.number("saturation_exponent", 0.0, ge=0.0, note=" (Voce exponent)")
+    return J2Plasticity(Hencky(elastic.lmbda, elastic.mu), yield_stress=sy, hardening_modulus=H,
+                        saturation_stress=Q, saturation_exponent=d)
 
 
 @dataclass(frozen=True)

@@ -12,9 +12,9 @@ def effects_summary(scene, body, levels) -> dict:
     cell value of each history variable (e.g. viscous_stress, MPa); the smallest for the
     Mullins ``softening`` η, whose strongest value is its least."""
     history: dict[str, list[float]] = {}
-    if hasattr(body, "cell_fields_of"):
+    if body.history is not None:
         for level in levels:
-            cells = body.cell_fields_of(level.evaluation) or {}
+            cells = body.history.cell_fields_of(level.evaluation) or {}
             for name, values in cells.items():
                 if name == "softening":
                     history.setdefault(name + "_min", []).append(float(np.min(values)))

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import contextlib
 
-from vlab import SERIAL_BLAS
+import vlab
 
 _BLAS: list = []
 NUMPY_BLAS = ["openblas", "blis"]  # the BLAS builds numpy wheels ship (MKL only with PARDISO)
@@ -27,7 +27,7 @@ def serial_openblas() -> None:
     10⁴ entries is enough); on 2 cores they then take a core from MKL's factorization, which
     runs single-threaded at ~1.7× the time (measured: 31 ms vs 50–60 ms, alternating, per
     factorization of the 21k-DOF dogbone). vlab's own dense products are short and serial."""
-    controller = None if SERIAL_BLAS else _controller()
+    controller = None if vlab.SERIAL_BLAS else _controller()
     if controller is not None:
         controller.select(internal_api=NUMPY_BLAS).limit(limits=1)
 
@@ -38,7 +38,7 @@ def single_threaded_blas():
     The element GEMMs are short; BLAS worker threads that keep spinning after them steal the
     cores from the sparse factorization that follows (2× slower iterations measured on 2 cores).
     """
-    controller = None if SERIAL_BLAS else _controller()
+    controller = None if vlab.SERIAL_BLAS else _controller()
     if controller is None:
         return contextlib.nullcontext()
     # only numpy's own BLAS: limiting "blas" as a whole would also reset MKL, whose threads

@@ -15,6 +15,7 @@ from dataclasses import replace
 import numpy as np
 
 from vlab.fe.assembly import scatter_vector
+from vlab.fe.body import BodyDefaults
 from vlab.fe.problem import Evaluation
 from vlab.fe.space import DisplacementSpace
 
@@ -27,14 +28,20 @@ def body_force_vector(space: DisplacementSpace, b) -> np.ndarray:
     return scatter_vector(space, fe)
 
 
-class LoadedBody:
+class LoadedBody(BodyDefaults):
     """A body (hyperelastic or with history) under a dead load f_ext (N); same interface."""
 
     def __init__(self, body, f_ext: np.ndarray):
         self.inner, self.f_ext = body, np.asarray(f_ext, dtype=float)
 
-    def __getattr__(self, name):  # space, pattern, material, history hooks of the inner body
-        return getattr(self.inner, name)
+    space = property(lambda self: self.inner.space)
+    pattern = property(lambda self: self.inner.pattern)
+    material = property(lambda self: self.inner.material)
+    history = property(lambda self: self.inner.history)
+    tangent_kernel = property(lambda self: self.inner.tangent_kernel)
+
+    def cell_cauchy(self, evaluation: Evaluation) -> np.ndarray | None:
+        return self.inner.cell_cauchy(evaluation)
 
     def evaluate(self, u: np.ndarray) -> Evaluation:
         return self._loaded(self.inner.evaluate(u), u)

@@ -24,12 +24,14 @@ force scale as displacement-controlled Newton.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
-from vlab.fe.assembly import Partition
 from vlab.fe.linsolve import SingularSystem, factorize
 from vlab.fe.newton import NewtonFailure, NewtonOptions, NewtonRecord, Tangent
 from vlab.fe.problem import Evaluation
+from vlab.fe.system import System
 
 
 def generalized_force(ev: Evaluation, u_hat: np.ndarray) -> float:
@@ -37,12 +39,23 @@ def generalized_force(ev: Evaluation, u_hat: np.ndarray) -> float:
     return float(u_hat @ ev.f_int)
 
 
-def solve_force_controlled(body, partition: Partition, start: Evaluation, t0: float, u_hat: np.ndarray,
-                           Q_target: float, scales: tuple[float, float], options: NewtonOptions
-                           ) -> tuple[Evaluation, float, NewtonRecord, Tangent | None]:
+@dataclass(frozen=True)
+class ForceControlled:
+    """A converged force-controlled solve: the state, its load parameter t, the record, the last
+    tangent factorized."""
+
+    evaluation: Evaluation
+    t: float
+    record: NewtonRecord
+    tangent: Tangent | None
+
+
+def solve_force_controlled(system: System, start: Evaluation, t0: float, Q_target: float,
+                           options: NewtonOptions) -> ForceControlled:
     """Newton for (u_f, t) at the held generalized force ``Q_target`` from ``start`` (at t0)."""
+    body, partition, u_hat = system.body, system.partition, system.u_hat
     record = NewtonRecord()
-    force_floor, length = scales
+    force_floor, length = system.scales
     free, presc = partition.free, partition.prescribed
     travel = float(np.max(np.abs(u_hat)))  # û_m, mm
     ev, t, tangent = start, float(t0), None
@@ -55,7 +68,7 @@ def solve_force_controlled(body, partition: Partition, start: Evaluation, t0: fl
         record.residuals.append(float(np.hypot(np.linalg.norm(r_f), r_t / travel)) / scale)
         if record.residuals[-1] <= options.rtol and (k == 0 or record.updates[-1] <= options.utol):
             record.converged = True
-            return ev, t, record, tangent
+            return ForceControlled(ev, t, record, tangent)
         if k == options.max_iterations:
             break
         try:

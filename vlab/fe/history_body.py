@@ -20,16 +20,21 @@ import scipy.sparse as sp
 
 from vlab.fe.assembly import SparsityPattern, element_forces, element_stiffness, scatter_vector
 from vlab.fe.problem import J_COLLAPSE, Evaluation
+from vlab.fe.body import BodyDefaults
 from vlab.fe.space import DisplacementSpace
 from vlab.materials.history import HistoryMaterial
 from vlab.fe.cell_fields import cauchy, cell_average
 from vlab.tensor import det
 
 
-class HistoryBody:
+class HistoryBody(BodyDefaults):
     """Couples a HistoryMaterial to a displacement space; owns the quadrature-point state."""
 
-    has_history = True
+
+    @property
+    def history(self) -> "HistoryBody":
+        """The history capability (vlab.fe.body.HistoryCapability) is this body's own."""
+        return self
 
     def __init__(self, space: DisplacementSpace, material: HistoryMaterial):
         self.space = space

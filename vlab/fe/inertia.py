@@ -86,14 +86,14 @@ def factorized_inertia(factor, K: sp.spmatrix, zero_tol: float = ZERO_TOL,
     ``verify_zero=False`` skips the two solves behind a Cholesky: for states along a load path
     whose unloaded K_ff was verified free of zero eigenvalues, where an eigenvalue reaches zero
     only by crossing it (and the crossing shows as a failed Cholesky, i.e. negative pivots)."""
-    backend = getattr(factor, "backend", "")
-    if backend == "pardiso" and getattr(factor, "cholesky", False):
+    backend = factor.backend
+    if backend == "pardiso" and factor.cholesky:
         n = K.shape[0]
         if n == 0 or not verify_zero or (_rayleigh_after_inverse_iteration(factor.solve, K)
                                          > zero_tol * (float(np.max(np.abs(K.diagonal()))) or 1.0)):
             return Inertia(0, 0, n, "Cholesky (PARDISO, all pivots positive)", factor.solve)
         return inertia(K, zero_tol)
-    pivots = getattr(factor, "pivots", None)
+    pivots = factor.pivots
     if backend == "superlu" and pivots is not None and np.all(np.isfinite(pivots)):
         scale = float(np.max(np.abs(K.diagonal()), initial=0.0)) or 1.0
         return _count(pivots, zero_tol * scale, "LDLt (SuperLU symmetric mode)", factor.solve)

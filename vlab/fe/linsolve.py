@@ -12,8 +12,8 @@ Two backends, chosen by measurement (benchmarks/RESULTS.md) and by what is insta
   of the symmetric tangents assembled here (U = D Lᵀ, so the signs of diag U give the inertia); if
   a zero pivot appears the factorization is retried with threshold pivoting.
 
-``factorize`` uses the preferred available backend, or the one named by ``use_solver`` (or the
-environment variable ``VLAB_LINEAR_SOLVER`` = auto | pardiso | superlu). Every factorization
+``factorize`` uses the preferred available backend, or the one the installed settings name
+(vlab.settings: ``VLAB_LINEAR_SOLVER`` = auto | pardiso | superlu, or ``use_solver``). Every factorization
 carries ``negative_pivots`` (count of negative eigenvalues of K_ff, None if unknown), which is
 what stability detection needs.
 
@@ -23,8 +23,8 @@ Newton iteration on the same mesh and grips pays only for the numerical factoriz
 
 from __future__ import annotations
 
+import dataclasses
 import logging
-import os
 from functools import cached_property
 
 import numpy as np
@@ -32,6 +32,7 @@ import scipy
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from vlab import settings
 from vlab.fe import pardiso
 from vlab.fe.timers import LINEAR_SOLVE, timed
 
@@ -39,7 +40,6 @@ log = logging.getLogger(__name__)
 
 BACKENDS = ("pardiso", "superlu")
 _PATTERNS_KEPT = 4
-_choice: list[str] = []
 
 
 class SingularSystem(RuntimeError):
@@ -58,11 +58,11 @@ def use_solver(name: str) -> None:
         raise ValueError(f"linear solver must be one of auto, {', '.join(BACKENDS)}; got {name!r}")
     if name == "pardiso" and pardiso.library() is None:
         raise ValueError("linear solver 'pardiso' is not installed (pip install 'vlab[fast]')")
-    _choice[:] = [name]
+    settings.use(dataclasses.replace(settings.current(), linear_solver=name))
 
 
 def solver_in_use() -> str:
-    name = _choice[0] if _choice else os.environ.get("VLAB_LINEAR_SOLVER", "auto")
+    name = settings.current().linear_solver
     if name == "superlu" or pardiso.library() is None:
         if name == "pardiso":
             log.warning("VLAB_LINEAR_SOLVER=pardiso but PARDISO is not installed; using SuperLU")
@@ -75,6 +75,8 @@ class Factorization:
 
     backend = "abstract"
     negative_pivots: int | None = None
+    cholesky: bool = False  # True: a Cholesky LLᵀ, so the matrix is positive definite
+    pivots: np.ndarray | None = None  # diag D of an unpivoted LDLᵀ, where the backend gives it
 
     def solve(self, b: np.ndarray) -> np.ndarray:  # pragma: no cover - abstract
         raise NotImplementedError

@@ -43,6 +43,7 @@ import skfem
 
 from vlab.fe.assembly import SparsityPattern, element_forces, element_stiffness, scatter_vector
 from vlab.fe.problem import J_COLLAPSE, Evaluation
+from vlab.fe.body import BodyDefaults
 from vlab.fe.space import DisplacementSpace
 from vlab.tensor import det
 
@@ -111,7 +112,7 @@ class VolumeProjection:
         return np.einsum("eqr,er->eq", self.projector, values)
 
 
-class MixedHyperelasticBody:
+class MixedHyperelasticBody(BodyDefaults):
     """Same interface as :class:`vlab.fe.problem.HyperelasticBody` (evaluate, stiffness,
     space, material, pattern); ``material`` is the split law (also a full one-field Material)."""
 

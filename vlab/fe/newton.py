@@ -65,6 +65,7 @@ from vlab.fe.iterative import (AMGConjugateGradient, IterativeSolveFailed, forci
                                rigid_body_modes)
 from vlab.fe.line_search import Watchdog, dot as _dot, norm as _norm
 from vlab.fe.linsolve import Factorization, SingularSystem, factorize
+from vlab.fe.system import System
 from vlab.fe.problem import Evaluation, HyperelasticBody
 
 log = logging.getLogger(__name__)
@@ -136,7 +137,7 @@ class TangentCache:
         self.factorizations = 0
         self._state: Evaluation | None = None
         self._tangent: Tangent | None = None
-        self._constant = bool(getattr(getattr(body, "material", None), "is_linear", False))
+        self._constant = body.material is not None and bool(body.material.is_linear)
 
     def at(self, evaluation: Evaluation) -> Tangent:
         """K, K_ff factorized and K_fp at ``evaluation`` (raises SingularSystem)."""
@@ -168,20 +169,28 @@ def tangent_at(body: HyperelasticBody, partition: Partition, evaluation: Evaluat
     return Tangent(factorize(Kff), Kfp)
 
 
-def solve_equilibrium(body: HyperelasticBody, partition: Partition, start: Evaluation,
-                      scales: tuple[float, float], options: NewtonOptions,
-                      first: Tangent | None = None,
-                      ) -> tuple[Evaluation, NewtonRecord, Tangent | None]:
+@dataclass(frozen=True)
+class Equilibrium:
+    """A converged Newton solve: the state, its record, the last tangent factorized (None if no
+    iteration was needed)."""
+
+    evaluation: Evaluation
+    record: NewtonRecord
+    tangent: Tangent | None
+
+
+def solve_equilibrium(system: System, start: Evaluation, options: NewtonOptions,
+                      first: Tangent | None = None) -> Equilibrium:
     """Newton iterations from the evaluated state ``start`` (prescribed DOFs at their targets).
 
-    ``scales`` = (force scale floor in N, length scale in mm). ``first``: a positive definite
-    factorized tangent near ``start`` for the first correction (chord step; see the module
-    docstring), or None. Returns the converged evaluation, its record and the last tangent
-    factorized (None if no iteration was needed). Raises NewtonFailure with the record on
-    divergence, inadmissible states or singular tangents.
+    ``system.scales`` = (force scale floor in N, length scale in mm). ``first``: a positive
+    definite factorized tangent near ``start`` for the first correction (chord step; see the
+    module docstring), or None. Raises NewtonFailure with the record on divergence,
+    inadmissible states or singular tangents.
     """
+    body, partition = system.body, system.partition
     record = NewtonRecord()
-    force_floor, length = scales
+    force_floor, length = system.scales
     free = partition.free
     ev = start
     if not ev.admissible:
@@ -199,18 +208,10 @@ def solve_equilibrium(body: HyperelasticBody, partition: Partition, start: Evalu
         if (record.residuals[-1] <= options.rtol and (k == 0 or record.updates[-1] <= options.utol)
                 and getattr(ev, "constraint", 0.0) <= options.rtol):
             record.converged = True
-            return ev, record, tangent
+            return Equilibrium(ev, record, tangent)
         if k == options.max_iterations:
             break
-        if k == 0 and options.reuse_first_tangent:
-            reusable = first
-        elif k > 0 and options.reuse_last_tangent and (
-                record.residuals[-1] <= options.rtol
-                or (record.residuals[-1] <= options.chord_band * options.rtol and not chord)
-                or (chord and _chord_pays(record.residuals, options))):
-            reusable = last
-        else:
-            reusable = None
+        reusable = _reusable(k, record, options, first, last, chord)
         chord = reusable is not None and (reusable.factor.negative_pivots == 0
                                           or reusable.factor.backend == "cg-amg")
         eta = forcing_term(record.residuals[-1], options.rtol)
@@ -242,6 +243,21 @@ def solve_equilibrium(body: HyperelasticBody, partition: Partition, start: Evalu
         record.updates.append(alpha * float(np.max(np.abs(du), initial=0.0)) / length)
     record.reason = f"no convergence in {options.max_iterations} iterations"
     raise NewtonFailure(record.reason, record, ev)
+
+
+def _reusable(k: int, record: NewtonRecord, options: NewtonOptions, first: Tangent | None,
+              last: Tangent | None, chord: bool) -> Tangent | None:
+    """The factorized tangent iteration k may reuse (a chord step), or None (factorize anew):
+    ``first`` for the first correction; later the last one while it pays (module docstring)."""
+    if k == 0 and options.reuse_first_tangent:
+        return first
+    if k > 0 and options.reuse_last_tangent and (
+            record.residuals[-1] <= options.rtol
+            or (record.residuals[-1] <= options.chord_band * options.rtol and not chord)
+            or (chord and _chord_pays(record.residuals, options))):
+        return last
+    return None
+
 
 
 class _SecantMemory:

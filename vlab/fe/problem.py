@@ -18,6 +18,7 @@ import scipy.sparse as sp
 from vlab.fe import compiled
 from vlab.fe.assembly import (SparsityPattern, element_forces, element_stiffness, scatter_vector,
                               upper_element_stiffness)
+from vlab.fe.body import BodyDefaults
 from vlab.fe.space import DisplacementSpace
 from vlab.fe.timers import ASSEMBLY, timed
 from vlab.tensor import det
@@ -46,7 +47,7 @@ class Evaluation:
         return self.f_int is not None
 
 
-class HyperelasticBody:
+class HyperelasticBody(BodyDefaults):
     """Couples a material model to a displacement space through vectorized kernels."""
 
     def __init__(self, space: DisplacementSpace, material, kernel: str = "auto"):

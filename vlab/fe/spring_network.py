@@ -25,6 +25,7 @@ import scipy.sparse as sp
 
 from vlab.fe.assembly import SparsityPattern
 from vlab.fe.problem import Evaluation
+from vlab.fe.body import BodyDefaults
 from vlab.fe.space import DisplacementSpace
 from vlab.fe.timers import ASSEMBLY, timed
 
@@ -33,7 +34,7 @@ ISOTROPIC_FACTOR = 6.0
 _ORDER1_NODES = {4: "tet", 8: "hex"}
 
 
-class SpringNetwork:
+class SpringNetwork(BodyDefaults):
     """Body with the interface of :class:`vlab.fe.problem.HyperelasticBody` (order-1 meshes only)."""
 
     name = "spring-network"

@@ -22,7 +22,7 @@ Time and history (only when a scene asks for them; the elastic loop does none of
 may carry a physical time (``Stepping.times``, s). A substep covering the fraction [s, s'] of a
 level's segment advances the time by (s' − s)(τ_k − τ_{k−1}), so a cut-back substep also halves
 the time step; a hold (t constant, time advancing) is a segment like any other. A body with
-history (``has_history``) is told the substep's time step before the solve and commits its state
+history (``body.history``, vlab.fe.body.HistoryCapability) is told the substep's time step before the solve and commits its state
 only after the substep converged and was accepted. Levels flagged in ``Stepping.force_held`` hold
 the moving grip's force instead of its position (creep; vlab.fe.force_control): t is then solved
 for, at the force reached when the hold began or, with ``Stepping.force_targets`` (N), at a
@@ -44,7 +44,8 @@ from vlab.fe.inertia import factorized_inertia
 from vlab.fe.linsolve import SingularSystem
 from vlab.fe.newton import (NewtonFailure, NewtonOptions, NewtonRecord, Tangent, TangentCache,
                             solve_equilibrium)
-from vlab.fe.problem import Evaluation, HyperelasticBody
+from vlab.fe.problem import Evaluation
+from vlab.fe.system import System
 
 EASY_ITERATIONS = 4
 
@@ -120,90 +121,140 @@ class Stepping:
     tangents: TangentCache | None = None  # shared with the stability monitor
 
 
-def run_schedule(body: HyperelasticBody, partition: Partition, u_hat: np.ndarray,
-                 stepping: Stepping, scales: tuple[float, float],
+def run_schedule(system: System, stepping: Stepping,
                  on_level: Callable[[Level], None] | None = None) -> SolveHistory:
     """Follow ``stepping.schedule`` (increasing or not) from the unloaded state."""
     start = time.perf_counter()
     history = SolveHistory()
-    u = np.zeros(body.space.n_dofs)
-    current = body.evaluate(u)
-    timed = bool(getattr(body, "has_history", False))
-    travel = float(u_hat[np.argmax(np.abs(u_hat))])  # û_m (signed), mm: Q = û_m × grip force
-    cache = stepping.tangents or TangentCache(body, partition)
+    cache = stepping.tangents or TangentCache(system.body, system.partition)
+    walk = _unloaded(system, stepping, cache, history)
+    if walk is None:
+        return _finish(history, start, cache, 0)
+    for index, target in enumerate(stepping.schedule, start=1):
+        level = _level(system, stepping, cache, walk, index, target)
+        if isinstance(level, Failure):
+            history.failure = level
+            break
+        history.levels.append(level)
+        if on_level is not None:
+            on_level(level)
+    return _finish(history, start, cache, walk.factorizations)
+
+
+@dataclass
+class _Walk:
+    """What the stepping carries from substep to substep along the path."""
+
+    current: Evaluation  # the last converged state
+    tangent: Tangent  # the last factorized tangent (the predictor's)
+    t: float = 0.0  # load parameter of ``current``
+    clock: float = 0.0  # physical time of ``current``, s
+    held_force: float | None = None  # Q* held (force control), N·mm
+    previous: PathPoint | None = None  # the converged state before ``current``, for the predictor
+    factorizations: int = 0  # Newton's own (the tangent cache counts its own)
+
+
+@dataclass(frozen=True)
+class _Step:
+    evaluation: Evaluation
+    t: float
+    record: NewtonRecord
+    tangent: Tangent | None
+    here: PathPoint | None
+
+
+def _unloaded(system: System, stepping: Stepping, cache: TangentCache, history: SolveHistory) -> "_Walk | None":
+    """The unloaded state (settled under a dead load), its tangent checked for free rigid-body
+    modes; None, with ``history.failure`` set, if there is none."""
+    body = system.body
+    current = body.evaluate(np.zeros(body.space.n_dofs))
     try:
-        if getattr(body, "f_ext", None) is not None:  # settle under a dead load (self-weight) first
-            current = _settled(body, partition, current, stepping, scales, timed)
+        if body.f_ext is not None:  # settle under a dead load (self-weight) first
+            current = _settled(system, current, stepping)
         tangent = cache.at(current)
-        _check_restrained(tangent, partition)
+        _check_restrained(tangent, system.partition)
     except NewtonFailure as exc:
         history.failure = Failure(0, float(stepping.schedule[0]), 0.0, 0.0,
                                   f"no equilibrium under the specimen's own weight: {exc.reason}",
                                   list(exc.record.residuals))
-        return _finish(history, start, cache, 0)
+        return None
     except SingularSystem as exc:
         history.failure = Failure(0, float(stepping.schedule[0]), 0.0, 0.0,
                                   f"the unloaded tangent is singular: the grips leave the specimen "
                                   f"free to move ({exc})", [])
-        return _finish(history, start, cache, 0)
-    newton_factorizations = 0
-    t, clock, held_force = 0.0, 0.0, None
-    previous = None  # PathPoint of the converged state before ``current``, for the predictor
-    for index, target in enumerate(stepping.schedule, start=1):
-        t0, clock0 = t, clock
-        span = (float(stepping.times[index - 1]) - clock0) if stepping.times is not None else 0.0
-        held = stepping.force_held is not None and bool(stepping.force_held[index - 1])
-        if held and held_force is None:
-            held_force = generalized_force(current, u_hat)  # the force reached when the hold starts
-        q0 = held_force
-        if held and stepping.force_targets is not None:  # Q* = û_m F*: a force-controlled ramp
-            q0, held_force = generalized_force(current, u_hat), travel * float(stepping.force_targets[index - 1])
-        ds, s, cutbacks, records = 1.0, 0.0, 0, []  # substep = fraction [s, s + ds] of the segment
-        smallest = 1.0 / 2.0**stepping.max_cutbacks
-        while s < 1.0:
-            s_try = 1.0 if 1.0 - s <= ds * (1 + 1e-12) else s + ds
-            t_try = target if s_try == 1.0 else t0 + s_try * (target - t0)
-            if timed:
-                body.begin_increment((s_try - s) * span)
-            try:
-                if held:
-                    candidate, t_try, record, new_tangent = solve_force_controlled(  # from the
-                        body, partition, body.evaluate(current.u), t, u_hat,  # new increment
-                        q0 + s_try * (held_force - q0), scales, stepping.newton)
-                else:
-                    converged_tangent = cache.holds(current)
-                    candidate, record, new_tangent, here = _substep(body, partition, current,
-                                                              converged_tangent or tangent, u_hat, t,
-                                                              t_try, stepping, scales, converged_tangent,
-                                                              previous)
-                objection = stepping.accept and stepping.accept(candidate, float(t_try))
-                if objection:
-                    raise NewtonFailure(objection, record, None)
-                previous = None if held else here
-                current = candidate
-            except NewtonFailure as failure:
-                records.append(failure.record)
-                newton_factorizations += failure.record.exact
-                cutbacks, ds = cutbacks + 1, ds / 2
-                if cutbacks > stepping.max_cutbacks or ds < smallest * (1 - 1e-12):
-                    history.failure = _diagnose(index, target, t_try, t, failure)
-                    return _finish(history, start, cache, newton_factorizations)
-                continue
-            if timed:
-                body.commit(current)
-            records.append(record)
-            newton_factorizations += record.exact
-            tangent = cache.holds(current) or new_tangent or tangent
-            t, s = t_try, s_try
-            clock = clock0 + s * span
-            if record.iterations <= EASY_ITERATIONS:
-                ds *= 2.0
-        level = Level(float(t), current, records, cutbacks,
-                      None if stepping.times is None else float(stepping.times[index - 1]))
-        history.levels.append(level)
-        if on_level is not None:
-            on_level(level)
-    return _finish(history, start, cache, newton_factorizations)
+        return None
+    return _Walk(current, tangent)
+
+
+def _level(system: System, stepping: Stepping, cache: TangentCache, walk: _Walk, index: int,
+           target) -> "Level | Failure":
+    """Reach scheduled level ``index`` (load parameter ``target``) in substeps, halving a failed
+    or rejected one; the Failure if the cutbacks run out."""
+    history = system.body.history
+    t0, clock0 = walk.t, walk.clock
+    span = (float(stepping.times[index - 1]) - clock0) if stepping.times is not None else 0.0
+    held = stepping.force_held is not None and bool(stepping.force_held[index - 1])
+    q0 = _held_forces(system, stepping, walk, index) if held else None
+    ds, s, cutbacks, records = 1.0, 0.0, 0, []  # substep = fraction [s, s + ds] of the segment
+    smallest = 1.0 / 2.0**stepping.max_cutbacks
+    while s < 1.0:
+        s_try = 1.0 if 1.0 - s <= ds * (1 + 1e-12) else s + ds
+        t_try = target if s_try == 1.0 else t0 + s_try * (target - t0)
+        if history is not None:
+            history.begin_increment((s_try - s) * span)
+        try:
+            step = _attempt(system, stepping, cache, walk, t_try,
+                            None if q0 is None else q0 + s_try * (walk.held_force - q0))
+        except NewtonFailure as failure:
+            records.append(failure.record)
+            walk.factorizations += failure.record.exact
+            cutbacks, ds = cutbacks + 1, ds / 2
+            if cutbacks > stepping.max_cutbacks or ds < smallest * (1 - 1e-12):
+                return _diagnose(index, target, t_try, walk.t, failure)
+            continue
+        if history is not None:
+            history.commit(walk.current)
+        records.append(step.record)
+        walk.factorizations += step.record.exact
+        walk.tangent = cache.holds(walk.current) or step.tangent or walk.tangent
+        walk.t, s = step.t, s_try
+        walk.clock = clock0 + s * span
+        if step.record.iterations <= EASY_ITERATIONS:
+            ds *= 2.0
+    return Level(float(walk.t), walk.current, records, cutbacks,
+                 None if stepping.times is None else float(stepping.times[index - 1]))
+
+
+def _held_forces(system: System, stepping: Stepping, walk: _Walk, index: int) -> float:
+    """Q₀ of a force-held level; sets ``walk.held_force`` to the Q* it moves to: the force
+    reached when the hold started, or û_m F* on a force-controlled ramp."""
+    if walk.held_force is None:
+        walk.held_force = generalized_force(walk.current, system.u_hat)  # the force when the hold starts
+    q0 = walk.held_force
+    if stepping.force_targets is not None:  # Q* = û_m F*: a force-controlled ramp
+        travel = float(system.u_hat[np.argmax(np.abs(system.u_hat))])  # û_m (signed), mm
+        q0, walk.held_force = (generalized_force(walk.current, system.u_hat),
+                               travel * float(stepping.force_targets[index - 1]))
+    return q0
+
+
+def _attempt(system: System, stepping: Stepping, cache: TangentCache, walk: _Walk, t_try,
+             q_target: float | None) -> _Step:
+    """One substep to ``t_try`` (under force control: to the held force ``q_target``), vetted by
+    ``stepping.accept``; on success ``walk`` moves to it. NewtonFailure if it fails or is rejected."""
+    if q_target is not None:  # from the new increment
+        found = solve_force_controlled(system, system.body.evaluate(walk.current.u), walk.t, q_target,
+                                       stepping.newton)
+        step = _Step(found.evaluation, found.t, found.record, found.tangent, None)
+    else:
+        converged_tangent = cache.holds(walk.current)
+        step = _substep(system, walk.current, converged_tangent or walk.tangent, walk.t, t_try, stepping,
+                        converged_tangent, walk.previous)
+    objection = stepping.accept and stepping.accept(step.evaluation, float(step.t))
+    if objection:
+        raise NewtonFailure(objection, step.record, None)
+    walk.previous, walk.current = step.here, step.evaluation
+    return step
 
 
 def _check_restrained(tangent: Tangent, partition: Partition) -> None:
@@ -224,9 +275,8 @@ def _finish(history: SolveHistory, start: float, cache: TangentCache, newton_fac
     return history
 
 
-def _substep(body, partition, current: Evaluation, tangent: Tangent, u_hat, t0, t1,
-             stepping: Stepping, scales, converged_tangent: Tangent | None = None,
-             previous: PathPoint | None = None):
+def _substep(system: System, current: Evaluation, tangent: Tangent, t0, t1, stepping: Stepping,
+             converged_tangent: Tangent | None = None, previous: PathPoint | None = None) -> _Step:
     """Move the grips from t0 to t1, predict the free DOFs, then iterate to equilibrium.
 
     The predictor starts from the tangent step v₀ Δt, v₀ = du_f/dt = −K_ff⁻¹ K_fp û_p (the
@@ -246,30 +296,38 @@ def _substep(body, partition, current: Evaluation, tangent: Tangent, u_hat, t0, 
     If the prediction inverts an element (large increments near a limit point), it is scaled
     back; the plain grip jump (scale 0) is the last candidate.
 
-    Returns (converged evaluation, Newton record, its tangent or None, the path point of t₀)."""
-    prescribed, free = partition.prescribed, partition.free
+    Returns the converged step (its tangent or None, and the path point of t₀)."""
+    prescribed, free, u_hat = system.prescribed, system.free, system.u_hat
     dt = t1 - t0
     du_p = dt * u_hat[prescribed]
     predicted = -tangent.factor.solve(tangent.Kfp @ du_p)
     here = PathPoint(t0, current.u, predicted / dt if converged_tangent is not None and dt else None)
-    h = None if previous is None else t0 - previous.t
-    if h and 0.0 < dt / h <= MAX_EXTRAPOLATION:
-        exact_slopes = here.velocity is not None and previous.velocity is not None
-        linear, limit = predicted, CURVATURE_TRUST * np.linalg.norm(predicted)
-        for v_prev in ((previous.velocity,) if exact_slopes else ()) + (None,):  # cubic, quadratic
-            candidate = path_increment(h, dt, previous.u[free], current.u[free], linear / dt, v_prev)
-            if np.linalg.norm(candidate - linear) <= limit:
-                predicted = candidate
-                break
+    predicted = _extrapolated(predicted, here, previous, free, dt)
     for scale in (1.0, 0.5, 0.25, 0.0):
         u = current.u.copy()
         u[prescribed] += du_p
         u[free] += scale * predicted
-        start = body.evaluate(u)
+        start = system.body.evaluate(u)
         if start.admissible:
             break
-    return (*solve_equilibrium(body, partition, start, scales, stepping.newton, converged_tangent),
-            here)
+    found = solve_equilibrium(system, start, stepping.newton, converged_tangent)
+    return _Step(found.evaluation, t1, found.record, found.tangent, here)
+
+
+def _extrapolated(linear: np.ndarray, here: PathPoint, previous: PathPoint | None, free: np.ndarray,
+                  dt: float) -> np.ndarray:
+    """The tangent step ``linear`` (free DOFs, mm) replaced by the cubic, else the quadratic,
+    extrapolation of the path through ``previous`` and ``here`` where ``_substep`` trusts it."""
+    h = None if previous is None else here.t - previous.t
+    if not (h and 0.0 < dt / h <= MAX_EXTRAPOLATION):
+        return linear
+    exact_slopes = here.velocity is not None and previous.velocity is not None
+    limit = CURVATURE_TRUST * np.linalg.norm(linear)
+    for v_prev in ((previous.velocity,) if exact_slopes else ()) + (None,):  # cubic, quadratic
+        candidate = path_increment(h, dt, previous.u[free], here.u[free], linear / dt, v_prev)
+        if np.linalg.norm(candidate - linear) <= limit:
+            return candidate
+    return linear
 
 
 def path_increment(h: float, dt: float, u_prev: np.ndarray, u_now: np.ndarray, v_now: np.ndarray,
@@ -289,13 +347,14 @@ def path_increment(h: float, dt: float, u_prev: np.ndarray, u_now: np.ndarray, v
     return v_now * dt + tau**2 * (3.0 * a + b) + tau**3 * (2.0 * a + b)
 
 
-def _settled(body, partition, current: Evaluation, stepping: Stepping, scales, timed: bool) -> Evaluation:
+def _settled(system: System, current: Evaluation, stepping: Stepping) -> Evaluation:
     """Equilibrium under the dead load alone, grips at rest (t = 0)."""
-    if timed:
-        body.begin_increment(0.0)
-    settled = solve_equilibrium(body, partition, current, scales, stepping.newton)[0]
-    if timed:
-        body.commit(settled)
+    history = system.body.history
+    if history is not None:
+        history.begin_increment(0.0)
+    settled = solve_equilibrium(system, current, stepping.newton).evaluation
+    if history is not None:
+        history.commit(settled)
     return settled
 
 

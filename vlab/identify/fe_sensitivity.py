@@ -180,7 +180,7 @@ def _solve(fe: dict, scene, values: dict) -> Simulation:
     if not result.converged:
         raise RuntimeError(f"the test at {scene.material.moduli} did not complete: {result.history.failure.reason}")
     space, specimen = result.space, result.specimen
-    body, partition = result.extra["body"], result.extra["partition"]
+    body, partition = result.solver.body, result.solver.partition
     loading = grip_loading(specimen, space.node_coordinates, scene.test.stretch, scene.test.grips)
     grip, factor = loading.moving_dofs[0], specimen.force_factor(0)
     ext = extensometers(space, [specimen.extensometers[0]], specimen.symmetry)[0]
@@ -191,4 +191,4 @@ def _solve(fe: dict, scene, values: dict) -> Simulation:
         raise SceneError("fe.scene: the recorded levels and the solver's levels differ")
     return Simulation(np.array(curve.strain[0]), np.array(curve.force[0]),
                       np.array([r[1] for r in rows]), np.array([r[0] for r in rows]),
-                      float(curve.area0[0]), tuple(result.extra.get("warnings", [])), False, int(space.n_dofs))
+                      float(curve.area0[0]), tuple(result.diagnostics.warnings), False, int(space.n_dofs))

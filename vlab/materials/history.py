@@ -52,6 +52,7 @@ class HistoryMaterial:
     elastic: Material
 
     name: ClassVar[str] = "abstract-history"
+    is_linear: ClassVar[bool] = False  # a law with memory is never a constant-tangent law
 
     def initial_state(self, batch: tuple[int, ...]) -> State:  # pragma: no cover - abstract
         """The virgin state (no deformation history) on a batch of points."""

@@ -33,12 +33,10 @@ from typing import ClassVar
 import numpy as np
 from scipy.special import erf, erfinv
 
-from vlab.materials.base import Material
 from vlab.materials.history import HistoryMaterial, Response, State
-from vlab.fields import Table
 from vlab.tensor import as_tensor_field, dyad
 
-__all__ = ["OgdenRoxburgh", "parse_params", "PARAM_KEYS"]
+__all__ = ["OgdenRoxburgh"]
 
 _SQRT_PI = math.sqrt(math.pi)
 
@@ -109,19 +107,3 @@ class OgdenRoxburgh(HistoryMaterial):
 
     def _z(self, psi0, W_max):
         return np.maximum(0.0, (W_max - psi0) / self.scale(W_max))
-
-
-PARAM_KEYS = ("r", "m", "beta")
-
-
-def parse_params(raw: dict, prefix: str, elastic: Material) -> OgdenRoxburgh:
-    """Build the law from ``[effects.mullins]`` over the ground law ``elastic``.
-
-    Keys: r > 1 (required; the largest softening is 1/r), m > 0 MPa (required; energy scale),
-    beta ≥ 0 (default 0; growth of the scale with W_max).
-    """
-    t = Table(prefix, raw, PARAM_KEYS)
-    r = t.number("r", gt=1.0, note=" (dimensionless; the largest softening is 1/r)")
-    m = t.number("m", gt=0.0, note=" (MPa, energy scale of the softening)")
-    beta = t.number("beta", 0.0, ge=0.0, note=" (dimensionless; growth of m with the maximum energy)")
-    return OgdenRoxburgh(elastic, r=r, m=m, beta=beta)

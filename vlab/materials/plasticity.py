@@ -48,14 +48,12 @@ from typing import ClassVar, NamedTuple
 
 import numpy as np
 
-from vlab.materials.base import Material
 from vlab.materials.hencky import Hencky, admissible_part
 from vlab.materials.history import HistoryMaterial, Response, State
 from vlab.materials.principal import PrincipalFrame, principal_frame, principal_stress, principal_tangent
-from vlab.fields import Table
 from vlab.tensor import as_tensor_field
 
-__all__ = ["J2Plasticity", "parse_params", "PARAM_KEYS"]
+__all__ = ["J2Plasticity"]
 
 _NEWTON_MAX = 60
 _NEWTON_RTOL = 1e-14
@@ -79,8 +77,8 @@ class _Return(NamedTuple):
 class J2Plasticity(HistoryMaterial):
     """J2 plasticity (module docstring). Stresses in MPa, α and δ·α dimensionless.
 
-    ``elastic`` must be a Hencky law; build one from any ground law with :func:`parse_params`
-    or ``J2Plasticity(Hencky(m.lmbda, m.mu), ...)``.
+    ``elastic`` must be a Hencky law; build one from any ground law with
+    :func:`vlab.effects.plasticity.parse_params` or ``J2Plasticity(Hencky(m.lmbda, m.mu), ...)``.
     """
 
     yield_stress: float = 1.0          # σ_y0 > 0, MPa
@@ -192,25 +190,3 @@ class J2Plasticity(HistoryMaterial):
         gamma = np.where(r.plastic, 2.0 * mu * (1.0 - r.beta) - 6.0 * mu**2 / (3.0 * mu + h), 0.0)
         c = c + gamma * nhat[:, None] * nhat[None, :]
         return c, np.broadcast_to(2.0 * mu * r.beta, c.shape).copy()
-
-
-PARAM_KEYS = ("yield_stress", "hardening_modulus", "saturation_stress", "saturation_exponent")
-
-
-def parse_params(raw: dict, prefix: str, elastic: Material) -> J2Plasticity:
-    """Build the law from ``[effects.plasticity]``; the elastic part is Hencky with the Lamé
-    constants of ``elastic`` (the scene's ground law).
-
-    Keys: yield_stress σ_y0 > 0 MPa (required), hardening_modulus H ≥ 0 MPa (default 0),
-    saturation_stress Q ≥ 0 MPa (default 0), saturation_exponent δ > 0 (required when Q > 0).
-    """
-    t = Table(prefix, raw, PARAM_KEYS)
-    sy = t.number("yield_stress", gt=0.0, note=" (MPa, initial yield stress)")
-    H = t.number("hardening_modulus", 0.0, ge=0.0, note=" (MPa, linear hardening modulus)")
-    Q = t.number("saturation_stress", 0.0, ge=0.0, note=" (MPa, Voce saturation increase of the yield stress)")
-    if Q > 0.0:
-        d = t.number("saturation_exponent", gt=0.0, note=" (Voce exponent, required when saturation_stress > 0)")
-    else:
-        d = t.number("saturation_exponent", 0.0, ge=0.0, note=" (Voce exponent)")
-    return J2Plasticity(Hencky(elastic.lmbda, elastic.mu), yield_stress=sy, hardening_modulus=H,
-                        saturation_stress=Q, saturation_exponent=d)

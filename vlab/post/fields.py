@@ -56,13 +56,12 @@ def cell_fields(body, evaluation) -> CellFields:
     are those of the full 3D state F(λ₃) of the plane law (so J = det F̄ λ₃ and σ₃₃ = 0 in plane
     stress)."""
     F, dx = evaluation.F, body.space.dx
-    material = getattr(body, "material", None)
+    material = body.material
     if F.shape[0] == 2:
         F, material = material.full_gradient(F), material.base
     J_q = np.linalg.det(np.moveaxis(F, (0, 1), (-2, -1)))
-    if hasattr(body, "cell_cauchy"):
-        sigma = body.cell_cauchy(evaluation)
-    else:
+    sigma = body.cell_cauchy(evaluation)  # a body's own (spring network, history), or from P
+    if sigma is None:
         sigma = cell_average(cauchy(material.stress(F), F), dx)
     return CellFields(von_mises=von_mises(sigma), max_stretch=cell_average(max_principal_stretch(F), dx),
                       J=cell_average(J_q, dx))

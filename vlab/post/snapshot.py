@@ -62,16 +62,16 @@ def _in_3d(x: np.ndarray) -> np.ndarray:
 
 
 def take_snapshot(result) -> Snapshot:
-    """Snapshot of a RunResult (its body is ``result.extra['body']``)."""
-    body, space, mesh = result.extra["body"], result.space, result.specimen.mesh
+    """Snapshot of a RunResult (its body is ``result.solver.body``)."""
+    body, space, mesh = result.solver.body, result.space, result.specimen.mesh
     states = [body.evaluate(np.zeros(space.n_dofs))] + [lv.evaluation for lv in result.history.levels]
     n_vertices = mesh.nvertices
     d = space.dim
     u = np.stack([_in_3d(ev.u.reshape(-1, d)[:n_vertices]) for ev in states])
     per_state = [cell_fields(body, ev) for ev in states]
     fields = {name: np.stack([cf.get(name) for cf in per_state]) for name in FIELDS}
-    if hasattr(body, "cell_history"):  # history variables per cell (a scene with a history effect)
-        per_state_history = [body.cell_history(ev) for ev in states]
+    if body.history is not None:  # history variables per cell (a scene with a history effect)
+        per_state_history = [body.history.cell_history(ev) for ev in states]
         for name in per_state_history[0]:
             fields[name] = np.stack([h[name] for h in per_state_history])
     marks = {}

@@ -34,7 +34,7 @@ def outcome_of(result, label: str | None = None) -> ModelOutcome:
     data = result_to_dict(result)
     if label != result.scene.material.model:
         data["input"]["label"] = label
-    critical = result.extra.get("critical_state")
+    critical = result.solver.critical_state
     return ModelOutcome(label, data, replace(take_snapshot(result), model=label),
                         _model_checks(result), None if critical is None else critical.mode)
 
@@ -46,7 +46,7 @@ def _model_checks(result) -> dict:
         return {}
     from vlab.fe.taylor import random_state, taylor_test
 
-    body = result.extra["body"]
+    body = result.solver.body
     u, v = random_state(body, 0.02 * min(body.L))
     check = taylor_test(body, u, v, h0=0.05 * min(body.L)).as_dict()
     return {"taylor": check, "springs": body.n_springs, "stiffness_factor": 6.0}

@@ -79,64 +79,79 @@ def curve_columns(result: RunResult) -> dict[str, list[float]]:
 
 
 def result_to_dict(result: RunResult) -> dict:
-    from vlab.loading.kinds import kind_of
-
-    scene, history, const = result.scene, result.history, result.constants
-    kind = kind_of(scene.test)
-    levels = history.levels
-    residuals = [[x for rec in lv.newton for x in rec.residuals] for lv in levels]
-    space = result.space
+    """The results.json dict of a run (JSON-safe: NaN/inf as None)."""
+    scene, history, d = result.scene, result.history, result.diagnostics
     return _clean({
         "vlab_version": __version__,
         "date": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
         "scene": {"name": scene.name, "hash": scene.content_hash(), "source": scene.source},
         "converged": result.converged,
-        "measured": {
-            "E": const.E, "nu": const.nu, "E_fit": const.E_fit, "nu_fit": const.nu_fit,
-            "axes": const.per_axis, "note": const.note,
-            "E_crosshead": (result.extra.get("crosshead") or {}).get("E"),
-            "E_crosshead_fit": (result.extra.get("crosshead") or {}).get("fit"),
-            "window": list(scene.measure.modulus_window),  # |extensometer strain| of the E, nu fits
-            "uncertainty": result.extra.get("uncertainty"),  # effects.noise: intervals, noiseless E, nu
-            "units": {"E": "MPa", "nu": "1"} | kind.measured_units,
-        } | const.extra,
+        "measured": _measured(result),
         "input": material_input(scene.material),
-        "curve": curve_columns(result) | {"units": dict(kind.units)},
+        "curve": curve_columns(result) | {"units": dict(_kind(result).units)},
         "reference": result.reference,
-        "homogeneity": result.extra.get("homogeneity"),
-        "cruciform": result.extra.get("cruciform"),
-        "solver": {
-            "newton_iterations": [lv.iterations for lv in levels],
-            "cutbacks": [lv.cutbacks for lv in levels],
-            "repairs": [sum(r.repairs for r in lv.newton) for lv in levels],
-            "residual_history": residuals,
-            "observed_order": [observed_order(r.residuals) for lv in levels for r in lv.newton[-1:]],
-            "newton": scene.solver.newton,
-            "exact_iterations": [sum(r.exact for r in lv.newton) for lv in levels],
-            "factorizations": history.factorizations,
-            "linear": result.extra.get("linear_solver"),
-            "tangent_kernel": result.extra.get("tangent_kernel"),
-            "rtol": scene.solver.rtol,
-        },
+        "homogeneity": d.homogeneity,
+        "cruciform": d.cruciform,
+        "solver": _solver(result),
         "timing": result.timing,
-        "mesh": {
-            "cell": scene.mesh.cell, "order": scene.mesh.order, "size": scene.mesh.size,
-            "formulation": scene.mesh.formulation,
-            "symmetry": scene.mesh.symmetry,
-            "elements": int(space.basis.nelems), "nodes": int(space.n_nodes), "dofs": int(space.n_dofs),
-            "quality": result.extra.get("mesh_quality"),
-        },
-        "stability": result.extra.get("stability", []),
-        "effects": result.extra.get("effects"),
-        "critical": result.extra.get("critical"),  # first loss of stability (buckling or not)
-        "lateral_deflection": result.extra.get("lateral_deflection", []),  # mm, per level
-        "imperfection": (None if "imperfection" not in result.extra else
-                         {"amplitude_over_thickness": scene.test.imperfection,
-                          "perfect_critical": result.extra["imperfection"]["perfect_critical"]}),
-        "warnings": result.extra.get("warnings", []),
+        "mesh": _mesh(result),
+        "stability": d.stability,
+        "effects": d.effects,
+        "critical": d.critical,  # first loss of stability (buckling or not)
+        "lateral_deflection": d.lateral_deflection,  # mm, per level
+        "imperfection": (None if d.imperfection is None else
+                         {"amplitude_over_thickness": scene.test.imperfection, **d.imperfection}),
+        "warnings": d.warnings,
         "failure": None if history.failure is None else failure_dict(scene, history.failure),
-        "accuracy_estimate": result.extra.get("accuracy_estimate"),  # vlab.study.estimate; None if off
+        "accuracy_estimate": d.accuracy_estimate,  # vlab.study.estimate; None if off
     })
+
+
+def _measured(result: RunResult) -> dict:
+    const, d = result.constants, result.diagnostics
+    return {
+        "E": const.E, "nu": const.nu, "E_fit": const.E_fit, "nu_fit": const.nu_fit,
+        "axes": const.per_axis, "note": const.note,
+        "E_crosshead": (d.crosshead or {}).get("E"),
+        "E_crosshead_fit": (d.crosshead or {}).get("fit"),
+        "window": list(result.scene.measure.modulus_window),  # |extensometer strain| of the E, nu fits
+        "uncertainty": d.uncertainty,  # effects.noise: intervals, noiseless E, nu
+        "units": {"E": "MPa", "nu": "1"} | _kind(result).measured_units,
+    } | const.extra
+
+
+def _kind(result: RunResult):
+    from vlab.loading.kinds import kind_of
+
+    return kind_of(result.scene.test)
+
+
+def _solver(result: RunResult) -> dict:
+    levels, solver = result.history.levels, result.scene.solver
+    return {
+        "newton_iterations": [lv.iterations for lv in levels],
+        "cutbacks": [lv.cutbacks for lv in levels],
+        "repairs": [sum(r.repairs for r in lv.newton) for lv in levels],
+        "residual_history": [[x for rec in lv.newton for x in rec.residuals] for lv in levels],
+        "observed_order": [observed_order(r.residuals) for lv in levels for r in lv.newton[-1:]],
+        "newton": solver.newton,
+        "exact_iterations": [sum(r.exact for r in lv.newton) for lv in levels],
+        "factorizations": result.history.factorizations,
+        "linear": result.diagnostics.linear_solver,
+        "tangent_kernel": result.diagnostics.tangent_kernel,
+        "rtol": solver.rtol,
+    }
+
+
+def _mesh(result: RunResult) -> dict:
+    mesh, space = result.scene.mesh, result.space
+    return {
+        "cell": mesh.cell, "order": mesh.order, "size": mesh.size,
+        "formulation": mesh.formulation,
+        "symmetry": mesh.symmetry,
+        "elements": int(space.basis.nelems), "nodes": int(space.n_nodes), "dofs": int(space.n_dofs),
+        "quality": result.diagnostics.mesh_quality,
+    }
 
 
 def material_input(material) -> dict:

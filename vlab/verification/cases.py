@@ -14,6 +14,7 @@ from vlab.fe.assembly import Partition
 from vlab.fe.newton import NewtonOptions
 from vlab.fe.problem import HyperelasticBody
 from vlab.fe.space import DisplacementSpace
+from vlab.fe.system import System
 from vlab.fe.stepping import Stepping, run_schedule
 from vlab.geometry.block import block_mesh
 from vlab.geometry.perturb import perturbed
@@ -108,9 +109,8 @@ def inversion_stop(context: CaseContext) -> Outcome:
     body = HyperelasticBody(space, make_material("neo-hookean", 5.77, 3.85))
     loading = grip_loading(spec, space.node_coordinates, (-0.2,), "clamped")  # grips cross at t = 1/1.2
     partition = Partition.build(body.pattern, loading.prescribed)
-    history = run_schedule(body, partition, loading.u_hat,
-                           Stepping(np.array([1.0]), max_cutbacks=6, newton=NewtonOptions(max_iterations=15)),
-                           (1e-12, 17.3))
+    history = run_schedule(System(body, partition, loading.u_hat, (1e-12, 17.3)),
+                           Stepping(np.array([1.0]), max_cutbacks=6, newton=NewtonOptions(max_iterations=15)))
     f = history.failure
     passed = (f is not None and f.min_J is not None and f.min_J <= 0.0 and f.element is not None
               and f.quadrature_point is not None and f.t_converged < 1 / 1.2)
@@ -142,8 +142,8 @@ def missing_grip(context: CaseContext) -> Outcome:
     partition = Partition.build(body.pattern, grip_dofs)
     monitor = StabilityMonitor(body, partition, loading.moving_dofs, KINDS["uniaxial"], (1.2,), "neo-hookean",
                                loading.u_hat)
-    history = run_schedule(body, partition, loading.u_hat, Stepping(np.array([1.0]), max_cutbacks=2,
-                                                                    accept=monitor.accept), (1e-12, 17.3))
+    history = run_schedule(System(body, partition, loading.u_hat, (1e-12, 17.3)),
+                           Stepping(np.array([1.0]), max_cutbacks=2, accept=monitor.accept))
     zeros = max((r.zero_eigenvalues or 0 for r in monitor.records), default=0)
     reason = history.failure.reason if history.failure is not None else ""
     caught = zeros == 3 or "singular" in reason  # by the monitor's inertia, or before any step
@@ -263,7 +263,7 @@ def _render_mode(result, context: CaseContext, name: str, label: str) -> str | N
     from vlab.render.offscreen import RenderUnavailable
 
     try:
-        render_mode(result.specimen.mesh, result.final_displacement, result.extra["critical_state"].mode,
+        render_mode(result.specimen.mesh, result.final_displacement, result.solver.critical_state.mode,
                     context.out / name, label)
     except RenderUnavailable:
         return None

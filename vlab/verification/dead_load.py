@@ -17,6 +17,7 @@ import numpy as np
 
 from vlab.fe.assembly import Partition
 from vlab.fe.newton import NewtonFailure, NewtonOptions, NewtonRecord, solve_equilibrium
+from vlab.fe.system import System
 
 
 class DeadLoad:
@@ -73,8 +74,9 @@ def ramp(body, partition: Partition, f_total: np.ndarray, steps: int, options: N
         target = min(1.0, load + step)
         loaded = DeadLoad(body, target * f_total)
         try:
-            ev, record, _ = solve_equilibrium(loaded, partition, loaded.evaluate(result.u),
-                                              (1e-12, length), options)
+            found = solve_equilibrium(System(loaded, partition, None, (1e-12, length)),
+                                      loaded.evaluate(result.u), options)
+            ev, record = found.evaluation, found.record
         except NewtonFailure as exc:
             result.failed.append(exc.record)
             step /= 2.0

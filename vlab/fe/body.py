@@ -1,0 +1,71 @@
+"""The body interface: what Newton, the load stepping, the stability checks, the instruments and
+post-processing ask of a discretised body, instead of probing it for attributes.
+
+A body maps a displacement vector u (mm, ``space.n_dofs``) to an :class:`Evaluation` (F at the
+quadrature points, the energy W in N·mm, the internal force f_int = ∂W/∂u in N, the smallest J)
+and an evaluation to the tangent stiffness K = ∂f_int/∂u (N/mm, CSR on ``pattern``). Bodies:
+HyperelasticBody, MixedHyperelasticBody, SpringNetwork, HistoryBody, LoadedBody.
+
+Optional members have the defaults of :class:`BodyDefaults`, which every body inherits:
+``material`` (the law at the quadrature points; None for the spring network, which has none),
+``f_ext`` (a dead load in N; None), ``history`` (the :class:`HistoryCapability` of a body whose
+material remembers; None), ``tangent_kernel`` ("numpy", or the compiled kernel's description)
+and ``cell_cauchy`` (a body's own cell-averaged Cauchy stress, None: computed from ``material``).
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any, Protocol
+
+import numpy as np
+
+if TYPE_CHECKING:
+    import scipy.sparse as sp
+
+    from vlab.fe.assembly import SparsityPattern
+    from vlab.fe.problem import Evaluation
+    from vlab.fe.space import DisplacementSpace
+
+__all__ = ["Body", "HistoryCapability", "BodyDefaults"]
+
+
+class HistoryCapability(Protocol):
+    """A body whose material has internal variables at every quadrature point.
+
+    The stepper calls ``begin_increment(dt)`` (s) before each substep and ``commit(evaluation)``
+    once the substep converged and was accepted (a rejected one leaves ``state`` untouched); the
+    instruments call ``keep_cells`` at each recorded level, post-processing reads the kept cells."""
+
+    state: dict
+    dt: float
+
+    def begin_increment(self, dt: float) -> None: ...
+    def commit(self, evaluation: "Evaluation") -> None: ...
+    def keep_cells(self, evaluation: "Evaluation") -> None: ...
+    def cell_fields_of(self, evaluation: "Evaluation") -> dict[str, np.ndarray] | None: ...
+    def cell_history(self, evaluation: "Evaluation") -> dict[str, np.ndarray]: ...
+
+
+class Body(Protocol):
+    space: "DisplacementSpace"
+    pattern: "SparsityPattern"
+    material: Any
+    f_ext: np.ndarray | None
+    history: HistoryCapability | None
+    tangent_kernel: str
+
+    def evaluate(self, u: np.ndarray) -> "Evaluation": ...
+    def stiffness(self, evaluation: "Evaluation") -> "sp.csr_matrix": ...
+    def cell_cauchy(self, evaluation: "Evaluation") -> np.ndarray | None: ...
+
+
+class BodyDefaults:
+    """The optional members of :class:`Body` at their defaults (a mixin of every body)."""
+
+    material: Any = None
+    f_ext: np.ndarray | None = None
+    history: HistoryCapability | None = None
+    tangent_kernel: str = "numpy"
+
+    def cell_cauchy(self, evaluation: "Evaluation") -> np.ndarray | None:
+        return None

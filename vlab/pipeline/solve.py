@@ -1,0 +1,107 @@
+"""Stage 2 of a run: the load schedule of the test's protocol, solved level by level.
+
+Every converged level is handed to each observer of a list, in order (the stability monitor
+first: it vets the state and may have it cut back, then the instruments). Newton's residual is
+relative to the grip reaction, floored at the force of a 1e-6 strain (absolute tolerance
+rtol·1e-6·μL², far above the round-off of f_int, ~1e-16·μL²) so that a stress-free state reached
+again (unloading to stretch 1) still converges.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+from vlab.checks.admissibility import inadmissible_request
+from vlab.checks.monitor import MonitorOptions, StabilityMonitor
+from vlab.effects import EFFECTS
+from vlab.fe.iterative import choose as choose_linear
+from vlab.fe.linsolve import solver_in_use
+from vlab.fe.newton import CHORD_CONTRACTION, NewtonOptions
+from vlab.fe.system import System
+from vlab.fe.stepping import Failure, Level, SolveHistory, Stepping, run_schedule
+from vlab.loading.kinds import kind_of
+from vlab.loading.protocol import protocol_levels
+from vlab.loading.restraint import under_constrained_message, unrestrained_modes
+from vlab.pipeline.prepare import Prepared
+from vlab.scene import Scene
+
+__all__ = ["Observer", "Solved", "stability_monitor", "solve"]
+
+#: called with every converged level, in the order of the list
+Observer = Callable[[Level], None]
+
+
+@dataclass(frozen=True)
+class Solved:
+    history: SolveHistory
+    linear_solver: str  # what Newton's corrections used: "direct" | "cg-amg"
+
+
+def stability_monitor(prepared: Prepared) -> StabilityMonitor:
+    """The monitor that vets every converged state of this test (vlab.checks.monitor)."""
+    scene, loading = prepared.scene, prepared.loading
+    kind = kind_of(scene.test)
+    return StabilityMonitor(prepared.body, prepared.partition, {a: loading.moving_dofs[a] for a in kind.axes},
+                            kind, scene.test.targets, _law_label(scene), loading.u_hat,
+                            MonitorOptions(eigenvalues=scene.solver.eigenvalues,
+                                           limit_points=_watch_limit_points(scene)))
+
+
+def solve(prepared: Prepared, monitor: StabilityMonitor, observers: list[Observer]) -> Solved:
+    """Run the test's load schedule; a request that cannot be solved at all is a failure at level 0."""
+    scene, specimen = prepared.scene, prepared.specimen
+    linear_solver = choose_linear(scene.solver.linear, len(prepared.partition.free), solver_in_use())
+    refusal = _refusal(prepared)
+    if refusal is not None:
+        return Solved(SolveHistory(failure=Failure(0, 1.0, 1.0, 0.0, refusal, [])), linear_solver)
+    force_floor = 1e-6 * scene.material.moduli.mu * specimen.length_scale**2
+
+    def observe(level: Level) -> None:
+        for observer in observers:
+            observer(level)
+
+    system = System(prepared.body, prepared.partition, prepared.loading.u_hat,
+                    (force_floor, specimen.length_scale))
+    history = run_schedule(system, _stepping(scene, monitor, linear_solver), observe)
+    return Solved(history, linear_solver)
+
+
+def _stepping(scene: Scene, monitor: StabilityMonitor, linear_solver: str) -> Stepping:
+    grip_stretch = tuple(1.0 + g for g in kind_of(scene.test).grip_strain(scene.test.targets))
+    levels = protocol_levels(scene.test.protocol, grip_stretch, scene.test.steps,
+                             scene.measure.modulus_window, scene.measure.modulus_points)
+    return Stepping(
+        schedule=levels.t, times=levels.time,
+        force_held=levels.force_held if levels.force_held.any() else None,
+        force_targets=levels.force,
+        max_cutbacks=scene.solver.max_cutbacks,
+        newton=NewtonOptions(rtol=scene.solver.rtol, max_iterations=scene.solver.max_iterations,
+                             linear=linear_solver,
+                             chord_contraction=CHORD_CONTRACTION if scene.solver.newton == "reuse" else 0.0),
+        accept=monitor.accept,
+        tangents=monitor.tangents,  # the stability check's factorization feeds the next predictor
+    )
+
+
+def _refusal(prepared: Prepared) -> str | None:
+    """Why the request cannot be solved at all (rigid-body modes, no admissible state), or None."""
+    modes = unrestrained_modes(prepared.space.node_coordinates, prepared.loading.prescribed)
+    if modes:
+        return under_constrained_message(modes)
+    test = prepared.scene.test
+    return inadmissible_request(prepared.ground, kind_of(test), test.targets)
+
+
+def _watch_limit_points(scene: Scene) -> bool:
+    """A falling force is a limit point only on a monotonic ramp of an elastic material, and not
+    on a deliberately imperfect (post-buckled) path: unloading, relaxing, creeping and a bent
+    strip's softening are the physics asked for. Instrument noise changes no physics."""
+    physical = [e for e in scene.effects if EFFECTS[e.name].role != "measure"]
+    return scene.test.protocol.name == "monotonic" and not physical and scene.test.imperfection is None
+
+
+def _law_label(scene: Scene) -> str:
+    """The law a stability diagnosis names: the model, or the history law wrapping it."""
+    law = next((e.name for e in scene.effects if EFFECTS[e.name].role == "material"), None)
+    return scene.material.model if law is None else f"{scene.material.model} with effects.{law}"
