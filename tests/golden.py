@@ -19,6 +19,7 @@ from pathlib import Path
 FOLDER = Path(__file__).resolve().parent / "data" / "golden"
 KEPT = ("converged", "measured", "input", "curve", "reference", "homogeneity", "cruciform", "stability",
         "effects", "critical", "lateral_deflection", "imperfection", "warnings", "failure")
+ERROR_FLOOR = 1e-6  # relative errors against an oracle below this are all "exact to the solver's tolerance"
 MESH_KEPT = ("cell", "order", "size", "formulation", "symmetry", "elements", "nodes", "dofs", "quality")
 
 
@@ -52,6 +53,11 @@ def differences(expected, actual, rtol: float, path: str = "") -> list[str]:
                 out += differences(e, a, rtol, f"{path}[{i}]")
         return out
     if _number(expected) and _number(actual):
+        if path.rsplit(".", 1)[-1].startswith("max_relative_error"):
+            # an error against the analytic curve is Newton's residual at work (~1e-9): what must
+            # not change is that it stays at that level, not its last digits
+            return [] if max(abs(expected), abs(actual)) <= ERROR_FLOOR else \
+                _compare_number(expected, actual, rtol, path, 0.0)
         return _compare_number(expected, actual, rtol, path, 0.0)
     return [] if expected == actual else [f"{path}: {actual!r} != {expected!r}"]
 

@@ -51,7 +51,7 @@ def test_a_failed_test_reports_step_stretch_reason_and_history_without_nan():
     data = result_to_dict(result)
     assert data["converged"] is False
     failure = data["failure"]
-    assert failure["step"] >= 1 and "no admissible state beyond stretch" in failure["reason"]
+    assert failure["step"] >= 1 and "load limit point beyond stretch" in failure["reason"]
     assert 1 / np.sqrt(3) - 0.01 < failure["last_converged_stretch"][0] < 0.75
     assert failure["residual_history"]
     text = json.dumps(data)

@@ -1,7 +1,8 @@
 """Isotropic elastic constants: any two of E, nu, lambda, mu (= G), K, M fix the rest.
 
 Units: MPa for E, lambda, mu, K, M; nu is dimensionless. Valid for a stable isotropic solid:
-E > 0, mu > 0, K > 0, M > 0 and -1 < nu < 1/2 (lambda may have either sign). nu = 1/2
+E > 0, mu > 0, K > 0, M > 0 and -1 < nu < 1/2 (lambda may have either sign), every modulus in
+1e-100..1e100 MPa (double precision; MODULUS_RANGE). nu = 1/2
 (incompressible) is not supported; use up to 0.4999.
 
 Closed forms used by :func:`from_pair` (L = lambda, G = mu):
@@ -49,6 +50,7 @@ KEYS = ("E", "nu", "lambda", "mu", "K", "M")
 ALIASES = {"G": "mu", "lmbda": "lambda"}
 _PREFIX = "material."
 _NU_RANGE = "-1 < nu < 0.5"
+MODULUS_RANGE = (1e-100, 1e100)  # MPa, |E|, |lambda|, mu, K, M (see _check_magnitudes)
 MIXED_NU_LIMIT = 0.4999  # verified limit of mesh.formulation = "mixed" (Cook's membrane study)
 _INCOMPRESSIBLE = ("nu = 0.5 is exact incompressibility, an infinite bulk modulus, which no formulation "
                    f"here supports; for a nearly incompressible solid use nu <= {MIXED_NU_LIMIT:g} with "
@@ -247,4 +249,27 @@ def from_pair(values: Mapping[str, float], root: str = "plus") -> Moduli:
         nu = (3 * K - M) / (3 * K + M)
         E, lm = 9 * K * (M - K) / (3 * K + M), (3 * K - M) / 2
     check(nu, mu)
-    return Moduli(E=E, nu=nu, lmbda=lm, mu=mu, K=K, M=M)
+    moduli = Moduli(E=E, nu=nu, lmbda=lm, mu=mu, K=K, M=M)
+    _check_magnitudes(moduli, v)
+    return moduli
+
+
+def _check_magnitudes(moduli: Moduli, given: Mapping[str, float]) -> None:
+    """The given moduli (|lambda| unless 0) and the E, mu they imply within MODULUS_RANGE, MPa: forces, energies and their
+    squares (residual norms) must stay inside double precision on any mesh; at 1e-300 MPa the
+    squared nodal forces underflowed to 0, a residual read as 0 and a "converged" test off its
+    curve by 1.7 %, at 1e300 they overflowed. Both ends of the range reproduce the analytic
+    block curve to 1.2e-11 (measured, Neo-Hookean, stretch 1.5)."""
+    lo, hi = MODULUS_RANGE
+    values = moduli.as_dict()
+    # the given constants, and the E and mu they imply (mu sets the force scale); a derived
+    # lambda may be ~0 (nu ~ 0) and a derived K, M at most ~1700 E (nu = 0.4999): no range issue
+    for name in dict.fromkeys([*given, "E", "mu"]):
+        value = values[name]
+        if name == "nu" or (name == "lambda" and value == 0.0) or lo <= abs(value) <= hi:
+            continue
+        origin = "" if name in given else " (derived from " + " and ".join(
+            f"{_PREFIX}{k} = {_fmt(x)}" for k, x in given.items()) + ")"
+        raise ModuliError(f"{_PREFIX}{name} = {_fmt(value)} MPa{origin} is outside the allowed range "
+                          f"{lo:g}..{hi:g} MPa (|{name}|): beyond it the solver's forces and their "
+                          f"squares under- or overflow double precision")

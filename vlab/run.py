@@ -83,7 +83,8 @@ def _run_scene(scene: Scene, on_level, specimen: Specimen | None) -> RunResult:
     timing["measure_s"] = instruments.seconds + clock() - t2
     timing["total_s"] = clock() - t0
     diagnostics = _diagnostics(prepared, solved, measured, monitor, deflection.values, seeded)
-    return RunResult(scene, prepared.specimen, prepared.space, measured.curve, measured.constants,
+    constants = _yield_screened(scene, measured, diagnostics)
+    return RunResult(scene, prepared.specimen, prepared.space, measured.curve, constants,
                      solved.history, timing, diagnostics,
                      SolverObjects(prepared.body, prepared.partition, monitor.critical), measured.reference)
 
@@ -116,6 +117,20 @@ def _diagnostics(prepared: Prepared, solved: Solved, measured: Measured, monitor
         from vlab.effects.report import effects_summary
         out.effects = effects_summary(scene, body, solved.history.levels)
     return out
+
+
+def _yield_screened(scene: Scene, measured: Measured, diagnostics: Diagnostics):
+    """E and ν (and the crosshead modulus) withdrawn, with the reason, when plasticity set in
+    before the modulus window ends (vlab.measure.yielding)."""
+    if diagnostics.effects is None:
+        return measured.constants
+    from vlab.measure.yielding import screen_yield
+    from vlab.pipeline.measure import fitted_part
+
+    extra = {"effects": diagnostics.effects, "crosshead": diagnostics.crosshead}
+    constants = screen_yield(scene, fitted_part(measured.curve, scene), measured.constants, extra)
+    diagnostics.crosshead = extra["crosshead"]
+    return constants
 
 
 @dataclass

@@ -16,8 +16,11 @@ path. Two kinds are told apart by the shape of φ along the loading axis x:
 Sideways sections alone do not make buckling: a softened material can also let a stubby block
 sway. So the material's strong ellipticity is checked at the critical state
 (:mod:`vlab.checks.ellipticity`): the instability is
-* buckling — the material is strongly elliptic everywhere and lateral_fraction ≥ BUCKLING_FRACTION
-  (a structural instability; for a stubby block of a softening material, tangent-modulus buckling);
+* buckling — the material is strongly elliptic everywhere, lateral_fraction ≥ BUCKLING_FRACTION
+  and a grip axis is in compression (a structural instability; for a stubby block of a softening
+  material, tangent-modulus buckling). In tension nothing pushes a section sideways: a sideways
+  mode there (a strip of a perfectly plastic material that has lost its tangent stiffness) is a
+  "bifurcation in tension", and no imperfection can follow it;
 * loss of ellipticity — the material tangent lost strong ellipticity somewhere (a material
   instability: its discrete mode is set by the mesh);
 * a structural bifurcation with a local mode — otherwise (wrinkling, barrelling, …).
@@ -53,9 +56,17 @@ class CriticalState:
     non_elliptic_fraction: float | None = None  # share of quadrature points; None: not checked
 
     @property
+    def compressed(self) -> bool:
+        """Some grip axis is in compression (stretch < 1) at the unstable state: buckling needs it."""
+        return min(self.stretch_unstable) < 1.0
+
+    @property
+    def sideways(self) -> bool:
+        return self.lateral_fraction is not None and self.lateral_fraction >= BUCKLING_FRACTION
+
+    @property
     def is_buckling(self) -> bool:
-        return (not self.non_elliptic_fraction and self.lateral_fraction is not None
-                and self.lateral_fraction >= BUCKLING_FRACTION)
+        return not self.non_elliptic_fraction and self.sideways and self.compressed
 
     @property
     def kind(self) -> str:
@@ -65,6 +76,8 @@ class CriticalState:
             return "loss of ellipticity (material instability)"
         if self.mode is None:
             return "loss of stability (negative eigenvalues counted; the eigensolver found no mode)"
+        if self.sideways:  # in tension: whole sections sway, but nothing compresses them
+            return "bifurcation in tension (sideways mode, not buckling)"
         return "structural bifurcation (local mode)"
 
     def strain_bracket(self, axis: int = 0) -> tuple[float, float]:

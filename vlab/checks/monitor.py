@@ -7,12 +7,17 @@ counts the negative (and zero) eigenvalues of K_ff by its inertia (:mod:`vlab.fe
 Under displacement control a softening material (St. Venant–Kirchhoff in compression: the nominal
 stress of a free block peaks at stretch 1/√3) can keep K_ff positive definite past its load
 maximum, so the monitor also watches the load path. With u_p = t û_p, the free DOFs follow
-du_f/dt = −K_ff⁻¹ K_fp û_p, and the grip force of axis a changes at the rate
-    k_a = df_a/dt = Σ_{moving DOFs of a} (K v)_i,   v = (du_f/dt, û_p)      (N per unit t),
-the slope of the load–displacement curve at the state itself. A load limit point is passed when
-    s_a k_a < 0   or   s_a (f_a(t) − f_a(t_prev)) < −tol · |f_a(t_prev)|,   s_a = sign(λ_a − 1),
-i.e. the force magnitude decreases although the grip keeps moving away from 1 (t_prev: the last
-accepted state).
+du_f/dt = −K_ff⁻¹ K_fp û_p, and the load conjugate to t, Q = ûᵀ f_int (N·mm: Σ_a travel_a ×
+force_a), changes at the rate
+    dQ/dt = vᵀ K v,   v = (du_f/dt, û_p)                                  (N·mm per unit t),
+since (K v)_f = 0: the directional stiffness of the body along the prescribed path (twice the
+strain energy of the mode v for a linear body, so never ≤ 0 there). A load limit point is passed
+when
+    vᵀ K v ≤ 0   or   Q(t) − Q(t_prev) < −tol · |Q(t_prev)|      (t_prev: the last accepted state),
+i.e. the work the grips do per unit travel falls although the grips keep moving. A single axis'
+force is not the criterion: in a biaxial test with one axis in compression the lateral
+(Poisson) push makes that axis' force start with the "wrong" sign and pass through zero, and
+its magnitude may peak and fall while the body stiffens along the path it is driven on.
 
 With ``MonitorOptions.eigenvalues`` (asked for by a study or the stability suite; off by default
 because it costs a shift-invert Lanczos solve per state) every vetted state also records the
@@ -29,7 +34,8 @@ The monitor vets every converged substep (``Stepping.accept``). A rejected subst
 stepper cut back from the last accepted state, which both avoids false alarms (a large step can
 land Newton on an unstable branch that a finer path never visits) and brackets the critical
 stretch to within the final increment; if the instability persists the test stops with
-"no admissible state beyond stretch …" and the unstable state never enters the curve.
+"no stable state beyond stretch …" (the state exists, but is not an energy minimum) or
+"load limit point beyond stretch …", and the unstable state never enters the curve.
 """
 
 from __future__ import annotations
@@ -64,6 +70,8 @@ class LevelStability:
     limit_point: bool
     accepted: bool
     lowest_eigenvalue: float | None = None  # N/mm; only when asked for, or near a sign change
+    path_load: float | None = None  # Q = ûᵀ f_int, N·mm
+    path_stiffness: float | None = None  # dQ/dt = vᵀ K v, N·mm per unit t (None: not computed)
 
     def as_dict(self) -> dict:
         return asdict(self)
@@ -98,36 +106,39 @@ class StabilityMonitor:
         self._accepted: LevelStability | None = None
         self._accepted_Kff = None  # (K_ff, K_ff⁻¹) of the last stable state, for its eigenvalue
         self.critical: CriticalState | None = None
+        self._trial_plastic_strain: float | None = None  # largest α of the last unstable trial
 
     def stretch_at(self, t: float) -> list[float]:
         return self.kind.at(self.target, t)
 
     def accept(self, ev: Evaluation, t: float) -> str | None:
         K, Kff, Kfp, found = self._inertia(ev)
-        slopes = None
+        slope = None
         if self.options.limit_points:
             try:
-                slopes = self._path_stiffness(K, Kfp, found)
+                slope = self._path_stiffness(K, Kfp, found)
             except SingularSystem:  # a Cholesky that succeeded on a numerically singular K_ff
                 found = inertia(Kff)
-                slopes = self._path_stiffness(K, Kfp, found)
+                slope = self._path_stiffness(K, Kfp, found)
         forces = [float(ev.f_int[self.moving[a]].sum()) for a in range(len(self.direction))]
-        limit_axis = self._limit_axis(forces, slopes) if self.options.limit_points else None
+        load = float(self.u_hat @ ev.f_int)
+        limit = self._is_limit(load, slope) if self.options.limit_points else False
         unstable = bool(found.negative) or bool(found.zero)
         solve = found.solve if not found.zero else None  # a singular K_ff: factorize K − σI instead
         pair = _eigenpair(Kff, found.negative, solve) if unstable or self.options.eigenvalues else None
         record = LevelStability(float(t), self.stretch_at(t), found.negative, found.zero,
-                                found.method, forces, limit_axis is not None,
-                                accepted=not unstable and limit_axis is None,
-                                lowest_eigenvalue=None if pair is None else pair[0])
+                                found.method, forces, limit, accepted=not unstable and not limit,
+                                lowest_eigenvalue=None if pair is None else pair[0],
+                                path_load=load, path_stiffness=slope)
         if record.accepted:
             self._accepted, self._accepted_Kff = record, (Kff, found.solve)
             return None
         self.records.append(record)
         if unstable:
             self.critical = self._critical_state(record, pair, ev)
+            self._trial_plastic_strain = _plastic_strain(self.body, ev)
             return self._instability_message(record)
-        return self._limit_message(record, limit_axis)
+        return self._limit_message(record)
 
     def __call__(self, level: Level) -> None:
         """Record the (already vetted) state of a scheduled level."""
@@ -181,28 +192,23 @@ class StabilityMonitor:
             return non_elliptic_fraction(material.respond(ev.F, history.state, history.dt, with_tangent=True).tangent)
         return non_elliptic_fraction(material.tangent(ev.F))
 
-    def _path_stiffness(self, K, Kfp, found) -> list[float] | None:
-        """df_a/dt along the displacement-controlled path (None if K_ff could not be solved)."""
+    def _path_stiffness(self, K, Kfp, found) -> float | None:
+        """dQ/dt = vᵀ K v along the displacement-controlled path (None if K_ff could not be solved)."""
         if found.solve is None or found.negative or found.zero:
             return None
         up = self.u_hat[self.partition.prescribed]
         v = self.u_hat.copy()
         v[self.partition.free] = -found.solve(Kfp @ up)
-        Kv = K @ v
-        return [float(Kv[self.moving[a]].sum()) for a in range(len(self.direction))]
+        return float(v @ (K @ v))
 
-    def _limit_axis(self, forces: list[float], slopes: list[float] | None) -> int | None:
+    def _is_limit(self, load: float, slope: float | None) -> bool:
+        """The load Q conjugate to t stops rising: its tangent slope vᵀKv ≤ 0, or it fell since
+        the last accepted state (the secant catches a maximum stepped over between two states)."""
+        if slope is not None and slope <= 0.0:
+            return True
         last = self._accepted
-        for a, f_new in enumerate(forces):
-            sign = self.direction[a]
-            if sign == 0:
-                continue
-            if slopes is not None and sign * slopes[a] < 0.0:
-                return a
-            f_old = last.forces[a] if last is not None else None
-            if f_old is not None and sign * (f_new - f_old) < -LIMIT_TOL * abs(f_old):
-                return a
-        return None
+        return last is not None and last.path_load is not None and \
+            load - last.path_load < -LIMIT_TOL * abs(last.path_load)
 
     def _fmt(self, values: list[float]) -> str:
         return self.kind.describe(values)
@@ -214,16 +220,17 @@ class StabilityMonitor:
         c = self.critical
         if c is not None and c.is_buckling:
             lo, hi = c.strain_bracket()
-            return (f"no admissible state beyond {self.kind.load_key} {self._previous_stretch()}: buckling — loss of "
+            return (f"no stable state beyond {self.kind.load_key} {self._previous_stretch()}: buckling — loss of "
                     f"stability between grip strain {lo:.4g} and {hi:.4g} ({self.kind.load_key} "
                     f"{self._fmt(r.stretch)}: {r.negative_eigenvalues} negative eigenvalue(s); the mode moves "
                     f"whole cross-sections sideways, lateral fraction {c.lateral_fraction:.2f}); set "
                     f"test.imperfection to follow the post-buckled path")
         what = (f"{r.negative_eigenvalues} negative eigenvalue(s)" if r.negative_eigenvalues
                 else f"{r.zero_eigenvalues} zero eigenvalue(s)")
-        return (f"no admissible state beyond {self.kind.load_key} {self._previous_stretch()}: loss of stability "
+        return (f"no stable state beyond {self.kind.load_key} {self._previous_stretch()}: loss of stability "
                 f"at {self.kind.load_key} {self._fmt(r.stretch)} — the tangent on the free DOFs has {what}, so the "
-                f"converged state is not an energy minimum ({self.model}; {self._kind(c)})")
+                f"converged state is not an energy minimum ({self.model}; {self._kind(c)}"
+                f"{self._yield_note()})")
 
     @staticmethod
     def _kind(c: CriticalState | None) -> str:
@@ -232,15 +239,42 @@ class StabilityMonitor:
         if c.non_elliptic_fraction:
             return (f"loss of ellipticity: the material tangent admits a deformation band at "
                     f"{100 * c.non_elliptic_fraction:.3g} % of the quadrature points, a material instability")
+        if c.sideways:
+            return (f"a bifurcation in tension: the mode moves whole cross-sections sideways (lateral "
+                    f"fraction {c.lateral_fraction:.2f}), but no grip compresses the specimen, so it "
+                    f"is not buckling and no imperfection can follow it")
         return "a structural bifurcation whose mode is local, not a sideways buckle"
 
+    def _yield_note(self) -> str:
+        """What a history law measured at the unstable state: its largest plastic strain."""
+        alpha = self._trial_plastic_strain
+        if alpha is None or not alpha > 0.0:
+            return ""
+        return (f"; the material has yielded: accumulated plastic strain up to {alpha:.3g} at this "
+                f"state, where a plastic material's tangent stiffness is only its hardening")
 
-    def _limit_message(self, r: LevelStability, axis: int) -> str:
+
+    def _limit_message(self, r: LevelStability) -> str:
         advice = (" (St. Venant–Kirchhoff softens in compression, limit point at stretch 1/√3 "
                   "≈ 0.577 for a free block; stvk-volumetric and neo-hookean carry on)"
                   if self.model == "stvk" else "")
-        return (f"no admissible state beyond {self.kind.load_key} {self._previous_stretch()}: load limit point — "
-                f"|force| along {'xy'[axis]} peaked and fell at {self.kind.load_key} {self._fmt(r.stretch)}{advice}")
+        last = self._accepted
+        measured = (f"the path stiffness dQ/dt = vᵀKv = {r.path_stiffness:.4g} N·mm ≤ 0"
+                    if r.path_stiffness is not None and r.path_stiffness <= 0.0 else
+                    f"Q fell from {last.path_load:.6g} to {r.path_load:.6g} N·mm")
+        return (f"load limit point beyond {self.kind.load_key} {self._previous_stretch()}: the grip load along the "
+                f"prescribed path (Q = ûᵀf, the work-conjugate of the grip travel) no longer rises at "
+                f"{self.kind.load_key} {self._fmt(r.stretch)}: {measured}{advice}")
+
+
+def _plastic_strain(body, ev: Evaluation) -> float | None:
+    """Largest accumulated plastic strain α of the (uncommitted) trial state ``ev``, or None."""
+    history, material = body.history, body.material
+    if history is None or not hasattr(material, "history_fields"):
+        return None
+    trial = material.update(ev.F, history.state, history.dt)
+    alpha = material.history_fields(trial, ev.F).get("plastic_strain")
+    return None if alpha is None else float(np.max(alpha))
 
 
 

@@ -27,7 +27,14 @@ def dot(a: np.ndarray, b: np.ndarray) -> float:
 
 
 def norm(a: np.ndarray) -> float:
-    return math.sqrt(dot(a, a))
+    """‖a‖₂; where aᵀa under- or overflows (forces ~1e-160 N or ~1e160 N) the scaled norm,
+    so that a residual is never read as 0 (or inf) for want of exponent range."""
+    n = math.sqrt(dot(a, a))
+    if (n < 1e-150 or not math.isfinite(n)) and a.size:
+        peak = float(np.max(np.abs(a)))
+        if peak > 0.0 and math.isfinite(peak):
+            return peak * math.sqrt(dot(a / peak, a / peak))
+    return n
 
 
 class Watchdog:

@@ -64,6 +64,7 @@ from vlab.fe.assembly import Partition
 from vlab.fe.iterative import (AMGConjugateGradient, IterativeSolveFailed, forcing_term,
                                rigid_body_modes)
 from vlab.fe.line_search import Watchdog, dot as _dot, norm as _norm
+from vlab.fe.roundoff import roundoff_floor, stall_explanation
 from vlab.fe.linsolve import Factorization, SingularSystem, factorize
 from vlab.fe.system import System
 from vlab.fe.problem import Evaluation, HyperelasticBody
@@ -241,7 +242,9 @@ def solve_equilibrium(system: System, start: Evaluation, options: NewtonOptions,
             memory.add(alpha * du, ev.f_int[free] - r)  # (CG is not a fixed linear K̃⁻¹)
         record.step_lengths.append(alpha)
         record.updates.append(alpha * float(np.max(np.abs(du), initial=0.0)) / length)
-    record.reason = f"no convergence in {options.max_iterations} iterations"
+    floor = roundoff_floor(body, partition, ev, scale)
+    record.reason = (f"no convergence in {options.max_iterations} iterations"
+                     + stall_explanation(record.residuals, options.rtol, floor))
     raise NewtonFailure(record.reason, record, ev)
 
 

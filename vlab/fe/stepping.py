@@ -48,6 +48,9 @@ from vlab.fe.problem import Evaluation
 from vlab.fe.system import System
 
 EASY_ITERATIONS = 4
+# what was measured: a (numerically) zero pivot of K_ff at rest; vlab.run tells a free rigid-body
+# mode (the grips leave one free) from ill-conditioning (they do not) with the geometric check
+UNLOADED_SINGULAR = "the unloaded tangent is singular"
 
 
 MAX_EXTRAPOLATION = 4.0  # largest Δt / h the path extrapolation of the predictor spans
@@ -180,8 +183,7 @@ def _unloaded(system: System, stepping: Stepping, cache: TangentCache, history: 
         return None
     except SingularSystem as exc:
         history.failure = Failure(0, float(stepping.schedule[0]), 0.0, 0.0,
-                                  f"the unloaded tangent is singular: the grips leave the specimen "
-                                  f"free to move ({exc})", [])
+                                  f"{UNLOADED_SINGULAR} ({exc})", [])
         return None
     return _Walk(current, tangent)
 

@@ -149,13 +149,18 @@ def _turn(points: np.ndarray, axis: int) -> np.ndarray:
 
 
 def _region_selector(X: np.ndarray, nodes: np.ndarray, mesh: skfem.Mesh, tol: float):
-    """Selector of the region's vertices and of the midpoints of mesh edges between two of them
-    (the extra nodes of an order-2 space)."""
+    """Selector of every DOF node of the mesh entities (vertices, edges, facets, cells) whose
+    vertices all lie in the region: what the order-2 basis places on them. An order-2 DOF sits
+    at its entity's vertex mean (the edge midpoint; the centre of a hexahedron's bilinear face
+    and of its trilinear cell, the 27-node hexahedron's face and volume nodes), so a grip face
+    holds all of its facet DOFs, and a volume region all of its cells' DOFs."""
     inside = np.zeros(mesh.nvertices, bool)
     inside[nodes] = True
-    edges = mesh.edges[:, inside[mesh.edges[0]] & inside[mesh.edges[1]]]
-    points = np.vstack([X[nodes], 0.5 * (X[edges[0]] + X[edges[1]])])
-    tree = cKDTree(points)
+    points = [X[nodes]]
+    for entities in (mesh.edges, mesh.facets, mesh.t):
+        held = entities[:, np.all(inside[entities], axis=0)]
+        points.append(X[held].mean(axis=0))  # (k, n_vertices of the entity) -> vertex means
+    tree = cKDTree(np.vstack(points))
     return lambda Y: tree.query(np.asarray(Y, float), distance_upper_bound=tol)[0] <= tol
 
 

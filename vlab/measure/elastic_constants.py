@@ -4,7 +4,11 @@ Uniaxial:  E = slope of engineering stress against extensometer strain;
            ν = −slope of transverse strain against extensometer strain (same window).
 Biaxial (plane stress in the gauge region):
            ε_t = −ν/(1−ν) (ε_x + ε_y)   ⇒  ν = r/(1+r) with r = −slope(ε_t vs ε_x + ε_y);
-           s_x = E/(1−ν²) (ε_x + ν ε_y)  ⇒  E = (1−ν²) slope(s_x vs ε_x + ν ε_y), likewise for y.
+           s_x = E/(1−ν²) (ε_x + ν ε_y)  ⇒  E_x = (1−ν²) slope(s_x vs ε_x + ν ε_y), likewise for y;
+           E = Σ_a w_a E_a / Σ_a w_a, w_a = Σ (ξ_a − ξ̄_a)² the spread of the abscissa
+           ξ_a = (ε_a + ν ε_b)/(1−ν²) (the least-squares slope of both axes stacked, one intercept
+           each; chord: w_a = Δξ_a²). An axis whose stress hardly changes (σ_y ≡ 0 when
+           ε_y = −ν ε_x) carries no information on E and gets no weight, instead of halving it.
 The window applies to |strain| of the axis (the larger one for biaxial), so the same window serves
 tension and compression.
 
@@ -160,18 +164,34 @@ def _biaxial(curve: Curve, window, method) -> ElasticConstants:
     r_fit = _slope_on(lead, ex + ey, np.array(curve.thickness_strain), window, method)
     r = -r_fit.slope
     nu = r / (1 + r)
-    axes = []
+    axes, weights = [], []
     for axis, (own, other) in enumerate(((ex, ey), (ey, ex))):
         x = (own + nu * other) / (1 - nu**2)
         fit = _slope_on(lead, x, curve.column("stress", axis), window, method)
         axes.append({"axis": "xy"[axis], "E": fit.slope, "nu": nu, "fit": fit.as_dict()})
-    E = float(np.mean([a["E"] for a in axes]))
+        weights.append(_spread(lead, x, window, method))
+    if sum(weights) <= 0.0:
+        raise FitError(f"neither axis' strain varies inside the window {window}")
+    E = float(np.dot(weights, [a["E"] for a in axes]) / sum(weights))
     return ElasticConstants(E, nu, axes[0]["fit"], r_fit.as_dict(), axes)
+
+
+def _spread(selector, x, window, method) -> float:
+    """The weight of an axis in the joint modulus: Σ (x − x̄)² over the window (chord: Δx²)."""
+    xs = np.asarray(x)[_inside(selector, window)]
+    if method == "chord":
+        order = np.argsort(np.abs(xs))  # the chord's end points, as fit_line picks them
+        return float((xs[order[-1]] - xs[order[0]]) ** 2)
+    return float(np.sum((xs - xs.mean()) ** 2))
+
+
+def _inside(selector, window) -> np.ndarray:
+    return (np.abs(selector) >= window[0] * (1 - 1e-9)) & (np.abs(selector) <= window[1] * (1 + 1e-9))
 
 
 def _slope_on(selector, x, y, window, method) -> LineFit:
     """Fit y against x over the rows where |selector| lies in the window."""
-    inside = (np.abs(selector) >= window[0] * (1 - 1e-9)) & (np.abs(selector) <= window[1] * (1 + 1e-9))
+    inside = _inside(selector, window)
     if inside.sum() < 2:
         raise FitError(f"only {int(inside.sum())} recorded point(s) with |strain| in {window}; need at least 2")
     big = (0.0, np.inf)

@@ -61,7 +61,7 @@ def measure(prepared: Prepared, instruments: Instruments) -> Measured:
     scene = prepared.scene
     window, fit = scene.measure.modulus_window, scene.measure.fit
     curve = instruments.recorder.curve
-    constants = elastic_constants(_fitted(curve, scene), window, fit)
+    constants = elastic_constants(fitted_part(curve, scene), window, fit)
     uncertainty = None
     if scene.effect("noise") is not None:  # the instruments' readings replace the exact ones
         from vlab.measure.noise import measure_with_noise
@@ -69,12 +69,12 @@ def measure(prepared: Prepared, instruments: Instruments) -> Measured:
                                                            scene.measure)
     rows = instruments.homogeneity
     return Measured(curve, constants, _reference(prepared, curve),
-                    crosshead=kind_of(scene.test).crosshead(_fitted(curve, scene), window, fit), uncertainty=uncertainty,
+                    crosshead=kind_of(scene.test).crosshead(fitted_part(curve, scene), window, fit), uncertainty=uncertainty,
                     cruciform=centre_report(curve, window, fit),
                     homogeneity=_homogeneity_report(curve, rows, window) if rows else None)
 
 
-def _fitted(curve: Curve, scene) -> Curve:
+def fitted_part(curve: Curve, scene) -> Curve:
     """E and ν are fitted on the first loading ramp only."""
     return first_loading(curve) if scene.test.protocol.unloads else curve
 

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 from typing import Callable
 
 from vlab.checks.admissibility import inadmissible_request
+from vlab.checks.conditioning import restrained_but_singular
 from vlab.checks.monitor import MonitorOptions, StabilityMonitor
 from vlab.effects import EFFECTS
 from vlab.fe.iterative import choose as choose_linear
@@ -64,6 +65,8 @@ def solve(prepared: Prepared, monitor: StabilityMonitor, observers: list[Observe
     system = System(prepared.body, prepared.partition, prepared.loading.u_hat,
                     (force_floor, specimen.length_scale))
     history = run_schedule(system, _stepping(scene, monitor, linear_solver), observe)
+    # a singular unloaded tangent with the grips holding: ill-conditioning, not a free specimen
+    history = restrained_but_singular(history, prepared.body, prepared.partition, prepared.space)
     return Solved(history, linear_solver)
 
 

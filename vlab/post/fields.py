@@ -4,6 +4,7 @@ At every quadrature point (F and P from the body's material):
     J       = det F                                      volume ratio, 1
     σ       = P Fᵀ / J                                   Cauchy stress, MPa
     λ_max   = √(largest eigenvalue of C = Fᵀ F)          maximum principal stretch, 1
+    E       = ½ (Fᵀ F − I)                              Green–Lagrange strain, 1
 Cell values are the volume averages Σ_q v dx / Σ_q dx over the reference quadrature weights; the
 von Mises stress σ_vm = √(3/2 s:s), s = σ − (tr σ / 3) I (MPa), is taken of the cell-averaged σ.
 A body that has no stress at quadrature points (the spring network) provides its own cell Cauchy
@@ -33,6 +34,8 @@ class CellFields:
     von_mises: np.ndarray
     max_stretch: np.ndarray
     J: np.ndarray
+    cauchy: np.ndarray | None = None  # (3, 3, n_cells) cell-averaged Cauchy stress, MPa
+    green_lagrange: np.ndarray | None = None  # (3, 3, n_cells) cell-averaged E, 1
 
     def get(self, name: str) -> np.ndarray:
         return {"von-mises": self.von_mises, "max-stretch": self.max_stretch, "J": self.J}[name]
@@ -63,5 +66,6 @@ def cell_fields(body, evaluation) -> CellFields:
     sigma = body.cell_cauchy(evaluation)  # a body's own (spring network, history), or from P
     if sigma is None:
         sigma = cell_average(cauchy(material.stress(F), F), dx)
+    E_q = 0.5 * (np.einsum("kI...,kJ...->IJ...", F, F) - np.eye(3).reshape(3, 3, 1, 1))
     return CellFields(von_mises=von_mises(sigma), max_stretch=cell_average(max_principal_stretch(F), dx),
-                      J=cell_average(J_q, dx))
+                      J=cell_average(J_q, dx), cauchy=sigma, green_lagrange=cell_average(E_q, dx))

@@ -2,27 +2,34 @@
 
 A Snapshot holds the reference mesh, the displacement of its vertices and the per-cell fields at
 the unloaded state and at every recorded level, and the current positions of the gauge marks.
-For order-2 spaces only the vertex values are kept (vertices are the first scalar DOFs), so the
-pictures show the straight-sided cells of the mesh. A 2D sheet is stored in 3D with z = 0 (its
+The renders use the vertex values (vertices are the first scalar DOFs: straight-sided cells);
+the VTU files get every node of the space (``vtk``: an order-2 space as quadratic VTK cells with
+their mid-nodes, vlab.post.vtk_cells), the displacement of every node, and per cell the Cauchy
+stress and Green–Lagrange strain tensors (``tensors``). A 2D sheet is stored in 3D with z = 0 (its
 displacement has no z component) and without the thickness marks, which sit over the same point.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import skfem
 
 from vlab.geometry.symmetry import reflection
 from vlab.post.fields import FIELDS, cell_fields
+from vlab.post.vtk_cells import vtk_cells
 
 
 @dataclass(frozen=True)
 class Snapshot:
     """model: name; t: (n_frames,) load levels, frame 0 unloaded (t = 1 is the target); stretch:
     (n_frames,) grip stretch along x; displacement: (n_frames, n_vertices, 3) mm; fields: name ->
-    (n_frames, n_cells); marks: name -> (reference (2, 3), current (n_frames, 2, 3)) mm."""
+    (n_frames, n_cells); marks: name -> (reference (2, 3), current (n_frames, 2, 3)) mm.
+    For the VTU files: vtk = (points (n_nodes, 3) mm, meshio cell type, connectivity);
+    nodal_displacement (n_frames, n_nodes, 3) mm; tensors: name -> (n_frames, n_cells, 3, 3)
+    ("cauchy" MPa, "green_lagrange" 1); time: (n_frames,) s, or None (quasi-static);
+    grip_stretch: (n_frames, n_axes)."""
 
     model: str
     mesh: skfem.Mesh
@@ -31,6 +38,11 @@ class Snapshot:
     displacement: np.ndarray
     fields: dict[str, np.ndarray]
     marks: dict[str, tuple[np.ndarray, np.ndarray]]
+    vtk: tuple[np.ndarray, str, np.ndarray] | None = None
+    nodal_displacement: np.ndarray | None = None
+    tensors: dict[str, np.ndarray] = field(default_factory=dict)
+    time: np.ndarray | None = None
+    grip_stretch: np.ndarray | None = None
     control: str = "grip stretch"  # what ``stretch`` holds: the test kind's control ("shear": the amount γ)
 
     @property
@@ -84,6 +96,14 @@ def take_snapshot(result) -> Snapshot:
     from vlab.loading.kinds import kind_of
 
     kind = kind_of(result.scene.test)
-    stretch = np.array([kind.at(result.scene.test.targets, x)[0] for x in t])
+    targets = result.scene.test.targets
+    grip = np.array([kind.at(targets, x) for x in t])  # every loaded axis' control per frame
+    stretch = grip[:, 0]
     control = "grip stretch" if kind.load_key == "stretch" else kind.load_key  # "shear": the amount γ
-    return Snapshot(result.scene.material.model, mesh, t, stretch, u, fields, marks, control)
+    times = [lv.time for lv in result.history.levels]
+    time = None if any(x is None for x in times) else np.array([0.0] + times)
+    tensors = {name: np.stack([np.moveaxis(getattr(cf, name), -1, 0) for cf in per_state])
+               for name in ("cauchy", "green_lagrange")}
+    nodal = np.stack([_in_3d(ev.u.reshape(-1, d)) for ev in states])
+    return Snapshot(result.scene.material.model, mesh, t, stretch, u, fields, marks, vtk_cells(space),
+                    nodal, tensors, time, grip, control)

@@ -188,7 +188,7 @@ def comparison_rows(page: ReportPage) -> list[tuple[str, list[str]]]:
         return lambda d: _fmt((page.departures.get(d["input"].get("label", d["input"]["model"])) or {}).get(key), 4)
 
     elastic = [
-        ("E measured [MPa]", per(lambda d: _fmt(d["measured"]["E"]))),
+        ("E measured [MPa]", per(_measured_E)),
         ("E input [MPa]", per(lambda d: _fmt(d["input"]["E"]))),
         ("ν measured", per(lambda d: _fmt(d["measured"]["nu"]))),
         ("ν input", per(lambda d: _fmt(d["input"]["nu"]))),
@@ -271,6 +271,14 @@ def _image_source(folder: Path, name: str, inline: bool) -> str:
         return html.escape(name)
     mime = mimetypes.guess_type(name)[0] or "application/octet-stream"
     return f"data:{mime};base64," + base64.b64encode((folder / name).read_bytes()).decode("ascii")
+
+
+def _measured_E(d: dict) -> str:
+    """E, or — with the reason it was not measured (e.g. the material yields before the window)."""
+    m = d["measured"]
+    if m["E"] is None and m.get("note"):
+        return f"— <small>({html.escape(m['note'])})</small>"
+    return _fmt(m["E"])
 
 
 def _spring_note(page: ReportPage) -> str:

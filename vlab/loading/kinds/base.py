@@ -115,9 +115,13 @@ class TestKind:
                 out["lateral_stretch"].append(float(state.lateral_stretch))
         except InadmissibleState as exc:
             out["note"] = str(exc)
+        # relative to the largest stress of any axis: an axis whose stress passes through or stays
+        # at zero (σ_y ≡ 0 when ε_y = −ν ε_x) has no scale of its own
+        scale = max((max(map(abs, out[f"stress_{'xy'[a]}"]), default=0.0) for a in self.axes), default=0.0)
         for a in self.axes:
             key = "xy"[a]
-            out[f"max_relative_error_{key}"] = relative_error(curve.column("stress", a), out[f"stress_{key}"])
+            out[f"max_relative_error_{key}"] = relative_error(curve.column("stress", a), out[f"stress_{key}"],
+                                                              scale)
         return out
 
     # --- instruments ---------------------------------------------------------------------------
