@@ -12,7 +12,7 @@ Layers, bottom to top (a module may import its own layer and any layer below):
     6 post, render cell fields, snapshots, VTU; off-screen renders
     7 report       results.json, CSV, PNG, HTML
     8 run          the one sequencer, and its stages (vlab.pipeline: prepare, solve, measure)
-    9 compare, study, verification
+    9 compare, study, verification, identify
    10 cli          (and vlab.cli_io, vlab.__main__)
 
 The scene sits above the registries (not at the very bottom) because its parts delegate to them:
@@ -43,7 +43,7 @@ LAYERS = {
     "vlab.post": 6, "vlab.render": 6,
     "vlab.report": 7,
     "vlab.run": 8, "vlab.pipeline": 8,
-    "vlab.compare": 9, "vlab.study": 9, "vlab.verification": 9,
+    "vlab.compare": 9, "vlab.study": 9, "vlab.verification": 9, "vlab.identify": 9,
     "vlab.cli": 10, "vlab.cli_io": 10, "vlab.__main__": 10,
 }
 

@@ -119,6 +119,18 @@ def run(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (defa
     raise typer.Exit(EXIT_OK if data["converged"] else EXIT_FAILED)
 
 
+@app.command()
+def fit(fitfile: Path = typer.Argument(..., help="Fit file (TOML): data sets, model, options."),
+        out: Optional[Path] = typer.Option(None, "--out", "-o", help="Output folder (default reports/<name>-fit)."),
+        models: Optional[str] = typer.Option(None, "--models",
+                                             help="Fit and rank several models, e.g. mooney-rivlin,yeoh,ogden-3."),
+        force: bool = typer.Option(False, "--force", help=FORCE_HELP)):
+    """Fit a material card to measured curves: parameters with intervals, stability, the card (fit.json, index.html)."""
+    from vlab.identify.command import fit_command
+
+    raise typer.Exit(fit_command(fitfile, out, models, console, force))
+
+
 def _print_estimate(est: Optional[dict]) -> None:
     if not est:
         return

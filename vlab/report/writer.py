@@ -22,10 +22,9 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from vlab.report.folder import report_folder
-from vlab.report.results import curve_columns
 from typing import TYPE_CHECKING
 
-if TYPE_CHECKING:
+if TYPE_CHECKING:  # the solver is imported only by the writers that need it (vlab fit needs none of it)
     from vlab.run import RunResult
 
 log = logging.getLogger(__name__)
@@ -41,6 +40,8 @@ def write_columns_csv(columns: dict[str, list], path: Path) -> None:
 
 
 def write_curve_csv(result: RunResult, path: Path) -> None:
+    from vlab.report.results import curve_columns
+
     write_columns_csv(curve_columns(result), path)
 
 

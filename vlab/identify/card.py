@@ -1,0 +1,45 @@
+"""The [material] card of a fit, in the grammar `vlab run` reads (Abaqus names, MPa).
+
+An incompressible fit has no bulk modulus of its own; the card then carries K = 1000 μ0
+(ν = (3K − 2μ0)/(6K + 2μ0) ≈ 0.4995), a stand-in for incompressibility that a finite-element
+run needs, best used with ``[mesh] formulation = "mixed"``. A fixed or fitted K is written as is,
+with the fit's volumetric energy when it is not the default quadratic one.
+"""
+
+from __future__ import annotations
+
+from vlab.identify.states import Constitutive
+
+__all__ = ["card_of", "card_toml", "INCOMPRESSIBLE_K_RATIO"]
+
+INCOMPRESSIBLE_K_RATIO = 1000.0
+
+
+def card_of(model: Constitutive, values) -> dict:
+    """{"material": table, "toml": text, "note": why K is what it is}."""
+    n = len(model.law.names)
+    table = model.law.card(values[:n])
+    mu0 = model.law.mu0(values[:n])
+    if model.bulk == "incompressible":
+        K, note = INCOMPRESSIBLE_K_RATIO * mu0, (f"incompressible fit: K = {INCOMPRESSIBLE_K_RATIO:g} mu0 stands "
+                                                 "in for incompressibility (use [mesh] formulation = \"mixed\")")
+    else:
+        K = float(values[n]) if model.bulk == "fit" else float(model.K)
+        note = "K fitted" if model.bulk == "fit" else "K held fixed at the fit file's value"
+    table["K"] = float(f"{K:.6g}")
+    if model.volumetric != "quadratic" and model.law.model != "neo-hookean":
+        table["volumetric"] = model.volumetric
+    return {"material": table, "toml": card_toml(table), "note": note}
+
+
+def _value(v) -> str:
+    if isinstance(v, list):
+        return "[" + ", ".join(_value(x) for x in v) + "]"
+    if isinstance(v, str):
+        return f'"{v}"'
+    return repr(float(v))
+
+
+def card_toml(table: dict) -> str:
+    """The table as TOML text under [material]."""
+    return "[material]\n" + "".join(f"{k} = {_value(v)}\n" for k, v in table.items())

@@ -1,0 +1,90 @@
+"""`vlab fit`: read, fit, write, print; the exit code says converged (0), not (1), invalid (2)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from rich.console import Console
+
+from vlab.fields import SceneError
+
+__all__ = ["fit_command"]
+
+
+def _print_fit(console: Console, d: dict) -> None:
+    console.print(f"[bold]{d['name']}[/bold]: {d['model']['name']} "
+                  f"({'converged' if d['converged'] else 'NOT converged: ' + str(d['reason'])})", highlight=False)
+    for k, u in d["uncertainty"].items():
+        console.print(f"  {k:>10} = {u['interval'][0] / 2 + u['interval'][1] / 2:.6g} "
+                      f"± {u['standard_error']:.3g}", highlight=False)
+    for x in d["datasets"]:
+        console.print(f"  {x['name']} ({x['kind']}, {x['role']}): rms {100 * x['rms_relative']:.3g} %, "
+                      f"max {100 * x['max_relative']:.3g} %", highlight=False)
+    for w in d["warnings"]:
+        console.print(f"  [yellow]warning[/yellow] {w}", highlight=False, soft_wrap=True)
+
+
+def _destination(out: Path, force: bool, spec, path: Path):
+    """The checked report folder: never one holding the fit file, its data or a cache."""
+    from vlab.report.folder import Destination, check_destination
+    from vlab.study.cache import DEFAULT_CACHE
+
+    protect = [Path(path), DEFAULT_CACHE] + [Path(d.file) for d in spec.datasets]
+    if spec.fe is not None:
+        protect += [Path(spec.fe["scene_path"])] + ([Path(spec.fe["cache"])] if spec.fe.get("cache") else [])
+    return check_destination(Destination(out, force=force, protect=tuple(protect)))
+
+
+def fit_command(path: Path, out: Path | None, models: str | None, console: Console, force: bool = False) -> int:
+    from vlab.identify.fitfile import load_fit, parse_model_name
+    from vlab.report.folder import ReportFolderError
+
+    try:
+        spec = load_fit(path)
+        names = None
+        if models is not None:
+            names = [m.strip() for m in models.split(",") if m.strip()]
+            if not names:
+                raise SceneError("--models must list at least one model, e.g. mooney-rivlin,ogden-3")
+            for n in names:
+                parse_model_name(n, "--models")
+    except SceneError as exc:
+        console.print(f"[red]invalid fit file[/red] {exc}", highlight=False, soft_wrap=True)
+        return 2
+    text = Path(path).read_text(encoding="utf-8")
+    try:
+        dest = _destination(out or Path("reports") / f"{spec.name}-fit", force, spec, path)
+    except ReportFolderError as exc:
+        console.print(f"[red]invalid output folder[/red] {exc}", highlight=False, soft_wrap=True)
+        return 2
+    out = dest.path
+    try:
+        return _fit_and_write(spec, names, dest, out, text, console)
+    except ReportFolderError as exc:
+        console.print(f"[red]cannot write report[/red] {exc}", highlight=False, soft_wrap=True)
+        return 2
+
+
+def _fit_and_write(spec, names, dest, out: Path, text: str, console: Console) -> int:
+    if names:
+        from vlab.identify.ranking import fit_models, write_ranking
+
+        rows = write_ranking(spec, fit_models(spec, names), dest, text)
+        for r in rows:
+            held = r["held_out_rms_relative"]
+            console.print(f"  {r['rank']}. {r['model']:<14} held-out rms "
+                          f"{'—' if held is None else f'{100 * held:.3g} %':>8}  BIC {r['BIC']:.4g}", highlight=False)
+        console.print(f"report: {out / 'index.html'}", highlight=False, soft_wrap=True)
+        return 0 if all(r["converged"] for r in rows) else 1
+    from vlab.identify.fitting import fit_any
+    from vlab.identify.report import write_fit_report
+
+    try:
+        outcome = fit_any(spec)
+    except SceneError as exc:  # found while fitting (e.g. the scene's test does not cover the data)
+        console.print(f"[red]invalid fit file[/red] {exc}", highlight=False, soft_wrap=True)
+        return 2
+    d = write_fit_report(outcome, dest, text)
+    _print_fit(console, d)
+    console.print(f"report: {out / 'index.html'}", highlight=False, soft_wrap=True)
+    return 0 if d["converged"] else 1

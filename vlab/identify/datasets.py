@@ -1,0 +1,105 @@
+"""Measured curves from CSV files, validated with the file, row (file line) and column in errors.
+
+Stresses are converted to MPa (MPa, N/mm2: 1; kPa: 1e-3; Pa: 1e-6; kgf/cm2: 0.0980665) and
+strains to stretches (λ = 1 + ε). Forces (kind "specimen") are in N (N: 1, kN: 1e3).
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from vlab.fields import SceneError, suggest
+
+__all__ = ["Dataset", "STRESS_UNITS", "FORCE_UNITS", "read_columns", "COLUMN_KEYS"]
+
+STRESS_UNITS = {"MPa": 1.0, "N/mm2": 1.0, "kPa": 1e-3, "Pa": 1e-6, "kgf/cm2": 0.0980665}
+FORCE_UNITS = {"N": 1.0, "kN": 1e3}
+
+# column keys per kind: (required, optional); "stretch" may be given as "strain" instead
+COLUMN_KEYS = {
+    "uniaxial": (("stretch", "stress"), ()),
+    "equibiaxial": (("stretch", "stress"), ()),
+    "planar": (("stretch", "stress"), ()),
+    "biaxial": (("stretch", "stretch2", "stress", "stress2"), ()),
+    "simple-shear": (("shear", "stress"), ()),
+    "specimen": (("strain", "force"), ("strain2", "force2")),
+    "volumetric": (("volume_ratio", "stress"), ()),
+}
+
+
+@dataclass(frozen=True, eq=False)
+class Dataset:
+    """One data set: ``a`` controlled stretch (or shear γ, or specimen strain), ``b`` biaxial λ2,
+    ``y`` measured stress in MPa (biaxial: stress along 1 then along 2; specimen: force in N)."""
+
+    name: str
+    file: str
+    kind: str
+    role: str
+    weight: float
+    measure: str
+    a: np.ndarray
+    b: np.ndarray | None
+    y: np.ndarray
+    extra: dict | None = None
+
+    @property
+    def points(self) -> int:
+        return len(self.a)
+
+
+def _cell(path: Path, line: int, column: str, text: str) -> float:
+    try:
+        v = float(text)
+    except ValueError:
+        raise SceneError(f"{path.name} row {line} column {column!r}: {text!r} is not a number") from None
+    if not math.isfinite(v):
+        raise SceneError(f"{path.name} row {line} column {column!r}: {text!r} is not a finite number "
+                         "(NaN and infinities are not data)")
+    return v
+
+
+def read_columns(path: Path, wanted: dict[str, str]) -> dict[str, np.ndarray]:
+    """The named columns ({key: header name}) of a CSV as floats, every cell checked; "_line"
+    holds each row's line number in the file (the header is line 1)."""
+    if not path.is_file():
+        raise SceneError(f"data file {str(path)!r} does not exist")
+    with open(path, newline="", encoding="utf-8-sig") as fh:
+        rows = [r for r in csv.reader(fh)]
+    rows = [(i + 1, r) for i, r in enumerate(rows) if any(c.strip() for c in r)]
+    if not rows:
+        raise SceneError(f"{path.name} is empty: expected a header row naming the columns "
+                         f"{', '.join(repr(v) for v in wanted.values())}")
+    header = [h.strip() for h in rows[0][1]]
+    cols = {}
+    for key, name in wanted.items():
+        if name not in header:
+            raise SceneError(f"{path.name}: missing column {name!r} (columns.{key}); the header has "
+                             f"{', '.join(repr(h) for h in header)}{suggest(name, header)}")
+        cols[key] = header.index(name)
+    if len(rows) < 2:
+        raise SceneError(f"{path.name} has a header but no data rows")
+    out = {k: [] for k in wanted} | {"_line": []}
+    for line, r in rows[1:]:
+        out["_line"].append(line)
+        for key, j in cols.items():
+            text = r[j].strip() if j < len(r) else ""
+            if not text:
+                raise SceneError(f"{path.name} row {line} column {wanted[key]!r}: empty cell")
+            out[key].append(_cell(path, line, wanted[key], text))
+    return {k: np.array(v) for k, v in out.items()}
+
+
+def check_monotonic(path: Path, column: str, v: np.ndarray, lines: np.ndarray) -> None:
+    """A controlled stretch/shear must run one way (a loading curve, not a loop)."""
+    d = np.diff(v)
+    bad = np.nonzero(d <= 0)[0] if np.sum(d > 0) >= np.sum(d < 0) else np.nonzero(d >= 0)[0]
+    if len(v) > 1 and len(bad):
+        i = int(bad[0]) + 1
+        raise SceneError(f"{path.name} row {int(lines[i])} column {column!r}: {v[i]:g} after {v[i - 1]:g} — "
+                         "the stretch must be strictly monotonic (one loading branch)")

@@ -1,0 +1,204 @@
+"""FE in the loop: fit the scene's material constants until vlab's own test reproduces the
+specimen's readings (extensometer strain e_i, load-cell force F_i in N).
+
+The simulated force at a measured strain is the cubic spline F(e) through the recorded levels
+(and (0, 0)); its sensitivity at fixed strain is S_k = dF_k/dp − F'(e_k) de_k/dp (the strain
+itself moves with p between clamped grips), splined the same way. Residuals r_i = (F(e_i) − F_i)/s_i
+(s_i = max(|F_i|, 0.01 max|F|) relative, 1 N absolute; the spline extends at most 10 % of the
+strain range beyond the last level, since the end strain between clamped grips moves with p), J_i = S(e_i)/s_i. Levenberg–Marquardt:
+(JᵀJ + λ diag JᵀJ) δ = −Jᵀr, a step that lowers Σ r² is kept (λ/10), else λ×10; every trial
+point is one whole-test solve. Converged when every |δ_j| ≤ 0.01 standard errors (or 1e-8 p_j),
+i.e. the last step moved nothing the data can resolve. Uncertainty as for homogeneous fits.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+
+import numpy as np
+from scipy.interpolate import CubicSpline
+
+from vlab.fields import SceneError
+from vlab.identify import uncertainty as unc
+from vlab.identify.card import card_of
+from vlab.identify.drucker import kind_stability
+from vlab.identify.fe_sensitivity import simulate
+from vlab.identify.laws import law_for
+from vlab.identify.states import Constitutive
+
+__all__ = ["fit_specimen", "residuals"]
+
+EXTRAPOLATION = 0.1  # data may reach 10 % of the simulated strain range beyond its end
+
+
+def residuals(sim, d, relative: bool):
+    """(r, J, F(e_i)) of data set d against a simulation."""
+    e = np.r_[0.0, sim.strain]
+    F = np.r_[0.0, sim.force]
+    if np.any(np.diff(e) <= 0):
+        raise RuntimeError("the simulated extensometer strain is not monotonic; cannot match strains")
+    lo, hi = min(e[0], e[-1]), max(e[0], e[-1])
+    reach = EXTRAPOLATION * (hi - lo)  # the end strain moves with the constants between clamped grips
+    if np.min(d.a) < lo - reach or np.max(d.a) > hi + reach:
+        raise SceneError(f"{d.name}: the data's strain range {np.min(d.a):.4g}..{np.max(d.a):.4g} is not covered "
+                         f"by the scene's test ({lo:.4g}..{hi:.4g}): change the scene's test.stretch")
+    spline = CubicSpline(e, F)
+    S = np.vstack([np.zeros(sim.dforce.shape[1]), sim.dforce - spline(sim.strain, 1)[:, None] * sim.dstrain])
+    Fi = spline(d.a)
+    Si = CubicSpline(e, S, axis=0)(d.a)
+    scale = np.maximum(np.abs(d.y), 0.01 * np.max(np.abs(d.y))) if relative else np.ones_like(d.y)
+    w = np.sqrt(d.weight) / scale
+    return (Fi - d.y) * w, Si * w[:, None], Fi
+
+
+class _Problem:
+    def __init__(self, spec):
+        self.spec, self.fe = spec, spec.fe
+        self.sets = [d for d in spec.datasets if d.kind == "specimen" and d.role == "fit"]
+        self.names = self.fe["parameters"]
+        self.solves = 0   # evaluations of the whole test (solved, or read back from the cache)
+        self.cached = 0
+
+    def values(self, p):
+        return self.fe["fixed"] | dict(zip(self.names, map(float, p)))
+
+    def evaluate(self, p):
+        self.solves += 1
+        sim = simulate(self.fe, self.values(p))
+        self.cached += sim.cached
+        parts = [residuals(sim, d, self.spec.residual == "relative") for d in self.sets]
+        return np.concatenate([q[0] for q in parts]), np.vstack([q[1] for q in parts]), sim
+
+
+def _lm(prob: _Problem, p0):
+    p, lam = np.asarray(p0, float), 1e-3
+    r, J, sim = prob.evaluate(p)
+    trail = [{"solve": 1, "parameters": p.tolist(), "objective": float(0.5 * r @ r), "accepted": True}]
+    while prob.solves < prob.fe["max_solves"]:
+        A, g = J.T @ J, J.T @ r
+        delta = np.linalg.solve(A + lam * np.diag(np.diag(A)), -g)
+        while np.any(p + delta <= 0):  # constants stay positive (no solve spent on it)
+            delta *= 0.5
+        r2, J2, sim2 = prob.evaluate(p + delta)
+        ok = r2 @ r2 < r @ r
+        trail.append({"solve": prob.solves, "parameters": (p + delta).tolist(), "objective": float(0.5 * r2 @ r2),
+                      "accepted": bool(ok)})
+        if ok:
+            cov, *_ = unc.covariance(J2, r2)
+            se = np.sqrt(np.clip(np.diag(cov), 0, None))
+            p, r, J, sim, lam = p + delta, r2, J2, sim2, lam / 10
+            if np.all(np.abs(delta) <= np.maximum(0.01 * se, 1e-8 * np.abs(p))):
+                return p, r, J, sim, trail, True, "the last step moved every constant by < 0.01 standard errors"
+        else:
+            lam *= 10
+    return p, r, J, sim, trail, False, f"not converged within fe.max_solves = {prob.fe['max_solves']} whole-test solves"
+
+
+def _homogeneous_comparison(spec, sim, p, se, names) -> dict:
+    """The closed-form uniaxial fit of the same readings (stress = F/A0, stretch = 1 + e)."""
+    from vlab.identify.datasets import Dataset
+    from vlab.identify.fitting import fit_homogeneous
+
+    bulk = "fit" if "K" in names else "fixed"
+    model = _closed_form(spec.fe, bulk)
+    sets = tuple(Dataset(d.name, d.file, "uniaxial", "fit", d.weight, "nominal", 1.0 + d.a, None, d.y / sim.area0)
+                 for d in spec.datasets if d.kind == "specimen" and d.role == "fit")
+    hom = fit_homogeneous(dataclasses.replace(spec, model=model, datasets=sets, fe=None, starts=3))
+    values = spec.fe["fixed"] | dict(zip(model.names, model.card_vector(hom.x)))
+    out = {"parameters": {n: float(values[n]) for n in names}, "area0_mm2": sim.area0}
+    out["difference_in_standard_errors"] = {n: float((values[n] - v) / s) if s > 0 else None
+                                            for n, v, s in zip(names, p, se)}
+    out["relative_difference"] = {n: float(values[n] / v - 1) for n, v in zip(names, p)}
+    return out
+
+
+def _closed_form(fe: dict, bulk: str) -> Constitutive:
+    """The identification library's form of the scene's law (vlab's Neo-Hookean, or a card model
+    with the scene's volumetric energy); bulk "fit" or "fixed" at the scene's K."""
+    return Constitutive(law_for(fe.get("model", "neo-hookean")), bulk,
+                        None if bulk == "fit" else fe["fixed"]["K"], fe.get("volumetric") or "quadratic")
+
+
+def _card_space(model: Constitutive, values: dict, names, cov):
+    """Internal coordinates x of the card (values) and the covariance of the fitted constants
+    mapped to x (zero for the constants held fixed): card = T x, Cov_x = T⁻¹ Cov T⁻ᵀ."""
+    order = list(model.names)
+    card = np.array([values[n] for n in order])
+    T_inv = np.linalg.inv(model.transform)
+    cov_card = np.zeros((len(order), len(order)))
+    idx = [order.index(n) for n in names]
+    cov_card[np.ix_(idx, idx)] = cov
+    return T_inv @ card, T_inv @ cov_card @ T_inv.T
+
+
+def fit_specimen(spec):
+    """The FE-in-the-loop fit of spec's specimen data sets."""
+    from vlab.identify.fitting import FitOutcome, _information
+
+    t0 = time.perf_counter()
+    prob = _Problem(spec)
+    names = prob.names
+    p0 = np.array([spec.fe["start"][n] for n in names])
+    try:
+        p, r, J, sim, trail, converged, reason = _lm(prob, p0)
+    except RuntimeError as exc:
+        raise SceneError(f"fe.scene: {exc}") from None
+    t_fit = time.perf_counter() - t0
+    cov, s2, dof, cond = unc.covariance(J, r)
+    stats = unc.summarize(p, cov, list(names), dof, spec.confidence)
+    se = np.sqrt(np.clip(np.diag(cov), 0, None))
+    values = prob.values(p)
+    model = _closed_form(spec.fe, "fit")
+    x, cov_x = _card_space(model, values, names, cov)
+    datasets = []
+    for d in (d for d in spec.datasets if d.kind == "specimen"):
+        _, _, Fi = residuals(sim, d, True)
+        rel = (Fi - d.y) / np.maximum(np.abs(d.y), 0.01 * np.max(np.abs(d.y)))
+        datasets.append({"name": d.name, "file": d.file, "kind": "specimen", "role": d.role, "points": d.points,
+                         "rms_relative": float(np.sqrt(np.mean(rel ** 2))), "max_relative": float(np.max(np.abs(rel))),
+                         "rms_absolute_N": float(np.sqrt(np.mean((Fi - d.y) ** 2)))})
+    stability = {k: kind_stability(model, x, k, None) for k in ("uniaxial", "equibiaxial", "planar")}
+    data = {
+        "name": spec.name, "converged": bool(converged), "reason": reason,
+        "model": {"name": model.law.model, "terms": 1, "bulk": "fit" if "K" in names else "fixed",
+                  "K": values["K"], "volumetric": spec.fe.get("volumetric") or "vlab neo-hookean",
+                  "mu0": model.law.mu0([values[n] for n in model.law.names])},
+        "parameters": {n: float(v) for n, v in zip(names, p)}, "uncertainty": stats["uncertainty"],
+        "confidence": spec.confidence, "correlation": stats["correlation"], "datasets": datasets,
+        "information": _information(r, len(p), s2, dof),
+        "starts": {"count": 1, "reached_best": 1, "agree": True, "others_objective_ratio": None,
+                   "note": "FE-in-the-loop fits start once, from fe.start"},
+        "identifiability": {"identifiable": not stats["correlated_pairs"] and cond <= unc.COND_LIMIT,
+                            "condition_number": cond, "correlated_pairs": stats["correlated_pairs"]},
+        "stability": {"kinds": stability, "stable_over_all_fitted_ranges": True},
+        "card": card_of(model, model.card_vector(x)),
+        "fe": {"scene": spec.fe["scene_path"], "solves": prob.solves, "from_cache": prob.cached,
+               "cache": spec.fe.get("cache"), "trail": trail,
+               "homogeneous_fit": _homogeneous_comparison(spec, sim, p, se, names)},
+        "warnings": [f"vlab run: {w}" for w in sim.warnings],
+        "options": {"residual": spec.residual},
+        "timing": {"fit_s": t_fit, "total_s": time.perf_counter() - t0},
+    }
+    fe_spec = dataclasses.replace(spec, model=model)
+    outcome = FitOutcome(data, fe_spec, x, cov_x, stats["t_quantile"])
+    outcome.extras["writers"] = [("specimen.png", lambda path: _plot(spec, sim, J, cov, stats["t_quantile"], path))]
+    outcome.extras["figures"] = [("specimen.png", "The specimen's readings (points) against vlab's own test at the "
+                                  "fitted constants (line), force against extensometer strain.")]
+    return outcome
+
+
+def _plot(spec, sim, J, cov, tq, path):
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6, 4.2))
+    for d in (d for d in spec.datasets if d.kind == "specimen"):
+        ax.plot(d.a, d.y, "o", ms=4, label=f"{d.name} ({d.role})")
+    ax.plot(np.r_[0, sim.strain], np.r_[0, sim.force], "k-", lw=1.2, label="vlab test at the fitted constants")
+    ax.set_xlabel("extensometer strain")
+    ax.set_ylabel("force (N)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)

@@ -1,0 +1,200 @@
+"""The fit file (TOML), validated like a scene: every error is a SceneError naming the key.
+
+    name = "rubber-a"
+    [model]    name (neo-hookean | mooney-rivlin | yeoh | gent | arruda-boyce | ogden; "ogden-3" =
+               ogden with terms = 3), terms (ogden, 1..6), incompressible (default true), K (fixed
+               bulk modulus, MPa) or fit_K = true, volumetric (quadratic | log | simo-taylor)
+    [[data]]   file (resolved against the fit file's folder), kind, columns, stress_measure,
+               units, role (fit | validate), weight, name
+    [options]  residual (relative | absolute), starts (1..1000), seed, confidence (0.5..0.999),
+               max_evaluations (per start, default 400)
+    [fe]       scene (kind = "specimen"), parameters (the card keys fitted), start, max_solves
+"""
+
+from __future__ import annotations
+
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from vlab import fields
+from vlab.fields import SceneError, Table
+from vlab.identify.datasets import (COLUMN_KEYS, FORCE_UNITS, STRESS_UNITS, Dataset, check_monotonic,
+                                    read_columns)
+from vlab.identify.laws import MODEL_NAMES, law_for
+from vlab.identify.states import Constitutive
+
+__all__ = ["FitSpec", "load_fit", "parse_fit", "parse_model_name"]
+
+KINDS = ("uniaxial", "equibiaxial", "planar", "biaxial", "simple-shear", "volumetric", "specimen")
+
+
+@dataclass(frozen=True, eq=False)
+class FitSpec:
+    name: str
+    model: Constitutive
+    datasets: tuple[Dataset, ...]
+    residual: str = "relative"
+    starts: int = 20
+    seed: int = 0
+    confidence: float = 0.95
+    max_evaluations: int = 400
+    fe: dict | None = None
+    source: dict = field(default_factory=dict)
+    base_dir: Path = Path(".")
+
+
+def parse_model_name(text: str, field_name: str = "model.name") -> tuple[str, int]:
+    """"ogden-3" → ("ogden", 3); other names → (name, 1)."""
+    if isinstance(text, str) and text.startswith("ogden-") and text[6:].isdigit():
+        return "ogden", fields.integer(field_name + " (terms)", int(text[6:]), 1, 6)
+    return fields.choice(field_name, text, MODEL_NAMES + tuple(f"ogden-{n}" for n in (1, 2, 3))), 1
+
+
+def _model(raw) -> Constitutive:
+    t = Table("model", raw, ("name", "terms", "incompressible", "K", "fit_K", "volumetric"))
+    name, terms = parse_model_name(t.get("name"))
+    if "terms" in t.raw:
+        if name != "ogden":
+            raise SceneError(f"model.terms is only for ogden (a series model), not {name!r}")
+        terms = t.integer("terms", 1, 6)
+    inc = t.get("incompressible", True)
+    fit_k = t.get("fit_K", False)
+    for key, v in (("incompressible", inc), ("fit_K", fit_k)):
+        if not isinstance(v, bool):
+            raise SceneError(f"model.{key} must be true or false, got {fields.show(v)}")
+    K = t.number("K", None, gt=0, note=" (MPa, bulk modulus held fixed)")
+    vol = t.choice("volumetric", ("quadratic", "log", "simo-taylor"), "quadratic")
+    explicit_inc = "incompressible" in t.raw
+    if (K is not None or fit_k) and explicit_inc and inc:
+        raise SceneError("model.incompressible = true cannot be combined with model.K or model.fit_K")
+    if K is not None and fit_k:
+        raise SceneError("give model.K (fixed) or model.fit_K = true, not both")
+    if explicit_inc and not inc and K is None and not fit_k:
+        raise SceneError("model.incompressible = false needs model.K (MPa, fixed) or model.fit_K = true")
+    bulk = "fit" if fit_k else "fixed" if K is not None else "incompressible"
+    return Constitutive(law_for(name, terms), bulk, K, vol)
+
+
+def _columns(t: Table, kind: str) -> dict[str, str]:
+    required, optional = COLUMN_KEYS[kind]
+    raw = t.get("columns", {})
+    alt = {"stretch": "strain", "stretch2": "strain2"}
+    allowed = required + optional + tuple(alt[k] for k in required if k in alt)
+    ct = Table(t.field("columns"), raw, allowed)
+    out = {}
+    for key in required:
+        if key in alt and alt[key] in ct.raw:
+            if key in ct.raw:
+                raise SceneError(f"{ct.field(key)}: give {key} or {alt[key]}, not both")
+            out[alt[key]] = ct.raw[alt[key]]
+        else:
+            out[key] = ct.raw.get(key, key)
+    out |= {k: ct.raw[k] for k in optional if k in ct.raw}
+    for k, v in out.items():
+        if not isinstance(v, str) or not v:
+            raise SceneError(f"{ct.field(k)} must be a column name (string), got {fields.show(v)}")
+    return out
+
+
+def _dataset(raw, i: int, base: Path) -> Dataset:
+    t = Table(f"data[{i}]", raw, ("file", "kind", "columns", "stress_measure", "units", "role",
+                                  "weight", "name"))
+    file = t.get("file")
+    if not isinstance(file, str) or not file:
+        raise SceneError(f"{t.field('file')} must be a CSV file name (string), got {fields.show(file)}")
+    kind = t.choice("kind", KINDS)
+    units = FORCE_UNITS if kind == "specimen" else STRESS_UNITS
+    unit = t.choice("units", tuple(units), "N" if kind == "specimen" else "MPa")
+    measure = t.choice("stress_measure", ("nominal", "true"), "nominal")
+    role = t.choice("role", ("fit", "validate"), "fit")
+    weight = t.number("weight", 1.0, gt=0)
+    name = t.get("name", Path(file).stem)
+    wanted = _columns(t, kind)
+    path = (base / file).resolve()
+    cols = read_columns(path, wanted)
+    return _to_dataset(path, name, kind, role, weight, measure, units[unit], wanted, cols)
+
+
+def _to_dataset(path, name, kind, role, weight, measure, factor, wanted, cols) -> Dataset:
+    lines = cols.pop("_line")
+    for key in ("strain", "strain2"):
+        if key in cols and kind != "specimen":
+            cols[key.replace("strain", "stretch")] = 1.0 + cols.pop(key)
+            wanted[key.replace("strain", "stretch")] = wanted.pop(key)
+    for key in ("stretch", "stretch2"):
+        if key in cols and np.any(cols[key] <= 0):
+            j = int(np.argmax(cols[key] <= 0))
+            raise SceneError(f"{path.name} row {int(lines[j])} column {wanted[key]!r}: stretch must be > 0 "
+                             f"(strain > -1), got {cols[key][j]:g}")
+    if kind == "volumetric" and np.any(cols["volume_ratio"] <= 0):
+        j = int(np.argmax(cols["volume_ratio"] <= 0))
+        raise SceneError(f"{path.name} row {int(lines[j])} column {wanted['volume_ratio']!r}: volume ratio must "
+                         f"be > 0, got {cols['volume_ratio'][j]:g}")
+    control = {"simple-shear": "shear", "specimen": "strain", "volumetric": "volume_ratio"}.get(kind, "stretch")
+    if kind != "biaxial":
+        check_monotonic(path, wanted[control], cols[control], lines)
+    if kind == "biaxial":
+        a, b, y = cols["stretch"], cols["stretch2"], np.r_[cols["stress"], cols["stress2"]] * factor
+    elif kind == "specimen":
+        a, b, y = cols["strain"], cols.get("strain2"), cols["force"] * factor
+        if "force2" in cols:
+            y = np.r_[y, cols["force2"] * factor]
+    else:
+        a, b, y = cols[control], None, cols["stress"] * factor
+    return Dataset(str(name), str(path), kind, role, weight, measure, a, b, y)
+
+
+def _options(raw) -> dict:
+    t = Table("options", raw, ("residual", "starts", "seed", "confidence", "max_evaluations"))
+    return {"residual": t.choice("residual", ("relative", "absolute"), "relative"),
+            "max_evaluations": t.integer("max_evaluations", 1, 100000, 400),
+            "starts": t.integer("starts", 1, 1000, 20), "seed": t.integer("seed", 0, 2**31 - 1, 0),
+            "confidence": t.number("confidence", 0.95, ge=0.5, le=0.999)}
+
+
+def parse_fit(data: dict, base_dir: Path, default_name: str = "fit") -> FitSpec:
+    """A validated FitSpec from a parsed fit file; data files are read and checked here."""
+    allowed = ("name", "description", "model", "data", "options", "fe")
+    for key in data:
+        if key not in allowed:
+            raise SceneError(f"unknown top-level key {key!r} in the fit file (allowed: {', '.join(allowed)})"
+                             f"{fields.suggest(key, allowed)}")
+    for key in ("model", "data"):
+        if key not in data:
+            raise SceneError(f"missing required [{key}]" + (" table" if key == "model" else " (one [[data]] per file)"))
+    name = data.get("name", default_name)
+    if not isinstance(name, str) or not name or "/" in name:
+        raise SceneError(f"name must be a non-empty string without '/', got {fields.show(name)}")
+    model = _model(data["model"])
+    raw_data = data["data"]
+    if not isinstance(raw_data, list) or not raw_data:
+        raise SceneError("[[data]] must list at least one data set (file, kind, columns, ...)")
+    datasets = tuple(_dataset(d, i, Path(base_dir)) for i, d in enumerate(raw_data))
+    if model.bulk == "incompressible" and any(d.kind == "volumetric" for d in datasets):
+        raise SceneError("a data set of kind = \"volumetric\" needs a compressible model: model.fit_K = true "
+                         "or model.K")
+    if not any(d.role == "fit" for d in datasets):
+        raise SceneError("no data set has role = \"fit\": at least one must be fitted")
+    fe = None
+    if any(d.kind == "specimen" for d in datasets):
+        from vlab.identify.fe_spec import parse_fe
+        fe = parse_fe(data.get("fe"), Path(base_dir), model, datasets)
+    elif "fe" in data:
+        raise SceneError("[fe] is only used with a data set of kind = \"specimen\"")
+    opts = _options(data.get("options", {}))
+    return FitSpec(name, model, datasets, fe=fe, source=data, base_dir=Path(base_dir), **opts)
+
+
+def load_fit(path: str | Path) -> FitSpec:
+    """Read and validate a fit file (SceneError on any problem, naming the key or file/row/column)."""
+    path = Path(path)
+    if not path.is_file():
+        raise SceneError(f"fit file {str(path)!r} does not exist")
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except tomllib.TOMLDecodeError as exc:
+        raise SceneError(f"{path.name} is not valid TOML: {exc}") from None
+    return parse_fit(data, path.parent, path.stem)

@@ -1,0 +1,97 @@
+"""Figures of a fit (matplotlib, no physics): curves with bands and residuals, the stability map."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from vlab.identify.drucker import PATHS, stability_map  # noqa: E402
+
+__all__ = ["plot_curves", "plot_stability_map"]
+
+_XLABEL = {"simple-shear": "shear γ", "biaxial": "point", "specimen": "strain", "volumetric": "volume ratio J"}
+
+
+def _panel(ax, rax, d, cur, confidence: float):
+    held = d.role == "validate"
+    colour = "tab:orange" if held else "tab:blue"
+    label = f"{d.name} ({d.kind}{', held out' if held else ''})"
+    if d.kind == "biaxial":
+        x = np.arange(len(d.y))
+        ax.plot(x, d.y, "o", color=colour, ms=4, label=label)
+        ax.errorbar(x, cur["y"], yerr=cur["band"], fmt="_", color="k", label="fit ± band")
+    else:
+        ax.plot(d.a, d.y, "o", color=colour, ms=4, label=label)
+        ax.plot(cur["a"], cur["y"], "-", color="k", lw=1.2, label="prediction" if held else "fit")
+        ax.fill_between(cur["a"], cur["y"] - cur["band"], cur["y"] + cur["band"], color="k", alpha=0.18,
+                        label=f"{100 * confidence:g} % band (delta method)")
+        x = d.a
+    ax.set_ylabel("pressure (MPa)" if d.kind == "volumetric" else
+                  f"{'true' if d.measure == 'true' else 'nominal'} stress (MPa)")
+    ax.legend(fontsize=7)
+    ax.grid(alpha=0.3)
+    floor = 0.01 * np.max(np.abs(d.y))
+    rel = (cur["at_data"] - d.y) / np.maximum(np.abs(d.y), floor if floor > 0 else 1.0)
+    rax.axhline(0, color="k", lw=0.6)
+    rax.plot(x, 100 * rel, "o-", color=colour, ms=3, lw=0.8)
+    rax.set_ylabel("residual (%)")
+    rax.set_xlabel(_XLABEL.get(d.kind, "stretch λ"))
+    rax.grid(alpha=0.3)
+
+
+def plot_curves(outcome, curves: dict, path: Path) -> None:
+    """One column per data set: data, fitted (or predicted) curve and band; relative residuals below."""
+    sets = [d for d in outcome.spec.datasets if d.kind != "specimen"]
+    n = len(sets)
+    fig, axes = plt.subplots(2, n, figsize=(4.2 * n, 6.0), squeeze=False,
+                             gridspec_kw={"height_ratios": [3, 1.3]})
+    for j, d in enumerate(sets):
+        _panel(axes[0, j], axes[1, j], d, curves[j], outcome.spec.confidence)
+    fig.suptitle(f"{outcome.spec.name}: {outcome.data['model']['name']}", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def _path_segments(ax, outcome, kind: str, lam: np.ndarray, colour: str):
+    """A kind's path in the (λ1, λ2) plane: solid where Drucker-stable, dashed where not."""
+    from vlab.identify.drucker import _state_eps, min_eigenvalue
+
+    model, x = outcome.spec.model, outcome.x
+    l1, l2 = PATHS[kind](lam)
+    ok = min_eigenvalue(model, x, _state_eps(model, x, kind, lam)) > 0
+    for stable, style in ((True, "-"), (False, "--")):
+        y = np.where(ok == stable, l2, np.nan)
+        ax.plot(l1, y, style, color=colour, lw=1.6, label=f"{kind} ({'stable' if stable else 'unstable'})"
+                if (ok == stable).any() else None)
+
+
+def plot_stability_map(outcome, path: Path) -> None:
+    """Where the fitted card is Drucker-stable over (λ1, λ2), 0.1..10 log axes, with the paths."""
+    sm = stability_map(outcome.spec.model, outcome.x)
+    lam, m = sm["stretch"], sm["min_eigenvalue"]
+    fig, ax = plt.subplots(figsize=(6.2, 5.6))
+    ax.contourf(lam, lam, (m > 0).T.astype(float), levels=[-0.5, 0.5, 1.5], colors=["#f4c7c3", "#d9ead3"])
+    ax.contour(lam, lam, m.T, levels=[0.0], colors="firebrick", linewidths=0.8)
+    path_lam = np.geomspace(0.1, 10.0, 300)
+    for kind, colour in (("uniaxial", "tab:blue"), ("equibiaxial", "tab:green"), ("planar", "tab:purple")):
+        _path_segments(ax, outcome, kind, path_lam, colour)
+        for d in (d for d in outcome.spec.datasets if d.kind == kind):  # the data's range, drawn thick
+            lam = np.geomspace(float(np.min(d.a)), float(np.max(d.a)), 50)
+            l1, l2 = PATHS[kind](lam)
+            ax.plot(l1, l2, "-", color=colour, lw=4, alpha=0.5, solid_capstyle="butt")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("λ1")
+    ax.set_ylabel("λ2")
+    ax.set_title("Drucker stability (green: stable, red: unstable; λ3 = 1/(λ1 λ2));\n"
+                 "thick: the stretch range of the data", fontsize=9)
+    ax.legend(fontsize=7, loc="lower left")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)

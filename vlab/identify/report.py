@@ -1,0 +1,147 @@
+"""The report folder of a fit: fit.json, curves.png, stability_map.png, card.toml, index.html.
+
+Written through the project's one report-folder writer (vlab.report.folder: atomic, with a
+manifest; it never replaces a folder vlab did not make unless forced).
+"""
+
+from __future__ import annotations
+
+import html
+import json
+from pathlib import Path
+
+import numpy as np
+
+from vlab.report.html import _STYLE
+from vlab.report.folder import report_folder
+
+__all__ = ["write_fit_report", "write_fit_files", "page"]
+
+
+def _f(v, digits: int = 4) -> str:
+    if v is None:
+        return "—"
+    if isinstance(v, bool):
+        return "yes" if v else "no"
+    if isinstance(v, float):
+        return f"{v:.{digits}g}"
+    return html.escape(str(v))
+
+
+def _table(head, rows) -> str:
+    th = "".join(f"<th>{html.escape(h)}</th>" for h in head)
+    body = "".join("<tr>" + "".join(f"<td>{c}</td>" for c in r) + "</tr>" for r in rows)
+    return f"<table><tr>{th}</tr>{body}</table>"
+
+
+def _parameter_rows(d: dict) -> list:
+    rows, values = [], []
+    for k, v in d["parameters"].items():
+        values += [(f"{k}[{i}]", x) for i, x in enumerate(v)] if isinstance(v, list) else [(k, v)]
+    for (name, value) in values:
+        u = d["uncertainty"].get(name, {})
+        lo, hi = u.get("interval", [None, None])
+        rows.append([html.escape(name), _f(value, 6), _f(u.get("standard_error")), f"{_f(lo)} … {_f(hi)}"])
+    return rows
+
+
+def _stability_rows(st: dict) -> list:
+    rows = []
+    for kind, s in st["kinds"].items():
+        t = s["tension"]["unstable_from"]
+        c = (s["compression"] or {}).get("unstable_from") if s["compression"] else None
+        rows.append([kind, "stable to 10" if t is None else f"unstable from λ = {t:.5g}",
+                     "—" if s["compression"] is None else ("stable to 0.1" if c is None else f"unstable below λ = {c:.5g}"),
+                     _f(s.get("stable_over_fitted_range"))])
+    return rows
+
+
+def _fe_section(d: dict) -> str:
+    """FE in the loop: solves and the homogeneous fit of the same readings."""
+    fe = d.get("fe")
+    if not fe:
+        return ""
+    hom = fe["homogeneous_fit"]
+    rows = [[html.escape(n), _f(d["parameters"][n], 6), _f(v, 6), f"{100 * hom['relative_difference'][n]:+.3g} %",
+             _f(hom["difference_in_standard_errors"][n], 3)] for n, v in hom["parameters"].items()]
+    return (f"<h2>FE in the loop</h2><p>{fe['solves']} whole-test solves of {html.escape(fe['scene'])}; the "
+            "closed-form uniaxial fit of the same readings (stress = force / A0, stretch = 1 + strain) for "
+            "comparison: the error a specimen's inhomogeneity would put into a homogeneous fit.</p>"
+            + _table(["constant", "FE fit", "homogeneous fit", "difference", "difference (standard errors)"], rows))
+
+
+def page(d: dict, images: list[tuple[str, str]]) -> str:
+    """index.html of a fit dict and its figures [(file, caption)]."""
+    corr = d["correlation"]
+    ds_rows = [[html.escape(x["name"]), x["kind"], x["role"], str(x["points"]),
+                f"{100 * x['rms_relative']:.3g} %", f"{100 * x['max_relative']:.3g} %"] for x in d["datasets"]]
+    info = d["information"]
+    starts = d["starts"]
+    warn = "".join(f"<p class='warn'>⚠ {html.escape(w)}</p>" for w in d["warnings"])
+    figs = "".join(f"<figure><img src='{f}' style='max-width:100%'><figcaption>{html.escape(c)}</figcaption>"
+                   "</figure>" for f, c in images)
+    status = "converged" if d["converged"] else f"NOT converged: {html.escape(str(d['reason']))}"
+    return f"""<!doctype html><html><head><meta charset="utf-8">
+<title>vlab fit — {html.escape(d['name'])}</title><style>{_STYLE} .warn{{color:#a40}}</style></head><body>
+<h1>vlab fit — {html.escape(d['name'])}: {html.escape(d['model']['name'])}</h1>
+<p>{status}; μ0 = {_f(d['model']['mu0'])} MPa; bulk: {html.escape(d['model']['bulk'])}.</p>{warn}
+{figs}
+<h2>Parameters ({100 * d['confidence']:g} % intervals)</h2>
+{_table(['parameter', 'value', 'standard error', 'interval'], _parameter_rows(d))}
+<h2>Correlations</h2>
+{_table([''] + corr['order'], [[html.escape(n)] + [f"{v:.3f}" for v in row] for n, row in zip(corr['order'], corr['matrix'])])}
+<h2>Data sets</h2>
+{_table(['data', 'kind', 'role', 'points', 'rms relative', 'max relative'], ds_rows)}
+<h2>Fit</h2>
+{_table(['n', 'p', 'AIC', 'BIC', 'residual variance', 'starts at best', 'objective spread of others'],
+        [[str(info['points']), str(info['parameters']), _f(info['AIC']), _f(info['BIC']), _f(info['residual_variance']),
+          f"{starts['reached_best']} of {starts['count']}",
+          '—' if not starts['others_objective_ratio'] else f"{starts['others_objective_ratio']['min']:.3g} … "
+          f"{starts['others_objective_ratio']['max']:.3g} × best"]])}
+<h2>Drucker stability</h2>
+{_table(['kind', 'tension', 'compression', 'stable over the fitted range'], _stability_rows(d['stability']))}
+{_fe_section(d)}
+<h2>Card</h2><pre>{html.escape(d['card']['toml'])}</pre><p>{html.escape(d['card']['note'])}</p>
+<p>Timing: fit {d['timing']['fit_s']:.3g} s, total {d['timing']['total_s']:.3g} s.</p>
+</body></html>"""
+
+
+def _json_default(o):
+    if isinstance(o, np.ndarray):
+        return o.tolist()
+    if isinstance(o, (np.floating, np.integer)):
+        return o.item()
+    raise TypeError(type(o))
+
+
+def write_fit_report(outcome, out, fit_text: str | None = None) -> dict:
+    """Write the folder (out: a path or a checked vlab.report.folder.Destination); returns fit.json's dict."""
+    with report_folder(out, "fit") as tmp:
+        return write_fit_files(outcome, tmp, fit_text)
+
+
+def write_fit_files(outcome, tmp: Path, fit_text: str | None = None) -> dict:
+    """fit.json, card.toml, the figures and index.html into an existing folder."""
+    from vlab.identify.fitting import curves
+    from vlab.identify.plots import plot_curves, plot_stability_map
+
+    d = outcome.data
+    sets = [s for s in outcome.spec.datasets if s.kind != "specimen"]
+    tmp = Path(tmp)
+    images = list(outcome.extras.get("figures", []))
+    if sets:
+        plot_curves(outcome, [curves(outcome, s) for s in sets], tmp / "curves.png")
+        images.append(("curves.png", "Data (points; orange: held out, predicted only) against the fitted "
+                       "model with its delta-method confidence band; below: relative residuals."))
+    plot_stability_map(outcome, tmp / "stability_map.png")
+    images.append(("stability_map.png", "Drucker stability of the fitted card over the (λ1, λ2) plane; the "
+                   "paths of the uniaxial, equibiaxial and planar tests, dashed where unstable."))
+    for name, writer in outcome.extras.get("writers", []):
+        writer(tmp / name)
+    d["files"] = ["fit.json", "index.html", "card.toml"] + [f for f, _ in images]
+    (tmp / "fit.json").write_text(json.dumps(d, indent=2, default=_json_default))
+    (tmp / "card.toml").write_text(d["card"]["toml"])
+    if fit_text is not None:
+        (tmp / "fit.toml").write_text(fit_text)
+    (tmp / "index.html").write_text(page(d, images), encoding="utf-8")
+    return d
