@@ -22,7 +22,8 @@ from vlab.post.fields import FIELDS, cell_fields
 class Snapshot:
     """model: name; t: (n_frames,) load levels, frame 0 unloaded (t = 1 is the target); stretch:
     (n_frames,) grip stretch along x; displacement: (n_frames, n_vertices, 3) mm; fields: name ->
-    (n_frames, n_cells); marks: name -> (reference (2, 3), current (n_frames, 2, 3)) mm."""
+    (n_frames, n_cells); marks: name -> (reference (2, 3), current (n_frames, 2, 3)) mm;
+    completed: whether the test reached its end."""
 
     model: str
     mesh: skfem.Mesh
@@ -31,6 +32,7 @@ class Snapshot:
     displacement: np.ndarray
     fields: dict[str, np.ndarray]
     marks: dict[str, tuple[np.ndarray, np.ndarray]]
+    completed: bool = True  # the test reached its end (False: stopped; the last frame is the last converged)
 
     @property
     def n_frames(self) -> int:
@@ -81,4 +83,4 @@ def take_snapshot(result) -> Snapshot:
         marks[name] = (_in_3d(X), np.stack([_in_3d(X + probe @ ev.u.reshape(-1, d)) for ev in states]))
     t = np.array([0.0] + [lv.t for lv in result.history.levels])
     stretch = 1.0 + t * (result.scene.test.stretch[0] - 1.0)
-    return Snapshot(result.scene.material.model, mesh, t, stretch, u, fields, marks)
+    return Snapshot(result.scene.material.model, mesh, t, stretch, u, fields, marks, result.converged)

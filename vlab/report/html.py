@@ -144,6 +144,7 @@ class ReportPage:
     links: dict[str, list[str]]
     provenance: dict
     notes: list[str] = field(default_factory=list)
+    view3d: str | None = None  # the interactive 3-D view's page in the folder
 
 
 def _model_status(data: dict) -> str:
@@ -271,6 +272,19 @@ def _spring_note(page: ReportPage) -> str:
     return ""
 
 
+def _view3d(page: ReportPage, folder: Path, inline: bool) -> str:
+    """The interactive view in a frame (single-file reports carry the page itself, in srcdoc)."""
+    if not page.view3d:
+        return ""
+    src = html.escape(page.view3d)
+    where = (f'srcdoc="{html.escape((folder / page.view3d).read_text(encoding="utf-8"))}"' if inline
+             else f'src="{src}"')
+    return (f'<h2>Interactive 3-D view</h2><iframe {where} title="interactive 3-D view" '
+            'style="width:100%;height:640px;border:1px solid #ddd"></iframe><p><small>Drag to rotate, '
+            'scroll to zoom; choose the model, the field and the load level; hover for values. '
+            f'<a href="{src}">Open full page</a>.</small></p>')
+
+
 def write_comparison(page: ReportPage, folder: Path, inline_images: bool = False) -> Path:
     """index.html in ``folder`` (which already holds the figures); inlined images when asked."""
     folder = Path(folder)
@@ -291,7 +305,7 @@ def write_comparison(page: ReportPage, folder: Path, inline_images: bool = False
 <h1>vlab report: {html.escape(page.title)}</h1>
 <p>{html.escape(prov.get('description') or '')}</p>
 <table><tr><th></th>{heads}</tr>{rows}</table>{notes}
-{figures}{_spring_note(page)}
+{_view3d(page, folder, inline_images)}{figures}{_spring_note(page)}
 <h2>Files</h2><ul>{links}</ul>
 <h2>Provenance</h2>
 <p>vlab {html.escape(prov['vlab_version'])} · {html.escape(prov['date'])} · scene content hash

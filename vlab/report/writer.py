@@ -112,14 +112,16 @@ def write_report(outcomes: list, out: Path, scene, scene_text: str | None,
         ]
         figures += extra_figures
         renders, notes = _renders(outcomes, tmp, options, figures)
+        view = _interactive(outcomes, tmp, scene.name, options)
         if scene_text is not None:
             (tmp / "scene.toml").write_text(scene_text, encoding="utf-8")
         summary = {"models": [o.model for o in outcomes], "departures_from_neo_hookean": departures,
-                   "renders": renders, "files": links, "measures": kind}
+                   "renders": renders, "files": links, "measures": kind, "view3d": view}
         (tmp / "comparison.json").write_text(json.dumps(summary, indent=2))
         page = ReportPage(title=scene.name, models=datas, checks={o.model: o.checks for o in outcomes},
                           departures=departures, figures=figures, links=links,
-                          provenance=_provenance(scene, scene_text, outcomes), notes=notes)
+                          provenance=_provenance(scene, scene_text, outcomes), notes=notes,
+                          view3d=view["file"] if view else None)
         write_comparison(page, tmp, inline_images=options.single_file)
     return summary
 
@@ -145,17 +147,19 @@ def _renders(outcomes, tmp: Path, options: ReportOptions, figures: list) -> tupl
     if not options.render:
         return {}, []
     from vlab.render.offscreen import RenderUnavailable
-    from vlab.render.specimens import RenderOptions, field_title, render_animation, render_side_by_side
+    from vlab.render.specimens import RenderOptions, render_animation, render_side_by_side, render_states
 
     ropts = RenderOptions(field=options.field)
     try:
         meta = render_side_by_side([o.snapshot for o in outcomes], tmp / f"render_{options.field}.png", ropts)
-        lo, hi = meta["clim"]
-        figures.append(Figure(meta["file"], f"Deformed specimens at the last recorded level, same camera and "
-                              f"colour scale ({field_title(options.field)}: {lo:.4g} to {hi:.4g}); grey: "
-                              "undeformed outline; points: extensometer (red, magenta), transverse (orange) "
-                              "and thickness (blue) gauge marks."))
+        figures.append(Figure(meta["file"], _render_caption(meta, "at its peak (largest grip stretch) or, for a "
+                                                            "monotonic test, at its end")))
         renders = {"side_by_side": meta}
+        if any(len(render_states(o.snapshot)) > 1 for o in outcomes):  # the test came back from its peak
+            end = render_side_by_side([o.snapshot for o in outcomes], tmp / f"render_{options.field}_end.png",
+                                      RenderOptions(field=options.field, state="end"))
+            figures.append(Figure(end["file"], _render_caption(end, "at the end of the test")))
+            renders["end"] = end
         if options.gif_model:
             snap = {o.model: o.snapshot for o in outcomes}[options.gif_model]
             gif = render_animation(snap, tmp / f"animation_{options.gif_model}.gif", ropts)
@@ -166,6 +170,26 @@ def _renders(outcomes, tmp: Path, options: ReportOptions, figures: list) -> tupl
     except RenderUnavailable as exc:
         log.warning("3D renders skipped: %s", exc)
         return {"skipped": str(exc)}, [f"3D renders skipped: {exc}"]
+
+
+def _interactive(outcomes, tmp: Path, title: str, options: ReportOptions) -> dict | None:
+    """view3d.html: the deformed specimens in the reader's browser (rotate, zoom, field, level)."""
+    if not options.render:
+        return None
+    from vlab.report.interactive import write_view
+
+    return write_view([o.snapshot for o in outcomes], tmp, title, inline=options.single_file)
+
+
+def _render_caption(meta: dict, when: str) -> str:
+    from vlab.render.specimens import field_title
+
+    lo, hi = meta["clim"]
+    scale = (f"uniform field, {meta['uniform']:.4g} in every cell" if meta["uniform"] is not None
+             else f"{lo:.4g} to {hi:.4g}")
+    return (f"Deformed specimens {when}; one camera and one colour scale for all panels "
+            f"({field_title(meta['field'])}: {scale}); grey: undeformed outline; points: extensometer "
+            "(red, magenta), transverse (orange) and thickness (blue) gauge marks.")
 
 
 def _critical_modes(outcomes, tmp: Path, figures: list) -> dict:
