@@ -5,6 +5,7 @@ from pathlib import Path
 
 import pytest
 
+from vlab.report.explain import viscoelastic_apparent
 from vlab.report.writer import write_run
 from vlab.run import run_scene
 from vlab.scene import apply_overrides, parse_scene
@@ -40,6 +41,9 @@ def test_specimen_file_runs_on_a_coarse_mesh(path, tmp_path):
     assert result.converged, result.history.failure
     data = write_run(result, tmp_path / scene.name, path.read_text(encoding="utf-8"))
     E_in, nu_in = scene.material.moduli.E, scene.material.moduli.nu
+    apparent = viscoelastic_apparent(data)
+    if apparent is not None:  # a ramp measures the rate-dependent moduli, which the report states
+        E_in, nu_in = apparent["E"], apparent["nu"]
     assert data["measured"]["E"] == pytest.approx(E_in, rel=0.03)
     assert data["measured"]["nu"] == pytest.approx(nu_in, rel=0.03)
     assert data["mesh"]["quality"]["min_quality"] >= scene.mesh.min_quality

@@ -117,6 +117,10 @@ def _print_summary(data: dict) -> None:
     if m["E"] is not None:
         console.print(f"measured E = {m['E']:.6g} MPa, nu = {m['nu']:.6g} "
                       f"(input E = {data['input']['E']:.6g}, nu = {data['input']['nu']:.6g})", highlight=False)
+        from vlab.report.explain import by_design_notes
+
+        for key, note in by_design_notes(data).items():  # a difference by design, said where it shows
+            console.print(f"  {'nu' if key == 'nu' else key}: {note}", highlight=False)
     else:
         console.print(f"E and nu {m['note']}", highlight=False)
 
@@ -201,7 +205,8 @@ def compare(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (
             models: str = typer.Option("linear,stvk,neo-hookean", "--models", "-m",
                                        help="Comma-separated models (linear, stvk, stvk-volumetric, "
                                             "neo-hookean, spring-network)."),
-            out: Optional[Path] = typer.Option(None, "--out", "-o", help="Output folder (default reports/<scene name>)."),
+            out: Optional[Path] = typer.Option(None, "--out", "-o",
+                                               help="Output folder (default reports/<scene name>-compare)."),
             workers: Optional[int] = typer.Option(None, "--workers", "-j", min=1,
                                                   help="Parallel processes (default: one per core)."),
             quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress output."),
@@ -229,7 +234,7 @@ def compare(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (
         console.print(f"[red]invalid scene[/red] {exc}", highlight=False)
         raise typer.Exit(EXIT_INVALID)
     options = _report_options(true, field, single_file, gif, render)
-    out = out or Path("reports") / parsed.name
+    out = out or Path("reports") / f"{parsed.name}-compare"  # not the `vlab run` report of the scene
     with Progress(TextColumn("{task.description:>16}"), BarColumn(), MofNCompleteColumn(),
                   TextColumn("load levels"), TimeElapsedColumn(), console=console, disable=quiet) as bar:
         tasks = {m: bar.add_task(m, total=None) for m in chosen}

@@ -44,7 +44,7 @@ def compose(images: list[np.ndarray], titles: list[str], path: Path, bar: dict) 
     crops = [im[r0:r1, c0:c1] for im in images]
     aspect = (c1 - c0) / max(r1 - r0, 1)
     rows, cols = _layout(len(crops), aspect)
-    gap, title_h, bar_h, side = 0.15, 0.5, 1.0, 0.2  # inches
+    gap, title_h, bar_h, side = 0.15, 0.6, 1.0, 0.2  # inches
     panel_w = (FIG_WIDTH_IN - 2 * side - (cols - 1) * gap) / cols
     panel_h = min(panel_w / aspect, 5.0)
     panel_w = min(panel_w, panel_h * aspect)
@@ -61,8 +61,8 @@ def compose(images: list[np.ndarray], titles: list[str], path: Path, bar: dict) 
             ax.imshow(crop, interpolation="antialiased")
             ax.set_axis_off()
             ax.set_title(title, fontsize=11, loc="left")
-            boxes.append([int(round(x * DPI)), int(round((height - y - panel_h) * DPI)),
-                          int(round((x + panel_w) * DPI)), int(round((height - y) * DPI))])
+            x0, y0 = int(round(x * DPI)), int(round((height - y - panel_h) * DPI))
+            boxes.append([x0, y0, x0 + int(panel_w * DPI), y0 + int(panel_h * DPI)])
         _colour_bar(fig, bar, height, bar_h)
         fig.savefig(path, dpi=DPI, facecolor="white")
     finally:

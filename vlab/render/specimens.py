@@ -210,7 +210,7 @@ def render_side_by_side(snapshots: list[Snapshot], path: Path, options: RenderOp
            "uniform_text": None if uniform is None else
            f"{label}: uniform, {uniform:.4g}{'' if unit == '1' else ' ' + unit} in every cell "
            f"(spread below {UNIFORM_RTOL:g} of its magnitude)"}
-    titles = [f"{s.model}: {st.title}" for s, st in zip(snapshots, states)]
+    titles = [f"{s.model}\n{st.title}" for s, st in zip(snapshots, states)]
     boxes = compose(images, titles, Path(path), bar)
     return {"file": Path(path).name, "field": field, "clim": list(clim), "unit": unit,
             "models": [s.model for s in snapshots], "frames": frames, "states": [st.title for st in states],

@@ -8,6 +8,8 @@ from pathlib import Path
 
 import numpy as np
 
+from vlab.report.explain import by_design_notes
+
 
 def _fmt(value, digits: int = 5) -> str:
     if value is None:
@@ -35,13 +37,19 @@ def _solvers(solver: dict) -> str:
     return f"{text}; {_fmt(solver.get('tangent_kernel'))}"
 
 
+def _why(notes: dict, key: str) -> str:
+    """The reason a measured constant differs from its input by design, set under the number."""
+    return f"<br><small class=why>{html.escape(notes[key])}</small>" if key in notes else ""
+
+
 def summary_rows(data: dict) -> list[tuple[str, str]]:
     m, inp, solver, timing, mesh = (data["measured"], data["input"], data["solver"],
                                     data["timing"], data["mesh"])
+    why = by_design_notes(data)
     rows = [
         ("model", inp["model"]),
-        ("E measured / input [MPa]", f"{_fmt(m['E'])} / {_fmt(inp['E'])}"),
-        ("ν measured / input", f"{_fmt(m['nu'])} / {_fmt(inp['nu'])}"),
+        ("E measured / input [MPa]", f"{_fmt(m['E'])} / {_fmt(inp['E'])}{_why(why, 'E')}"),
+        ("ν measured / input", f"{_fmt(m['nu'])} / {_fmt(inp['nu'])}{_why(why, 'nu')}"),
         ("E from crosshead strain [MPa]", _fmt(m.get("E_crosshead"))),
         ("force at last level [N]", _fmt(data["curve"]["force"][-1] if data["curve"]["force"] else None)),
         ("Newton iterations (total)", _newton_cost(solver)),
@@ -176,9 +184,9 @@ def comparison_rows(page: ReportPage) -> list[tuple[str, list[str]]]:
 
     rows = [
         ("status", per(_model_status)),
-        ("E measured [MPa]", per(lambda d: _fmt(d["measured"]["E"]))),
+        ("E measured [MPa]", per(lambda d: _fmt(d["measured"]["E"]) + _why(by_design_notes(d), "E"))),
         ("E input [MPa]", per(lambda d: _fmt(d["input"]["E"]))),
-        ("ν measured", per(lambda d: _fmt(d["measured"]["nu"]))),
+        ("ν measured", per(lambda d: _fmt(d["measured"]["nu"]) + _why(by_design_notes(d), "nu"))),
         ("ν input", per(lambda d: _fmt(d["input"]["nu"]))),
         ("E fit R²", per(lambda d: _fmt((d["measured"].get("E_fit") or {}).get("r2"), 8))),
         ("force at max stretch [N]", per(force)),
