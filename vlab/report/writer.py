@@ -82,8 +82,7 @@ def write_report(outcomes: list, out: Path, scene, scene_text: str | None,
                  options: ReportOptions = ReportOptions()) -> dict:
     """Write the report of one scene run with one or more models; returns comparison.json's dict."""
     from vlab.compare import REFERENCE_MODEL, departure_strains
-    from vlab.report.comparison_plots import plot_lateral, plot_overlay
-    from vlab.report.html import Figure, ReportPage, write_comparison
+    from vlab.report.html import ReportPage, write_comparison
 
     single = len(outcomes) == 1
     if options.gif_model is not None and options.gif_model not in [o.model for o in outcomes]:
@@ -98,19 +97,14 @@ def write_report(outcomes: list, out: Path, scene, scene_text: str | None,
     kind = "true" if options.true_measures else "engineering"
     with atomic_folder(out) as tmp:
         links = {o.model: _write_model_files(o, tmp, "." if single else o.model, options) for o in outcomes}
-        plot_overlay(datas, tmp / "stress_strain.png", options.true_measures, departures)
-        plot_lateral(datas, tmp / "lateral_strain.png")
+        import matplotlib.pyplot as plt
+
         from vlab.report.effect_plots import effect_figures
-        extra_figures = effect_figures(datas, tmp)
-        figures = [
-            Figure("stress_strain.png", f"{kind.capitalize()} stress against extensometer strain for every "
-                   "model; dashed: the analytic homogeneous solution where the specimen has one; shaded: "
-                   "the E fit window (inset: zoom on it); ○/✕: where a model's stress first differs from "
-                   "Neo-Hookean's by 5 %/10 %."),
-            Figure("lateral_strain.png", "Lateral against axial strain and the apparent Poisson's ratio "
-                   "−ε_lat/ε_axial as the strain grows."),
-        ]
-        figures += extra_figures
+        from vlab.report.kind_plots import NO_OFFSET, kind_figures
+
+        figures = kind_figures(datas, tmp, options.true_measures, departures)
+        with plt.rc_context(NO_OFFSET):
+            figures += effect_figures(datas, tmp)
         renders, notes = _renders(outcomes, tmp, options, figures)
         view = _interactive(outcomes, tmp, scene.name, options)
         if scene_text is not None:
