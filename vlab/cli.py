@@ -13,17 +13,29 @@ from rich.table import Table
 from vlab.moduli import ModuliError, from_pair
 from vlab.scene import SceneError, load_scene
 
-app = typer.Typer(add_completion=False, no_args_is_help=True,
+app = typer.Typer(add_completion=False, no_args_is_help=True, context_settings={"help_option_names": ["-h", "--help"]},
                   help="vlab — a virtual material-testing lab.")
 console = Console(stderr=True)
 
 EXIT_OK, EXIT_FAILED, EXIT_INVALID = 0, 1, 2
 
 
+def _print_version(value: bool) -> None:
+    if value:
+        from vlab import __version__
+
+        typer.echo(f"vlab {__version__}")
+        raise typer.Exit(EXIT_OK)
+
+
 @app.callback()
-def _environment() -> None:
-    """Refuse a bad VLAB_ASSEMBLY_THREADS before any command starts work."""
+def _environment(version: bool = typer.Option(False, "--version", callback=_print_version, is_eager=True,
+                                              help="Print vlab's version and exit.")) -> None:
+    """Refuse a bad VLAB_ASSEMBLY_THREADS before any command starts work; warnings print once."""
+    from vlab.cli_progress import route_warnings
     from vlab.jit import requested_threads  # numba itself is started only by the solver
+
+    route_warnings(console)
 
     try:
         requested_threads()
@@ -57,33 +69,31 @@ def run(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (defa
         estimate: bool = typer.Option(True, "--estimate/--no-estimate",
                                       help="Accuracy estimate from one coarser companion solve (mesh.size × 2).")):
     """Run one test and write its report: results.json, curve.csv, PNGs, renders, VTU/PVD, index.html."""
+    from vlab.cli_progress import RunProgress, scheduled_levels
     from vlab.report.writer import write_run
     from vlab.run import run_scene
 
     parsed, text = _load(scene)
     options = _report_options(true, field, single_file, parsed.material.model if gif else None, render)
     out = out or Path("reports") / parsed.name
-    n_levels = [0]
-
-    def progress(level):
-        n_levels[0] += 1
-        if not quiet:
-            console.print(f"  level {n_levels[0]:3d}  t = {level.t:.4f}  Newton iterations {level.iterations}",
-                          highlight=False)
-
     if not quiet:
         console.print(f"[bold]{parsed.name}[/bold]: {parsed.material.model}, {parsed.test.kind} "
                       f"to stretch {list(parsed.test.stretch)}", highlight=False)
-    try:
-        result = run_scene(parsed, on_level=progress)
-    except SceneError as exc:  # e.g. a mesh below mesh.min_quality: nothing is written
-        console.print(f"[red]invalid scene[/red] {exc}", highlight=False)
-        raise typer.Exit(EXIT_INVALID)
-    if estimate:
-        from vlab.study.estimate import accuracy_estimate
+    with RunProgress(console, scheduled_levels(parsed), quiet) as progress:
+        try:
+            result = run_scene(parsed, on_level=progress.level)
+        except SceneError as exc:  # e.g. a mesh below mesh.min_quality: nothing is written
+            progress.bar.stop()
+            console.print(f"[red]invalid scene[/red] {exc}", highlight=False)
+            raise typer.Exit(EXIT_INVALID)
+        if estimate:
+            from vlab.study.estimate import accuracy_estimate
 
-        result.extra["accuracy_estimate"] = accuracy_estimate(result)
-    data = write_run(result, out, text, options)
+            progress.phase("accuracy estimate (mesh × 2)")
+            result.extra["accuracy_estimate"] = accuracy_estimate(result)
+        progress.phase("report: plots, renders, 3-D")
+        data = write_run(result, out, text, options)
+        progress.phase("done")
     _print_summary(data)
     _print_estimate(data.get("accuracy_estimate"))
     console.print(f"report: {out / 'index.html'}", highlight=False, soft_wrap=True)

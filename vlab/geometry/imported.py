@@ -16,6 +16,9 @@ loading axis holds, the other moves; the grip separation is the gap between them
 
 from __future__ import annotations
 
+import contextlib
+import io
+import logging
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -24,6 +27,8 @@ import skfem
 from scipy.spatial import cKDTree
 
 from vlab.geometry.specimen import GaugeMarks, Grip, Specimen
+
+log = logging.getLogger(__name__)
 
 MESH_SUFFIXES = (".msh", ".vtu")
 _DIM = {"vertex": 0, "line": 1, "line3": 1, "triangle": 2, "triangle6": 2, "quad": 2, "quad8": 2, "quad9": 2,
@@ -64,7 +69,10 @@ def read_mesh(path: Path) -> ImportedMesh:
     if not path.is_file():
         raise MeshImportError("specimen.file", f"{str(path)!r} does not exist")
     try:
-        m = meshio.read(path)
+        with contextlib.redirect_stdout(io.StringIO()) as said:  # meshio prints (blank lines) to stdout
+            m = meshio.read(path)
+        if said.getvalue().strip():
+            log.info("meshio: %s", said.getvalue().strip())
     except Exception as exc:  # meshio raises many types for malformed files
         raise MeshImportError("specimen.file", f"cannot be read by meshio ({type(exc).__name__}: {exc})") from None
     volume = [(b.type, b.data) for b in m.cells if b.type in _VOLUME]
