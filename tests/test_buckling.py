@@ -10,8 +10,8 @@ from vlab.fe.inertia import inertia, lowest_eigenpair
 from vlab.report.results import result_to_dict
 from vlab.run import run_scene
 from vlab.scene import SceneError, parse_scene
-from vlab.stability.buckling import lateral_fraction
-from vlab.stability.euler import clamped_strip
+from vlab.checks.buckling import lateral_fraction
+from vlab.verification.euler import clamped_strip
 
 
 def strip_scene(slenderness: float = 10.0, stretch: float = 0.94, **test):
@@ -196,7 +196,7 @@ def test_lanczos_that_never_converges_is_a_named_failure_not_a_traceback_from_ar
 
 
 def test_a_buckling_run_whose_eigensolver_fails_still_stops_on_the_inertia_and_says_so(monkeypatch):
-    import vlab.stability.monitor as monitor
+    import vlab.checks.monitor as monitor
 
     def fails(*args, **kwargs):
         raise monitor.EigenpairNotFound("lowest eigenpair of K_ff: did not converge")

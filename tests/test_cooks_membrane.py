@@ -1,12 +1,12 @@
 """Cook's membrane: the set-up reproduces the literature, and volumetric locking stays cured.
 
-Fast tests use coarse levels; the full convergence study (vlab.studies.cooks_membrane.run_study,
+Fast tests use coarse levels; the full convergence study (vlab.verification.cooks_membrane.run_study,
 minutes) is marked slow."""
 
 import numpy as np
 import pytest
 
-from vlab.studies.cooks_membrane import (GALLERY_TIP_NU_03, CookCase, StudyPlan, edge_traction,
+from vlab.verification.cooks_membrane import (GALLERY_TIP_NU_03, CookCase, StudyPlan, edge_traction,
                                          membrane_mesh, reference_tip, run_study, solve_cook, table)
 from vlab.fe.space import DisplacementSpace
 

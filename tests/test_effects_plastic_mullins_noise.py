@@ -15,7 +15,7 @@ from scipy.optimize import brentq
 
 from tests.effects_helpers import BLOCK, E, point_uniaxial_history, scene
 from vlab.effects.build import history_law
-from vlab.effects.noise import measure_with_noise
+from vlab.measure.noise import measure_with_noise
 from vlab.materials import make_material
 from vlab.materials.homogeneous import uniaxial
 from vlab.materials.neo_hookean import NeoHookean

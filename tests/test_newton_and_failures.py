@@ -7,7 +7,8 @@ import pytest
 from scenes import scene_dict
 
 from vlab.report.results import result_to_dict
-from vlab.run import observed_order, run_scene
+from vlab.report.results import observed_order
+from vlab.run import run_scene
 from vlab.scene import SceneError, parse_scene
 
 

@@ -17,7 +17,7 @@ from vlab.materials.homogeneous import biaxial, plane_strain_uniaxial, uniaxial
 from vlab.materials.plane import PlaneStress
 from vlab.run import run_scene
 from vlab.scene import SceneError, parse_scene
-from vlab.stability.constraints import unrestrained_modes
+from vlab.loading.restraint import unrestrained_modes
 
 SHEET = {
     "name": "test-sheet",

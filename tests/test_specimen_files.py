@@ -1,9 +1,13 @@
 """Every scene in specimens/ runs as a test, on a coarser mesh and fewer steps than its own."""
 
+import json
 import tomllib
+from functools import cache
 from pathlib import Path
 
 import pytest
+
+from golden import differences, golden_path, golden_view
 
 from vlab.report.explain import viscoelastic_apparent
 from vlab.report.writer import write_run
@@ -33,13 +37,30 @@ def test_the_folder_holds_scenes():
     assert len(FILES) >= 8
 
 
-@pytest.mark.parametrize("path", FILES, ids=lambda p: p.stem)
-def test_specimen_file_runs_on_a_coarse_mesh(path, tmp_path):
+@cache
+def _run_once(path: Path, folder: Path):
     raw = tomllib.loads(path.read_text(encoding="utf-8"))
     scene = parse_scene(coarse(raw), origin=path.name, base_dir=path.parent)
     result = run_scene(scene)
+    data = write_run(result, folder / scene.name, path.read_text(encoding="utf-8"))
+    return scene, result, data
+
+
+def run_coarse(path: Path, folder: Path):
+    """(scene, result, results.json dict) of one specimen file on its coarse mesh; run once per
+    session, shared by the tests below."""
+    return _run_once(path, folder)
+
+
+@pytest.fixture(scope="module")
+def folder(tmp_path_factory):
+    return tmp_path_factory.mktemp("specimens")
+
+
+@pytest.mark.parametrize("path", FILES, ids=lambda p: p.stem)
+def test_specimen_file_runs_on_a_coarse_mesh(path, folder):
+    scene, result, data = run_coarse(path, folder)
     assert result.converged, result.history.failure
-    data = write_run(result, tmp_path / scene.name, path.read_text(encoding="utf-8"))
     E_in, nu_in = scene.material.moduli.E, scene.material.moduli.nu
     apparent = viscoelastic_apparent(data)
     if apparent is not None:  # a ramp measures the rate-dependent moduli, which the report states
@@ -47,3 +68,14 @@ def test_specimen_file_runs_on_a_coarse_mesh(path, tmp_path):
     assert data["measured"]["E"] == pytest.approx(E_in, rel=0.03)
     assert data["measured"]["nu"] == pytest.approx(nu_in, rel=0.03)
     assert data["mesh"]["quality"]["min_quality"] >= scene.mesh.min_quality
+
+
+@pytest.mark.parametrize("path", FILES, ids=lambda p: p.stem)
+def test_results_match_the_golden_files_recorded_before_the_restructuring(path, folder):
+    """rtol 1e-6: a pure restructuring leaves every number identical (to round-off, 1e-15), while
+    a later solver change legitimately moves results at the level of Newton's rtol (1e-8), so the
+    tolerance tells a relocation that changed physics from one that did not, without pinning the
+    goldens to round-off that any solver improvement would break."""
+    expected = json.loads(golden_path(path).read_text(encoding="utf-8"))
+    found = differences(expected, golden_view(run_coarse(path, folder)[2]), rtol=1e-6)
+    assert not found, "\n".join(found[:20])

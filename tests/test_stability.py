@@ -11,7 +11,7 @@ from helpers_scenes import block_scene
 from vlab.fe.inertia import inertia, lowest_eigenpair
 from vlab.report.results import result_to_dict
 from vlab.run import run_scene
-from vlab.stability.constraints import unrestrained_modes
+from vlab.loading.restraint import unrestrained_modes
 
 
 @pytest.mark.parametrize("seed", range(4))

@@ -6,8 +6,8 @@ import pytest
 from typer.testing import CliRunner
 
 from vlab.cli import app
-from vlab.stability import suite
-from vlab.stability.suite import CaseContext, Outcome, register, run_suite, select
+from vlab.verification import suite
+from vlab.verification.suite import CaseContext, Outcome, register, run_suite, select
 
 
 @pytest.fixture(scope="module")

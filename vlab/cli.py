@@ -397,7 +397,7 @@ def stability(fast: bool = typer.Option(False, "--fast", help="Only the fast sub
     import time
 
     from vlab.report.stability_report import write_stability_report
-    from vlab.stability.suite import CaseContext, run_suite, select
+    from vlab.verification.suite import CaseContext, run_suite, select
 
     if fast and all_cases:
         console.print("[red]invalid option[/red] --fast and --all exclude each other", highlight=False)

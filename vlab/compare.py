@@ -13,33 +13,19 @@ import multiprocessing as mp
 import os
 import queue as queue_module
 from concurrent.futures import ProcessPoolExecutor, wait, FIRST_COMPLETED
-from dataclasses import dataclass
 from typing import Callable
 
-import numpy as np
-
 from vlab.loading.schedule import monotonic_schedule
-from vlab.post.snapshot import Snapshot
-from vlab.scene import SPRING_NETWORK, Scene, apply_overrides, parse_scene
+from vlab.measure.departure import REFERENCE_MODEL, departure_strains  # noqa: F401  (public here too)
+from vlab.report.outcome import ModelOutcome, outcome_of
+from vlab.scene import Scene, apply_overrides, parse_scene
 
 log = logging.getLogger(__name__)
 
 DEFAULT_MODELS = ("linear", "stvk", "neo-hookean")
-REFERENCE_MODEL = "neo-hookean"  # the model the others are measured against
 
 #: progress event: (model, levels done, levels scheduled); levels done == scheduled when finished
 Progress = Callable[[str, int, int], None]
-
-
-@dataclass(frozen=True)
-class ModelOutcome:
-    """One model's test: the results.json dict, the snapshot for renders/VTU, checks of the model."""
-
-    model: str
-    data: dict
-    snapshot: Snapshot
-    checks: dict
-    critical_mode: object = None  # eigenvector of the first loss of stability (full DOF vector), if any
 
 
 def scene_for_model(scene: Scene, model: str) -> Scene:
@@ -50,19 +36,6 @@ def scene_for_model(scene: Scene, model: str) -> Scene:
 
 def scheduled_levels(scene: Scene) -> int:
     return len(monotonic_schedule(scene.test.stretch, scene.test.steps, scene.measure.modulus_window))
-
-
-def _model_checks(result) -> dict:
-    """Model-specific evidence shown in the report: a Taylor test for the spring network, whose
-    force and stiffness have no analytic homogeneous oracle to be checked against."""
-    if result.scene.material.model != SPRING_NETWORK:
-        return {}
-    from vlab.fe.taylor import random_state, taylor_test
-
-    body = result.extra["body"]
-    u, v = random_state(body, 0.02 * min(body.L))
-    check = taylor_test(body, u, v, h0=0.05 * min(body.L)).as_dict()
-    return {"taylor": check, "springs": body.n_springs, "stiffness_factor": 6.0}
 
 
 def run_model(scene: Scene, model: str, on_level: Callable[[int], None] | None = None) -> ModelOutcome:
@@ -78,16 +51,6 @@ def run_model(scene: Scene, model: str, on_level: Callable[[int], None] | None =
             on_level(count[0])
 
     return outcome_of(run_scene(scene, on_level=observe))
-
-
-def outcome_of(result) -> ModelOutcome:
-    """Package a RunResult for the reports."""
-    from vlab.post.snapshot import take_snapshot
-    from vlab.report.results import result_to_dict
-
-    critical = result.extra.get("critical_state")
-    return ModelOutcome(result.scene.material.model, result_to_dict(result), take_snapshot(result),
-                        _model_checks(result), None if critical is None else critical.mode)
 
 
 _events = None  # the worker's end of the progress queue (set by the pool initializer)
@@ -139,26 +102,3 @@ def _drain(events, progress: Progress | None) -> None:
             return
         if progress is not None:
             progress(model, done, total)
-
-
-def departure_strains(reference: dict, other: dict, thresholds=(0.05, 0.10)) -> dict[str, float | None]:
-    """Extensometer strain at which ``other``'s engineering stress first differs from
-    ``reference``'s by each relative threshold, |s − s_ref| / |s_ref|, compared level by level at
-    the same grip stretch and interpolated linearly between levels; None if it never does."""
-    s_ref, s = np.asarray(reference["curve"]["stress"]), np.asarray(other["curve"]["stress"])
-    strain = np.asarray(other["curve"]["strain"])
-    n = min(len(s_ref), len(s))
-    rel = np.abs(s[:n] - s_ref[:n]) / np.maximum(np.abs(s_ref[:n]), 1e-300)
-    out: dict[str, float | None] = {}
-    for threshold in thresholds:
-        above = np.flatnonzero(rel >= threshold)
-        key = f"{round(threshold * 100):d}%"
-        if len(above) == 0:
-            out[key] = None
-        elif above[0] == 0:
-            out[key] = float(strain[0])
-        else:
-            i = above[0]
-            w = (threshold - rel[i - 1]) / (rel[i] - rel[i - 1])
-            out[key] = float(strain[i - 1] + w * (strain[i] - strain[i - 1]))
-    return out

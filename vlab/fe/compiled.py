@@ -47,8 +47,6 @@ from vlab import jit
 _KERNELS: dict[int, "Kernel"] = {}
 
 
-jit.available()  # numba's start-up is paid here, on import of vlab's solver modules (vlab.jit)
-
 
 def available() -> bool:
     """True if the compiled kernels can be used (numba importable, not disabled)."""

@@ -22,7 +22,7 @@ from vlab.fe.assembly import SparsityPattern, element_forces, element_stiffness,
 from vlab.fe.problem import J_COLLAPSE, Evaluation
 from vlab.fe.space import DisplacementSpace
 from vlab.materials.history import HistoryMaterial
-from vlab.post.fields import cauchy, cell_average
+from vlab.fe.cell_fields import cauchy, cell_average
 from vlab.tensor import det
 
 

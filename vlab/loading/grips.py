@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from vlab.geometry.specimen import Specimen
-from vlab.stability.constraints import unrestrained_modes
+from vlab.loading.restraint import unrestrained_modes
 
 
 @dataclass(frozen=True)

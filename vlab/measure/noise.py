@@ -33,34 +33,18 @@ E), the 68 % interval in 70.0 % and 70.3 %; seeds 1000..1999: 95.4 % / 94.4 % an
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 
 import numpy as np
 from scipy.stats import t as student_t
 
 from vlab.measure.fit import FitError, fit_line
 from vlab.measure.recorder import Curve
-from vlab.fields import Table
+from vlab.effects.noise import PARAM_KEYS, NoiseSpec, parse_params  # the effect owns its grammar
+from vlab.measure.elastic_constants import elastic_constants, first_loading
 
 __all__ = ["NoiseSpec", "GaugeLengths", "Interval", "ElasticUncertainty", "noisy_curve",
-           "elastic_uncertainty", "parse_params", "PARAM_KEYS"]
-
-
-@dataclass(frozen=True)
-class NoiseSpec:
-    """Instrument noise: standard deviations and resolutions (0 = none), the seed, the confidence."""
-
-    load_cell_std: float = 0.0            # N
-    load_cell_resolution: float = 0.0     # N
-    extensometer_std: float = 0.0         # mm of elongation
-    extensometer_resolution: float = 0.0  # mm
-    seed: int = 0
-    confidence: float = 0.95
-    name: str = "noise"  # the effect's name in a scene's [effects]
-
-    def strain_std(self, gauge_length: float) -> float:
-        """Standard deviation of a strain reading over ``gauge_length`` mm (noise + rounding)."""
-        return float(np.sqrt(self.extensometer_std**2 + self.extensometer_resolution**2 / 12.0)) / gauge_length
+           "elastic_uncertainty", "measure_with_noise", "parse_params", "PARAM_KEYS"]
 
 
 @dataclass(frozen=True)
@@ -178,29 +162,18 @@ def _notes(spec: NoiseSpec, E: Interval, reliability: float) -> str:
     return "; ".join(notes)
 
 
-PARAM_KEYS = ("load_cell_std", "load_cell_resolution", "extensometer_std", "extensometer_resolution",
-              "seed", "confidence")
-
-
-def parse_params(raw: dict, prefix: str) -> NoiseSpec:
-    """Build a NoiseSpec from ``[effects.noise]``.
-
-    Keys (all optional, but at least one std or resolution must be > 0): load_cell_std ≥ 0 N,
-    load_cell_resolution ≥ 0 N, extensometer_std ≥ 0 mm, extensometer_resolution ≥ 0 mm,
-    seed integer 0..2⁶³−1 (default 0), confidence in [0.5, 1) (default 0.95).
-    """
-    t = Table(prefix, raw, PARAM_KEYS)
-    spec = NoiseSpec(
-        load_cell_std=t.number("load_cell_std", 0.0, ge=0.0, note=" (N, standard deviation)"),
-        load_cell_resolution=t.number("load_cell_resolution", 0.0, ge=0.0, note=" (N, reading step; 0 = none)"),
-        extensometer_std=t.number("extensometer_std", 0.0, ge=0.0, note=" (mm of elongation, standard deviation)"),
-        extensometer_resolution=t.number("extensometer_resolution", 0.0, ge=0.0,
-                                         note=" (mm, reading step; 0 = none)"),
-        seed=t.integer("seed", 0, 2**63 - 1, default=0),
-        confidence=t.number("confidence", 0.95, ge=0.5, lt=1.0, note=" (e.g. 0.68 or 0.95)"),
-    )
-    if not any((spec.load_cell_std, spec.load_cell_resolution, spec.extensometer_std,
-                spec.extensometer_resolution)):
-        raise ValueError(f"[{prefix}] sets no noise: give load_cell_std, load_cell_resolution, "
-                         "extensometer_std or extensometer_resolution > 0 (or drop the section)")
-    return spec
+def measure_with_noise(spec: NoiseSpec, curve: Curve, specimen, measure) -> tuple[Curve, object, dict]:
+    """(noisy curve, ElasticConstants measured from it, the ``measured.uncertainty`` dict)."""
+    gauges = GaugeLengths.of(specimen)
+    noisy = noisy_curve(curve, spec, gauges)
+    window = measure.modulus_window
+    exact = elastic_constants(first_loading(curve), window, measure.fit)
+    measured = elastic_constants(first_loading(noisy), window, measure.fit)
+    u = elastic_uncertainty(first_loading(noisy), window, spec, gauges)
+    report = {"E": u.E.as_dict() if u.E else None, "nu": u.nu.as_dict() if u.nu else None,
+              "reliability": u.reliability, "note": u.note,
+              "noiseless": {"E": exact.E, "nu": exact.nu},
+              "noise": {k: v for k, v in asdict(spec).items() if k != "name"},
+              "units": {"E": "MPa", "nu": "1", "load_cell_std": "N", "load_cell_resolution": "N",
+                        "extensometer_std": "mm", "extensometer_resolution": "mm"}}
+    return noisy, measured, report

@@ -16,6 +16,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from vlab.fe.cell_fields import cauchy, cell_average
+
 #: field name -> (label for scalar bars, unit)
 FIELDS: dict[str, tuple[str, str]] = {
     "von-mises": ("von Mises Cauchy stress", "MPa"),
@@ -36,22 +38,11 @@ class CellFields:
         return {"von-mises": self.von_mises, "max-stretch": self.max_stretch, "J": self.J}[name]
 
 
-def cell_average(values: np.ndarray, dx: np.ndarray) -> np.ndarray:
-    """Volume average over quadrature points: values (..., e, q) with dx (e, q) -> (..., e)."""
-    return np.sum(values * dx, axis=-1) / np.sum(dx, axis=-1)
-
-
 def von_mises(sigma: np.ndarray) -> np.ndarray:
     """√(3/2 s:s) of Cauchy stresses shaped (3, 3, *batch), MPa."""
     trace = np.einsum("ii...->...", sigma)
     s = sigma - trace / 3.0 * np.eye(3).reshape(3, 3, *([1] * (sigma.ndim - 2)))
     return np.sqrt(1.5 * np.einsum("ij...,ij...->...", s, s))
-
-
-def cauchy(P: np.ndarray, F: np.ndarray) -> np.ndarray:
-    """σ = P Fᵀ / J for stacks shaped (3, 3, *batch), MPa."""
-    J = np.linalg.det(np.moveaxis(F, (0, 1), (-2, -1)))
-    return np.einsum("iJ...,kJ...->ik...", P, F) / J
 
 
 def max_principal_stretch(F: np.ndarray) -> np.ndarray:

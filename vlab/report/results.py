@@ -5,7 +5,45 @@ from __future__ import annotations
 import datetime as _dt
 import math
 
-from vlab.run import RunResult, failure_dict, observed_order, vlab_version
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from vlab import __version__
+
+if TYPE_CHECKING:
+    from vlab.fe.stepping import Failure
+    from vlab.run import RunResult
+    from vlab.scene import Scene
+
+
+def stretch_at(scene: Scene, t: float) -> list[float]:
+    return [1.0 + t * (s - 1.0) for s in scene.test.stretch]
+
+
+def failure_dict(scene: Scene, failure: Failure) -> dict:
+    return {
+        "step": failure.level,
+        "stretch": stretch_at(scene, failure.t_attempted),
+        "target_stretch": stretch_at(scene, failure.t_target),
+        "last_converged_stretch": stretch_at(scene, failure.t_converged),
+        "reason": failure.reason,
+        "residual_history": failure.residuals,
+        "min_J": failure.min_J,
+        "element": failure.element,
+        "quadrature_point": failure.quadrature_point,
+    }
+
+
+def observed_order(residuals: list[float], floor: float = 1e-10) -> float | None:
+    """Convergence order p from the last three relative residuals above ``floor``: r₊ ≈ C r^p.
+
+    Relative residuals below ~1e-10 are dominated by round-off in the force sums, so they say
+    nothing about the order; None when fewer than three iterates lie above the floor."""
+    r = [x for x in residuals if x > floor]
+    if len(r) < 3 or r[-2] == r[-3]:
+        return None
+    return float(np.log(r[-1] / r[-2]) / np.log(r[-2] / r[-3]))
 
 
 def _clean(value):
@@ -50,7 +88,7 @@ def result_to_dict(result: RunResult) -> dict:
     residuals = [[x for rec in lv.newton for x in rec.residuals] for lv in levels]
     space = result.space
     return _clean({
-        "vlab_version": vlab_version(),
+        "vlab_version": __version__,
         "date": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
         "scene": {"name": scene.name, "hash": scene.content_hash(), "source": scene.source},
         "converged": result.converged,

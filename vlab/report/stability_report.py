@@ -10,7 +10,7 @@ from pathlib import Path
 
 from vlab.report.results import _clean
 from vlab.report.writer import atomic_folder
-from vlab.run import vlab_version
+from vlab import __version__
 
 STYLE = """body{font-family:sans-serif;margin:1.5em;max-width:1250px}table{border-collapse:collapse;
 margin:1em 0}td,th{border:1px solid #bbb;padding:4px 8px;font-size:13px;vertical-align:top}
@@ -20,7 +20,7 @@ figure{display:inline-block;margin:0.5em}img{max-width:600px;border:1px solid #c
 
 def suite_dict(results, mode: str, total_seconds: float) -> dict:
     return _clean({
-        "vlab_version": vlab_version(),
+        "vlab_version": __version__,
         "date": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
         "mode": mode, "total_seconds": total_seconds,
         "passed": sum(r.passed for r in results), "failed": sum(not r.passed for r in results),

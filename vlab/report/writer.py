@@ -25,7 +25,10 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from vlab.report.results import curve_columns
-from vlab.run import RunResult
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from vlab.run import RunResult
 
 log = logging.getLogger(__name__)
 
@@ -71,7 +74,7 @@ class ReportOptions:
 def write_run(result: RunResult, out: Path, scene_text: str | None = None,
               options: ReportOptions = ReportOptions()) -> dict:
     """The report of a single run; returns its results dict."""
-    from vlab.compare import outcome_of
+    from vlab.report.outcome import outcome_of
 
     outcome = outcome_of(result)
     write_report([outcome], out, result.scene, scene_text, options)
@@ -81,7 +84,7 @@ def write_run(result: RunResult, out: Path, scene_text: str | None = None,
 def write_report(outcomes: list, out: Path, scene, scene_text: str | None,
                  options: ReportOptions = ReportOptions()) -> dict:
     """Write the report of one scene run with one or more models; returns comparison.json's dict."""
-    from vlab.compare import REFERENCE_MODEL, departure_strains
+    from vlab.measure.departure import REFERENCE_MODEL, departure_strains
     from vlab.report.html import ReportPage, write_comparison
 
     single = len(outcomes) == 1
@@ -208,13 +211,13 @@ def _critical_modes(outcomes, tmp: Path, figures: list) -> dict:
 
 
 def _provenance(scene, scene_text: str | None, outcomes) -> dict:
-    from vlab.run import vlab_version
+    from vlab import __version__
 
     models = [o.model for o in outcomes]
     override = ("" if models == [scene.material.model] else
                 f" · material.model set to each of {', '.join(models)} (scene file says "
                 f"{scene.material.model!r})")
     text = scene_text if scene_text is not None else json.dumps(scene.source, indent=2)
-    return {"vlab_version": vlab_version(), "scene_hash": scene.content_hash(), "scene_text": text,
+    return {"vlab_version": __version__, "scene_hash": scene.content_hash(), "scene_text": text,
             "date": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
             "description": scene.description, "override_note": override}

@@ -15,7 +15,7 @@ path. Two kinds are told apart by the shape of φ along the loading axis x:
 
 Sideways sections alone do not make buckling: a softened material can also let a stubby block
 sway. So the material's strong ellipticity is checked at the critical state
-(:mod:`vlab.stability.ellipticity`): the instability is
+(:mod:`vlab.checks.ellipticity`): the instability is
 * buckling — the material is strongly elliptic everywhere and lateral_fraction ≥ BUCKLING_FRACTION
   (a structural instability; for a stubby block of a softening material, tangent-modulus buckling);
 * loss of ellipticity — the material tangent lost strong ellipticity somewhere (a material

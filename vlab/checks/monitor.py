@@ -19,7 +19,7 @@ because it costs a shift-invert Lanczos solve per state) every vetted state also
 lowest eigenvalue of K_ff. Whatever the option, the lowest eigenpair is computed where the sign
 changes: at every rejected unstable state and at the last stable state before it. The unstable
 state nearest the last stable one is kept as the critical state
-(:class:`vlab.stability.buckling.CriticalState`): the bracketed critical stretch, the eigenvalues
+(:class:`vlab.checks.buckling.CriticalState`): the bracketed critical stretch, the eigenvalues
 on both sides and the eigenvector (the mode shape), classified as buckling or not. A scene that
 follows a post-buckled path (``[test] imperfection``) switches the load-limit check off
 (``limit_points = False``): there the force falling while K_ff stays positive definite is the
@@ -45,8 +45,8 @@ from vlab.fe.linsolve import SingularSystem
 from vlab.fe.newton import TangentCache
 from vlab.fe.problem import Evaluation, HyperelasticBody
 from vlab.fe.stepping import Level
-from vlab.stability.buckling import CriticalState, lateral_fraction
-from vlab.stability.ellipticity import non_elliptic_fraction
+from vlab.checks.buckling import CriticalState, lateral_fraction
+from vlab.checks.ellipticity import non_elliptic_fraction
 
 LIMIT_TOL = 1e-9
 

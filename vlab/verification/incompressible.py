@@ -4,7 +4,7 @@ formulation cures it, and ν = ½ is refused.
 * Cook's membrane (plane strain, Neo-Hookean with the volumetric–isochoric split, ν = 0.4999): the
   tip displacement u_y(48, 60) of the displacement Q1 hexes stalls far below the reference while
   the mixed Q1/P0 and Q2/P1dc converge towards it. The reference, 11.48 mm, is the finest
-  Q2/P1dc run (16 × 16) of vlab.studies.cooks_membrane's convergence study.
+  Q2/P1dc run (16 × 16) of vlab.verification.cooks_membrane's convergence study.
 * ν = 0.5 exactly: an infinite bulk modulus κ = E / (3(1 − 2ν)); refused when the scene is read,
   with the message pointing to the mixed formulation's verified limit ν ≤ 0.4999.
 * ISO 527-2 1BA dogbone at ν = 0.499 between clamped grips: the extensometers recover ν within
@@ -21,8 +21,8 @@ from vlab.moduli import MIXED_NU_LIMIT, ModuliError, from_pair
 from vlab.report.results import result_to_dict
 from vlab.run import run_scene
 from vlab.scene import SceneError, apply_overrides, parse_scene
-from vlab.stability.suite import CaseContext, Outcome, register
-from vlab.studies.cooks_membrane import MU, REFERENCE_TIP_NU_4999, CookCase, CookResult, solve_cook
+from vlab.verification.suite import CaseContext, Outcome, register
+from vlab.verification.cooks_membrane import MU, REFERENCE_TIP_NU_4999, CookCase, CookResult, solve_cook
 
 NU = 0.4999
 STALLED = 0.45      # locked: the displacement Q1 tip stays below 45 % of the reference

@@ -23,9 +23,9 @@ from vlab.materials import make_material
 from vlab.report.results import result_to_dict
 from vlab.run import MeshQualityError, build_specimen, run_scene
 from vlab.scene import parse_scene
-from vlab.stability.constraints import unrestrained_modes
-from vlab.stability.euler import clamped_strip
-from vlab.stability.suite import CaseContext, Outcome, register
+from vlab.loading.restraint import unrestrained_modes
+from vlab.verification.euler import clamped_strip
+from vlab.verification.suite import CaseContext, Outcome, register
 
 INV_SQRT3 = 1.0 / math.sqrt(3.0)
 
@@ -129,7 +129,7 @@ def missing_grip(context: CaseContext) -> Outcome:
     before any solve (run_scene refuses there). Solved anyway, a sparse Cholesky may return a
     finite "solution" (the load is orthogonal to the free modes); the stability monitor's inertia
     counts the zero pivots and rejects the state; the stepper checks the unloaded K_ff first."""
-    from vlab.stability.monitor import StabilityMonitor
+    from vlab.checks.monitor import StabilityMonitor
 
     scene = block("neo-hookean", 1.2, size=5.0)
     spec = build_specimen(scene)

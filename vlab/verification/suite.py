@@ -2,9 +2,9 @@
 
 A case is a name, the expectation in words, a ``fast`` flag (the fast subset also runs in the
 normal tests) and a function ``(CaseContext) -> Outcome``. Cases register themselves with
-:func:`register`; :mod:`vlab.stability.cases` holds the built-in ones and any module may add more:
+:func:`register`; :mod:`vlab.verification.cases` holds the built-in ones and any module may add more:
 
-    from vlab.stability.suite import Outcome, register
+    from vlab.verification.suite import Outcome, register
 
     @register("cook-membrane-mixed", "tip displacement within 1 % of 16.4 mm", fast=False)
     def _(context):
@@ -92,8 +92,8 @@ def register(name: str, expected: str, fast: bool = True):
 
 def select(fast_only: bool = False, names: list[str] | None = None) -> list[Case]:
     """The registered cases (built-ins loaded), the fast subset or those named."""
-    import vlab.stability.cases  # noqa: F401  (registers the built-in cases)
-    import vlab.stability.incompressible  # noqa: F401  (locking, ν = ½, the ν = 0.499 dogbone)
+    import vlab.verification.cases  # noqa: F401  (registers the built-in cases)
+    import vlab.verification.incompressible  # noqa: F401  (locking, ν = ½, the ν = 0.499 dogbone)
 
     if names:
         unknown = [n for n in names if n not in CASES]

@@ -1,0 +1,88 @@
+"""Golden results: the measured quantities of every specimen file on its coarse test mesh.
+
+Recorded once from the code before the package restructuring of issue #17
+(`python tests/golden.py` rewrites them; do that only for a deliberate change of results and say
+so in the commit). Kept: curve columns, E, nu and their fits, forces, the analytic reference,
+homogeneity, cruciform factors, mesh size and quality, stability records and verdicts, effects
+summaries, warnings, failure cause. Left out: the inertia back end's name, and what legitimately changes without a change of
+physics (timings, Newton iteration counts, factorization counts, versions, dates, hashes).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import sys
+import tomllib
+from pathlib import Path
+
+FOLDER = Path(__file__).resolve().parent / "data" / "golden"
+KEPT = ("converged", "measured", "input", "curve", "reference", "homogeneity", "cruciform", "stability",
+        "effects", "critical", "lateral_deflection", "imperfection", "warnings", "failure")
+MESH_KEPT = ("cell", "order", "size", "formulation", "symmetry", "elements", "nodes", "dofs", "quality")
+
+
+def golden_view(data: dict) -> dict:
+    """The part of a results.json that a pure restructuring must leave unchanged."""
+    view = {key: data.get(key) for key in KEPT}
+    view["mesh"] = {key: data["mesh"].get(key) for key in MESH_KEPT}
+    # the inertia's back end (PARDISO or SuperLU) depends on what is installed, not on the physics
+    view["stability"] = [{k: v for k, v in r.items() if k != "inertia_method"} for r in data["stability"]]
+    return json.loads(json.dumps(view))  # tuples -> lists, as read back from the file
+
+
+def differences(expected, actual, rtol: float, path: str = "") -> list[str]:
+    """Where `actual` departs from `expected`: numbers beyond rtol of their own magnitude, or of
+    the largest magnitude in their list (a curve column's entries near zero are judged on the
+    column's scale), anything else by equality."""
+    if isinstance(expected, dict) and isinstance(actual, dict):
+        out = [f"{path}: keys {sorted(set(expected) ^ set(actual))}"] if set(expected) != set(actual) else []
+        for key in expected.keys() & actual.keys():
+            out += differences(expected[key], actual[key], rtol, f"{path}.{key}")
+        return out
+    if isinstance(expected, list) and isinstance(actual, list):
+        if len(expected) != len(actual):
+            return [f"{path}: length {len(actual)} != {len(expected)}"]
+        scale = max((abs(v) for v in expected if _number(v)), default=0.0)
+        out = []
+        for i, (e, a) in enumerate(zip(expected, actual)):
+            if _number(e) and _number(a):
+                out += _compare_number(e, a, rtol, f"{path}[{i}]", scale)
+            else:
+                out += differences(e, a, rtol, f"{path}[{i}]")
+        return out
+    if _number(expected) and _number(actual):
+        return _compare_number(expected, actual, rtol, path, 0.0)
+    return [] if expected == actual else [f"{path}: {actual!r} != {expected!r}"]
+
+
+def _number(value) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
+def _compare_number(e: float, a: float, rtol: float, path: str, scale: float) -> list[str]:
+    ok = math.isclose(a, e, rel_tol=rtol, abs_tol=max(rtol * scale, 1e-12))
+    return [] if ok else [f"{path}: {a!r} != {e!r} (rtol {rtol})"]
+
+
+def golden_path(scene_file: Path) -> Path:
+    return FOLDER / f"{scene_file.stem}.json"
+
+
+def record() -> None:
+    """Rewrite every golden file from the current code."""
+    sys.path.insert(0, str(Path(__file__).parent))
+    import tempfile
+
+    from test_specimen_files import FILES, run_coarse
+
+    FOLDER.mkdir(parents=True, exist_ok=True)
+    with tempfile.TemporaryDirectory() as tmp:
+        for path in FILES:
+            data = run_coarse(path, Path(tmp))[2]
+            golden_path(path).write_text(json.dumps(golden_view(data), indent=1) + "\n", encoding="utf-8")
+            print("recorded", golden_path(path).name)
+
+
+if __name__ == "__main__":
+    record()

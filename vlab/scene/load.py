@@ -1,0 +1,134 @@
+"""A whole scene: the top-level keys, the :class:`Scene` dataclass and the entry points
+:func:`parse_scene` (a dict) and :func:`load_scene` (a TOML file). Each section is parsed by its
+own module of this package."""
+
+from __future__ import annotations
+
+import copy
+import hashlib
+import json
+import re
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Mapping
+
+from vlab import fields
+from vlab.fields import SceneError
+from vlab.scene.effects import check_effects_scope, parse_effects
+from vlab.scene.material import SPRING_NETWORK, parse_material
+from vlab.scene.measure import parse_measure
+from vlab.scene.mesh import check_formulation, check_symmetry, parse_mesh
+from vlab.scene.solver import parse_solver
+from vlab.scene.specimen import _BASE_DIR, parse_specimen
+from vlab.scene.test import parse_test
+
+if TYPE_CHECKING:
+    from vlab.scene.material import MaterialSpec
+    from vlab.scene.measure import MeasureSpec
+    from vlab.scene.mesh import MeshSpec
+    from vlab.scene.solver import SolverSpec
+    from vlab.scene.specimen import Specimen
+    from vlab.scene.test import TestSpec
+
+__all__ = ["Scene", "SECTIONS", "TOP_KEYS", "parse_scene", "load_scene"]
+
+
+SECTIONS = ("specimen", "mesh", "material", "test", "measure", "solver", "effects")
+
+
+TOP_KEYS = ("name", "description") + SECTIONS
+
+
+_NAME_RE = re.compile(r"[A-Za-z0-9._-]+")
+
+
+@dataclass(frozen=True)
+class Scene:
+    name: str
+    description: str
+    specimen: Specimen
+    mesh: MeshSpec
+    material: MaterialSpec
+    test: TestSpec
+    measure: MeasureSpec
+    solver: SolverSpec
+    source: dict  # the raw parsed TOML, for provenance
+    effects: tuple = ()  # validated effect specs (vlab.effects), each with a ``name``; () = elastic
+
+    def effect(self, name: str):
+        """The spec of the declared effect ``name``, or None."""
+        return next((e for e in self.effects if e.name == name), None)
+    base_dir: str = "."  # where relative paths in the scene (specimen.file) are taken from
+
+    def content_hash(self) -> str:
+        """sha256 hex of the canonical JSON of ``source`` (sorted keys; key order irrelevant)."""
+        text = json.dumps(self.source, sort_keys=True, separators=(",", ":"),
+                          ensure_ascii=False, default=str)
+        return hashlib.sha256(text.encode("utf-8")).hexdigest()
+
+
+def _parse(data: Mapping[str, Any]) -> Scene:
+    if not isinstance(data, Mapping):
+        raise SceneError(f"a scene must be a table of sections, got {fields.show(data)}")
+    for key, val in data.items():
+        if key not in TOP_KEYS:
+            what = f"section [{key}]" if isinstance(val, dict) else f"top-level key {key!r}"
+            raise SceneError(f"unknown {what} (allowed: {', '.join(TOP_KEYS)})"
+                             f"{fields.suggest(key, TOP_KEYS)}")
+    for section in ("specimen", "mesh", "material", "test"):
+        if section not in data:
+            raise SceneError(f"missing required section [{section}]")
+    if "name" not in data:
+        raise SceneError("missing required key name")
+    name = data["name"]
+    if not isinstance(name, str) or not _NAME_RE.fullmatch(name) or set(name) == {"."}:
+        raise SceneError(f"name must match [A-Za-z0-9._-]+ (it names the report folder) and not "
+                         f"be only dots, got {fields.show(name)}")
+    description = data.get("description", "")
+    if not isinstance(description, str):
+        raise SceneError(f"description must be a string, got {fields.show(description)}")
+    specimen = parse_specimen(data["specimen"])
+    mesh, material = parse_mesh(data["mesh"], specimen), parse_material(data["material"])
+    check_formulation(mesh, material.model)
+    if material.model == SPRING_NETWORK and mesh.order != 1:
+        raise SceneError(f"material.model {SPRING_NETWORK!r} joins mesh vertices by springs and needs "
+                         f"mesh.order = 1, got {mesh.order}")
+    if material.model == SPRING_NETWORK and specimen.shape == "sheet":
+        raise SceneError(f"material.model {SPRING_NETWORK!r} is a 3D network of mesh edges; "
+                         f"specimen.shape = 'sheet' needs a continuum model (not {SPRING_NETWORK!r})")
+    test = parse_test(data["test"], specimen.shape)
+    check_symmetry(mesh, test, specimen)
+    check_effects_scope(data.get("effects", {}), specimen.shape, mesh, material.model)
+    return Scene(name=name, description=description, specimen=specimen,
+                 mesh=mesh, material=material, test=test,
+                 measure=parse_measure(data.get("measure", {}), specimen),
+                 solver=parse_solver(data.get("solver", {})),
+                 source=copy.deepcopy(dict(data)), base_dir=str(_BASE_DIR.get()),
+                 effects=parse_effects(data.get("effects", {}), material, test))
+
+
+def parse_scene(data: dict, origin: str = "<scene>", base_dir: str | Path | None = None) -> Scene:
+    """Validate a parsed scene dict; errors are ``SceneError("<origin>: <message>")``. Relative
+    paths in the scene (specimen.file) are taken from ``base_dir`` (default: the current folder)."""
+    token = _BASE_DIR.set(Path(base_dir) if base_dir is not None else Path("."))
+    try:
+        return _parse(data)
+    except SceneError as exc:
+        raise SceneError(f"{origin}: {exc}") from None
+    finally:
+        _BASE_DIR.reset(token)
+
+
+def load_scene(path: str | Path) -> Scene:
+    """Read and validate a scene TOML file; every error message starts with the file name."""
+    path = Path(path)
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except OSError as exc:
+        raise SceneError(f"{path}: cannot read scene file ({exc.strerror or exc})") from None
+    except UnicodeDecodeError as exc:
+        raise SceneError(f"{path}: scene file is not UTF-8 ({exc})") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise SceneError(f"{path}: TOML syntax error: {exc}") from None
+    return parse_scene(data, origin=str(path), base_dir=path.parent)
