@@ -177,6 +177,10 @@ def info():
     Console().print(f"  iterative     cg-amg   {amg or 'not installed (pip install pyamg)'}",
                     highlight=False)
     Console().print(f"linear solver in use: {solver_in_use()}", highlight=False)
+    from vlab.geometry.cad import gmsh_version
+
+    found_gmsh = gmsh_version() or 'not installed (pip install "vlab[cad]")'
+    Console().print(f"  CAD meshing   gmsh     {found_gmsh} (specimen.shape = 'cad')", highlight=False)
     from vlab import jit
     threads = f", {jit.threads()} threads for the tangent" if jit.available() else ""
     Console().print(f"assembly kernels: {jit.in_use()}{threads} (VLAB_KERNEL=numpy: numpy only; "

@@ -95,7 +95,7 @@ def build_specimen(scene: Scene) -> Specimen:
     if spec.shape == "cruciform":
         return cruciform_specimen(spec.dimensions, mesh.size, mesh.cell, mesh.gauge_size, mesh.symmetry,
                                   scene.measure.gauge_length)
-    if spec.shape == "mesh":
+    if spec.shape in ("mesh", "cad"):  # a mesh file, or Gmsh's mesh of a CAD file
         return imported_specimen(spec.spec, spec.data)
     raise ValueError(f"specimen.shape {spec.shape!r} is not supported by this build")
 

@@ -90,6 +90,10 @@ def _parse(data: Mapping[str, Any]) -> Scene:
         raise SceneError(f"description must be a string, got {fields.show(description)}")
     specimen = parse_specimen(data["specimen"])
     mesh, material = parse_mesh(data["mesh"], specimen), parse_material(data["material"])
+    if specimen.shape == "cad":  # meshed by Gmsh now that mesh.size is known
+        from vlab.scene.cad import meshed
+
+        specimen = meshed(specimen, mesh.size)
     check_formulation(mesh, material.model)
     if material.model == SPRING_NETWORK and mesh.order != 1:
         raise SceneError(f"material.model {SPRING_NETWORK!r} joins mesh vertices by springs and needs "

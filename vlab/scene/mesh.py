@@ -43,6 +43,9 @@ def parse_mesh(raw: Any, specimen: Specimen) -> MeshSpec:
     t = fields.Table("mesh", raw, ("size", "order", "cell", "gauge_size", "min_quality", "symmetry", "formulation"))
     if specimen.shape == "mesh":
         return _parse_mesh_of_file(t, specimen)
+    if specimen.shape == "cad" and t.get("cell", "tet") != "tet":
+        raise SceneError(f"{t.field('cell')} must be 'tet' for specimen.shape = 'cad' (Gmsh meshes it in "
+                         f"tetrahedra), got {fields.show(t.raw['cell'])}")
     size = t.number("size", gt=0, le=specimen.max_dimension, note=" (the largest specimen dimension)")
     gauge_size = t.number("gauge_size", default=None, gt=0, le=size, note=" (mesh.size)")
     if gauge_size is not None and specimen.shape not in _FINE_MESH_SHAPES:

@@ -206,6 +206,11 @@ def _parse_mesh_file(t: fields.Table) -> MeshFileSpecimen:
         data = read_mesh(path)
     except MeshImportError as exc:
         raise SceneError(f"{exc}") from None
+    return mesh_file_specimen(t, path, data)
+
+
+def mesh_file_specimen(t: fields.Table, path: Path, data: ImportedMesh) -> MeshFileSpecimen:
+    """The specimen of a mesh read from ``path`` (a mesh file, or Gmsh's mesh of a CAD file)."""
     grips = t.get("grips")
     if not isinstance(grips, dict) or len(grips) != 2 or not all(isinstance(v, str) for v in grips.values()):
         raise SceneError(f"{t.field('grips')} must be a table of two region names, e.g. {{left = \"grip_left\", "
@@ -220,6 +225,12 @@ def _parse_mesh_file(t: fields.Table) -> MeshFileSpecimen:
                       thickness_marks=_marks(t, "thickness_marks"), area=t.number("area", gt=0))
     _check_marks_inside(t, spec, data)
     return MeshFileSpecimen(shape="mesh", spec=spec, data=data)
+
+
+def _parse_cad(t: fields.Table):
+    from vlab.scene.cad import parse_cad  # Gmsh is an extra: loaded only for a CAD specimen
+
+    return parse_cad(t, _BASE_DIR.get())
 
 
 def _check_marks_inside(t: fields.Table, spec: MeshImport, data: ImportedMesh) -> None:
@@ -248,6 +259,7 @@ SPECIMEN_SHAPES: dict[str, tuple[tuple[str, ...], Callable[[fields.Table], Speci
     "sheet": (("shape", "size", "thickness", "plane"), _parse_sheet),
     "cruciform": (("shape",) + CRUCIFORM_KEYS, _parse_cruciform),
     "mesh": (("shape",) + MESH_FILE_KEYS, _parse_mesh_file),
+    "cad": (("shape",) + MESH_FILE_KEYS, lambda t: _parse_cad(t)),
 }
 
 
@@ -258,6 +270,7 @@ SPECIMEN_TESTS: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
     "sheet": (("uniaxial", "biaxial"), ("roller", "clamped")),
     "cruciform": (("biaxial",), ("clamped",)),
     "mesh": (("uniaxial",), ("clamped",)),
+    "cad": (("uniaxial",), ("clamped",)),
 }
 
 
