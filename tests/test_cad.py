@@ -56,3 +56,46 @@ def test_grips_given_as_boxes_select_the_same_tabs_as_the_physical_groups():
 def test_bad_cad_input_names_the_field(overrides, message):
     with pytest.raises(SceneError, match=message):
         parse(raw(**overrides))
+
+
+DOGBONE = Path(__file__).resolve().parents[1] / "specimens" / "dogbone-iso527-2-1a.toml"
+
+
+def dogbone(**overrides):
+    raw = tomllib.loads(DOGBONE.read_text(encoding="utf-8"))
+    return parse_scene(apply_overrides(raw, {"mesh.cell": "tet", "mesh.mesher": "gmsh"} | overrides),
+                       origin=DOGBONE.name, base_dir=DOGBONE.parent)
+
+
+def test_gmsh_tetrahedra_of_a_dogbone_recover_E_and_nu_within_half_a_percent():
+    from vlab.run import run_scene
+
+    scene = dogbone(**{"mesh.size": 4.0, "material.model": "linear",
+                       "test.stretch": 1.01, "test.steps": 2})
+    result = run_scene(scene)
+    mesh = result.specimen.mesh
+    assert type(mesh).__name__.startswith("MeshTet") and result.converged
+    # whole faces of nodes on the grip edges (the outline is cut there), none inside the grips' reach
+    L, g = scene.specimen.dimensions.overall_length, scene.specimen.dimensions.grip_length
+    assert np.isclose(mesh.p[0], g).sum() >= 4 and np.isclose(mesh.p[0], L - g).sum() >= 4
+    E, nu = result.constants.E, result.constants.nu
+    assert E == pytest.approx(10.0, rel=0.005) and nu == pytest.approx(0.3, rel=0.005)
+
+
+@pytest.mark.parametrize("overrides, message", [
+    ({"mesh.cell": "hex"}, "mesh.mesher = 'gmsh' meshes a dogbone in tetrahedra.*'hex'"),
+    ({"mesh.symmetry": "half"}, "mesh.mesher = 'gmsh'.*'half'"),
+    ({"mesh.mesher": "netgen"}, "mesh.mesher"),
+])
+def test_the_gmsh_mesher_is_refused_where_it_does_not_apply(overrides, message):
+    with pytest.raises(SceneError, match=message):
+        dogbone(**overrides)
+
+
+def test_the_cost_study_offers_a_gmsh_tetrahedra_family():
+    from vlab.study.cost import CostOptions, knob_points
+
+    points = knob_points(dogbone(**{"mesh.mesher": "vlab"}), CostOptions(levels=3, orders=(1,), cells=("tet", "gmsh-tet")))
+    gmsh = [p for p in points if p.label["knob"] == "mesh size (order 1, gmsh-tet)"]
+    assert len(gmsh) == 3 and all(p.source["mesh"]["mesher"] == "gmsh" and p.source["mesh"]["cell"] == "tet"
+                                  for p in gmsh)

@@ -353,7 +353,8 @@ def cost(scene: Path = typer.Argument(..., help="Scene TOML file."),
          ratio: float = typer.Option(2 ** 0.5, "--ratio", min=1.1, max=4.0,
                                      help="Between successive mesh sizes (the sizes are h0·ratio, h0, h0/ratio, …)."),
          orders: str = typer.Option("1,2", "--orders", help="Element orders of the mesh study, e.g. 1 or 1,2."),
-         cells: str = typer.Option("tet,hex", "--cells", help="Cell types of the mesh study, e.g. hex or tet,hex."),
+         cells: str = typer.Option("tet,hex", "--cells", help="Cell types of the mesh study, e.g. hex or tet,hex; "
+                                   "gmsh-tet: a dogbone's tetrahedra from Gmsh (the cad extra)."),
          out: Optional[Path] = typer.Option(None, "--out", "-o", help="Output folder (default reports/<name>-cost)."),
          cache: Path = typer.Option(Path("reports") / ".cache", "--cache", help="Cache folder of run summaries."),
          workers: int = typer.Option(2, "--workers", "-j", min=1, help="Worker processes of the local Dask cluster."),
@@ -368,7 +369,11 @@ def cost(scene: Path = typer.Argument(..., help="Scene TOML file."),
     parsed, _ = _load(scene)
     options = CostOptions(levels=levels, ratio=ratio, target=_fraction(target),
                           orders=_choices("--orders", orders, (1, 2), int),
-                          cells=_choices("--cells", cells, ("tet", "hex")))
+                          cells=_choices("--cells", cells, ("tet", "hex", "gmsh-tet")))
+    if "gmsh-tet" in options.cells and parsed.specimen.shape != "dogbone":
+        console.print(f"[red]invalid option[/red] --cells gmsh-tet meshes a dogbone; {scene} has specimen.shape = "
+                      f"{parsed.specimen.shape!r}", highlight=False)
+        raise typer.Exit(EXIT_INVALID)
     points = knob_points(parsed, options)
     outcome = _sweep_with_progress(points, RunKnobs(time_report=True, render=render), cache,
                                    _execution(workers, scheduler), quiet, "cost")

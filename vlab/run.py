@@ -89,7 +89,7 @@ def build_specimen(scene: Scene) -> Specimen:
     if spec.shape == "block":
         return block_specimen(spec.size, mesh.size, mesh.cell, scene.measure.gauge_length, mesh.symmetry)
     if spec.shape == "dogbone":
-        return dogbone_specimen(spec.dimensions, mesh.size, mesh.cell, mesh.gauge_size, mesh.symmetry)
+        return dogbone_specimen(spec.dimensions, mesh.size, mesh.cell, mesh.gauge_size, mesh.symmetry, mesh.mesher)
     if spec.shape == "sheet":
         return sheet_specimen(spec.size, spec.thickness, mesh.size, mesh.cell, scene.measure.gauge_length)
     if spec.shape == "cruciform":
