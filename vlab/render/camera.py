@@ -46,16 +46,20 @@ def screen_axes(points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]
 
 
 def fit_camera(points: np.ndarray, width: int = 1200, margin: float = 0.04,
-               min_aspect: float = 0.22, max_aspect: float = 1.0) -> Camera:
-    """The camera and window (``width`` pixels wide) that frame ``points`` (n, 3) in mm."""
+               min_aspect: float = 0.22, max_aspect: float = 1.0, reserve_right: float = 0.0) -> Camera:
+    """The camera and window (``width`` pixels wide) that frame ``points`` (n, 3) in mm, in the
+    left ``1 − reserve_right`` of the window (the rest kept free for a colour bar)."""
     d, r, u = screen_axes(points)
     x, y = points @ r, points @ u
     w, h = max(float(np.ptp(x)), 1e-9), max(float(np.ptp(y)), 1e-9)
     aspect = float(np.clip(h / w, min_aspect, max_aspect))
     height = max(int(round(width * aspect)), 64)
-    scale = 0.5 * max(h, w * height / width) * (1.0 + margin)
+    usable = width * (1.0 - reserve_right)
+    scale = 0.5 * max(h, w * height / usable) * (1.0 + margin)
+    shift = reserve_right * scale * width / height  # half the reserved width, in mm: the points move left
     centre = points.mean(axis=0)
-    focal = centre + r * (0.5 * (x.min() + x.max()) - centre @ r) + u * (0.5 * (y.min() + y.max()) - centre @ u)
+    focal = (centre + r * (0.5 * (x.min() + x.max()) - centre @ r + shift)
+             + u * (0.5 * (y.min() + y.max()) - centre @ u))
     distance = 4.0 * max(w, h, float(np.ptp(points @ d)), 1e-9)
     return Camera(tuple(focal + distance * d), tuple(focal), tuple(u), scale, (width, height))
 

@@ -47,8 +47,8 @@ def render_mode(mesh, base: np.ndarray, mode: np.ndarray, path: Path, label: str
                                           "height": 0.7, "width": 0.06})
         plotter.add_text(label, position=(0.02, 0.82), viewport=True, font_size=11, color="black")
         aspect = size[1] / size[0]  # the fixed window; margin for the label above the specimen
-        apply_camera(plotter, fit_camera(np.vstack([X, deformed.points]), width=size[0], margin=0.3,
-                                         min_aspect=aspect, max_aspect=aspect))
+        apply_camera(plotter, fit_camera(np.vstack([X, deformed.points]), width=size[0], margin=0.45,
+                                         min_aspect=aspect, max_aspect=aspect, reserve_right=0.2))
         plotter.screenshot(str(path))
     finally:
         plotter.close()
