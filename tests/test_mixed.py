@@ -185,3 +185,57 @@ def test_mixed_removes_locking_of_a_clamped_hex_block():
     # turns indefinite there, so the run stops)
     assert forces["mixed"] == pytest.approx(7.27, rel=0.05)
     assert forces["displacement"] > 10.0 * forces["mixed"]
+
+
+# --- the three-field Newton iteration (issue 20) -------------------------------------------------
+
+@pytest.mark.parametrize("cell,order", CASES)
+def test_condensed_residual_and_tangent_pass_the_taylor_test_along_the_three_field_update(cell, order):
+    """f̃(u + h d, θ + h Δθ(d)) − f̃ − h K̃ d = O(h²): K̃ is the Jacobian of the condensed system
+    Newton iterates (θ moved by its linearised update), not only of W(u)."""
+    body = MixedHyperelasticBody(_space(cell, order), SplitNeoHookean(1e4, 1.0))  # ν ≈ 0.49995
+    rng = np.random.default_rng(5)
+    u = 0.03 * rng.standard_normal(body.space.n_dofs)
+    d = rng.standard_normal(body.space.n_dofs)
+    d /= np.linalg.norm(d)
+    ev = body.evaluate(u)
+    Kd = body.stiffness(ev) @ d
+    remainders = [np.linalg.norm(body.advance(ev, d, h).f_int - ev.f_int - h * Kd)
+                  for h in 1e-3 / 2.0 ** np.arange(5)]
+    orders = np.log2(np.array(remainders[:-1]) / np.array(remainders[1:]))
+    assert np.median(orders) == pytest.approx(2.0, abs=0.1), remainders
+
+
+def test_carried_volume_change_away_from_the_projection_is_seen_by_the_residual_and_convergence():
+    """At θ ≠ Π_e v the condensed residual has the linearised pressure correction and the
+    state reports its constraint violation (Newton does not call it converged)."""
+    space = _space("hex", 1)
+    law = SplitNeoHookean(LMBDA, MU)
+    body = MixedHyperelasticBody(space, law)
+    u = 0.02 * np.random.default_rng(1).standard_normal(space.n_dofs)
+    projected = body.evaluate(u)
+    shifted = body.evaluate(u, projected.volume_change + 1e-3)
+    assert projected.constraint == 0.0 and shifted.constraint == pytest.approx(1e-3, rel=1e-9)
+    # p̃ = Π[U'(x) + U''(x)(Πv − x)]: for the quadratic U of SplitLinear, exactly U'(Πv)
+    linear = MixedHyperelasticBody(space, SplitLinear(LMBDA, MU))
+    base = linear.evaluate(u)
+    moved = linear.evaluate(u, base.volume_change + 1e-3)
+    np.testing.assert_allclose(moved.f_int, base.f_int, atol=1e-9 * np.abs(base.f_int).max())
+    assert not np.allclose(shifted.f_int, projected.f_int, atol=0.0, rtol=1e-12)
+
+
+def test_a_dead_load_on_the_mixed_body_stays_in_its_newton_update():
+    """LoadedBody (gravity) hands Newton the inner body's θ update with the load subtracted, and
+    no update at all for a displacement body (which Newton then evaluates directly)."""
+    from vlab.fe.external_load import LoadedBody, body_force_vector
+
+    space = _space("hex", 1)
+    inner = MixedHyperelasticBody(space, SplitNeoHookean(LMBDA, MU))
+    f_ext = body_force_vector(space, [0.0, 0.0, -0.5])
+    loaded = LoadedBody(inner, f_ext)
+    rng = np.random.default_rng(2)
+    u, du = 0.02 * rng.standard_normal(space.n_dofs), 0.01 * rng.standard_normal(space.n_dofs)
+    plain, with_load = inner.advance(inner.evaluate(u), du, 0.5), loaded.advance(loaded.evaluate(u), du, 0.5)
+    np.testing.assert_allclose(with_load.f_int, plain.f_int - f_ext, rtol=0, atol=1e-12)
+    assert with_load.W == pytest.approx(plain.W - f_ext @ (u + 0.5 * du), rel=1e-12)
+    assert LoadedBody(HyperelasticBody(space, NeoHookean(LMBDA, MU)), f_ext).advance is None

@@ -37,7 +37,19 @@ class LoadedBody:
         return getattr(self.inner, name)
 
     def evaluate(self, u: np.ndarray) -> Evaluation:
-        ev = self.inner.evaluate(u)
+        return self._loaded(self.inner.evaluate(u), u)
+
+    @property
+    def advance(self):
+        """The inner body's Newton update of its own element unknowns (the mixed body's θ),
+        with the load: None if the inner body has none (``__getattr__`` would hand out the
+        inner update without the load)."""
+        inner = getattr(self.inner, "advance", None)
+        if inner is None:
+            return None
+        return lambda ev, du, alpha: self._loaded(inner(ev, du, alpha), ev.u + alpha * du)
+
+    def _loaded(self, ev: Evaluation, u: np.ndarray) -> Evaluation:
         if not ev.admissible:
             return ev
         return replace(ev, W=ev.W - float(self.f_ext @ u), f_int=ev.f_int - self.f_ext)

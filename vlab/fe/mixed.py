@@ -18,6 +18,13 @@ a minimisation problem again (so Newton with the energy line search applies unch
             g_m,ai = Σ_q φ_m(q) (∂v/∂F)_iJ dN_a,J dx_q,   H = Σ_q U''(θ_q) φ φᵀ dx_q.
 (Π_e is self-adjoint in the dx-weighted product, which is why p appears as a projection.)
 
+Newton's iteration carries θ as an unknown of its own (:meth:`MixedHyperelasticBody.advance`):
+after a step Δu, θ moves by its linearised update instead of being recomputed from u, and the
+residual is the condensed three-field one (``evaluate``). Recomputing θ = Π_e v(F(u)) gives the
+same solution, but near ν = ½ it puts κ × O(|∇Δu|²) into the pressure after every step and
+Newton crawls (issue 20: Cook's membrane ν = 0.4999 Q1/P0 64², 113 → 38 iterations in 10 steps).
+W(u) above stays the line search's merit function.
+
 Elements (θ space of degree k, stable pairs):
   hex order 1: Q1 / P0 — the mean-dilatation element (Nagtegaal–Parks–Rice; Simo–Taylor–Pister)
   hex order 2: Q2 / P1dc — θ linear in (X − X_c) per element (inf-sup stable)
@@ -46,12 +53,15 @@ class MixedUnsupported(ValueError):
 
 @dataclass(frozen=True)
 class MixedEvaluation(Evaluation):
-    """An Evaluation with the element volume ratio θ and pressure p at each quadrature point (e, q).
+    """An Evaluation with the element volume ratio θ and pressure p = Π_e U'(θ) at each
+    quadrature point (e, q), and how far θ is from the projected volume ratio of u.
 
     ``min_J`` is the smaller of min det F and min θ (both volume ratios)."""
 
     theta: np.ndarray | None = None
     pressure: np.ndarray | None = None
+    constraint: float = 0.0  # max |Π_e v(F) − θ| over the quadrature points (0 when θ is projected)
+    volume_change: np.ndarray | None = None  # x = θ − 1 (e, q), kept without the round-off of 1 + x − 1
 
 
 def theta_degree(space: DisplacementSpace) -> int:
@@ -105,43 +115,78 @@ class MixedHyperelasticBody:
     """Same interface as :class:`vlab.fe.problem.HyperelasticBody` (evaluate, stiffness,
     space, material, pattern); ``material`` is the split law (also a full one-field Material)."""
 
-    def __init__(self, space: DisplacementSpace, law):
+    def __init__(self, space: DisplacementSpace, law, three_field: bool = True):
+        """``three_field``: Newton carries θ with its linearised update (:meth:`advance`); False:
+        θ = Π_e v(F) recomputed at every iterate (Newton on W(u) alone: the same solution,
+        4-10× the iterations near ν = ½, kept for comparison)."""
+        if not three_field:
+            self.advance = None
         self.space = space
         self.material = law
         self.degree = theta_degree(space)
         self.projection = VolumeProjection.build(space, self.degree)
         self.pattern = SparsityPattern.build(space.element_nodes)
 
-    def evaluate(self, u: np.ndarray) -> MixedEvaluation:
+    def evaluate(self, u: np.ndarray, volume_change: np.ndarray | None = None) -> MixedEvaluation:
+        """The state (u, θ) with θ − 1 = Π_e v(F) (projected, the default) or a given volume
+        change x = θ − 1 (e, q) carried by the Newton iteration (see :meth:`advance`).
+
+        W is the energy of u alone (θ projected: the merit function of the line search); f_int
+        is the condensed residual of the three-field equations at (u, θ), p = Π_e U'(θ):
+            f̃ = R_u + gᵀ M⁻¹ H M⁻¹ R_θ,   R_u = ∫ (P_iso + p ∂v/∂F) : ∇δu,
+            R_θ = ∫ φ (v(F) − θ)   (the volume constraint, M⁻¹R_θ = Π_e v − θ),
+        i.e. P_eff = P_iso + p̃ ∂v/∂F with p̃ = Π_e [U'(θ) + U''(θ)(Π_e v − θ)]; at θ = Π_e v it is
+        ∂W/∂u."""
         law, dx = self.material, self.space.dx
         F = self.space.deformation_gradient(u)
         J = det(F)
-        x = self.projection(law.volume(F))                        # θ − 1, the projected volume change
-        theta = 1.0 + x
-        ratio = np.minimum(J, theta) if np.isfinite(law.theta_min) else J
+        projected = self.projection(law.volume(F))                # Π_e v, the volume change of u
+        x = projected if volume_change is None else volume_change
+        ratio = np.minimum(J, np.minimum(1.0 + x, 1.0 + projected)) if np.isfinite(law.theta_min) else J
         worst = np.unravel_index(int(np.argmin(ratio)), ratio.shape)
         worst = (int(worst[0]), int(worst[1]))
         min_J = float(ratio[worst])
         if not min_J > J_COLLAPSE:
-            return MixedEvaluation(u, F, np.inf, None, min_J, worst, theta)
-        W = float(np.sum((law.isochoric_energy(F) + law.U(x)) * dx))
+            return MixedEvaluation(u, F, np.inf, None, min_J, worst, 1.0 + x, volume_change=x)
+        W = float(np.sum((law.isochoric_energy(F) + law.U(projected)) * dx))
         if not np.isfinite(W):
-            return MixedEvaluation(u, F, np.inf, None, min_J, worst, theta)
+            return MixedEvaluation(u, F, np.inf, None, min_J, worst, 1.0 + x, volume_change=x)
         pressure = self.projection(law.dU(x))
-        P = law.isochoric_stress(F) + pressure * law.volume_gradient(F)
+        effective = pressure if volume_change is None else pressure + self.projection(law.d2U(x) * (projected - x))
+        P = law.isochoric_stress(F) + effective * law.volume_gradient(F)
         f_int = scatter_vector(self.space, element_forces(self.space, P))
-        return MixedEvaluation(u, F, W, f_int, min_J, worst, theta, pressure)
+        return MixedEvaluation(u, F, W, f_int, min_J, worst, 1.0 + x, pressure,
+                               float(np.max(np.abs(projected - x), initial=0.0)), x)
+
+    def advance(self, evaluation: MixedEvaluation, du: np.ndarray, alpha: float) -> MixedEvaluation:
+        """The Newton update of the three-field iteration, u + αΔu and θ + αΔθ with
+            Δθ = Π_e (∂v/∂F : ∇Δu) + (Π_e v − θ)
+        (the linearised constraint R_θ + ∂R_θ/∂u Δu − M Δθ = 0, solved element by element), so
+        that θ follows the linearised volume change instead of the exact one: a Newton step
+        changes J by O(|∇Δu|²) (a rotation does), κ ≈ 5000 μ at ν = 0.4999 multiplies that, and
+        recomputing p from Π_e v would put it in the pressure and the geometric stiffness."""
+        law = self.material
+        F = evaluation.F
+        grad = self.space.deformation_gradient(du)
+        for i in range(3):
+            grad[i, i] -= 1.0                                     # ∇Δu (3, 3, e, q)
+        rate = np.einsum("iJeq,iJeq->eq", law.volume_gradient(F), grad)
+        x = evaluation.volume_change
+        step = self.projection(rate) + (self.projection(law.volume(F)) - x)
+        return self.evaluate(evaluation.u + alpha * du, x + alpha * step)
 
     def stiffness(self, evaluation: MixedEvaluation) -> sp.csr_matrix:
-        """Consistent tangent K = ∂f_int/∂u = ∂²W/∂u² at an admissible state, N/mm."""
+        """The condensed tangent at the state (u, θ), N/mm: the Schur complement of the
+        three-field Jacobian, K = K_uu(p) + gᵀ M⁻¹ H(θ) M⁻¹ g with p = Π_e U'(θ), so that Newton on
+        (u, θ) converges quadratically; at θ = Π_e v(F) it is ∂²W/∂u² (Taylor-tested both ways)."""
         law, space = self.material, self.space
-        F, theta, p = evaluation.F, evaluation.theta, evaluation.pressure
+        F, x, p = evaluation.F, evaluation.volume_change, evaluation.pressure
         A = law.isochoric_tangent(F)
         hessian = law.volume_hessian(F)
         if hessian is not None:
             A += p * hessian
         Ke = element_stiffness(space, A)                          # (i, k, e, a, b)
-        Ke += self._volumetric_block(law.volume_gradient(F), law.d2U(theta - 1.0))
+        Ke += self._volumetric_block(law.volume_gradient(F), law.d2U(x))
         return self.pattern.matrix(Ke)
 
     def _volumetric_block(self, V: np.ndarray, d2U: np.ndarray) -> np.ndarray:

@@ -5,7 +5,10 @@ Equilibrium is a stationary point of W(u) over the free DOFs (prescribed DOFs fi
 The step length α backtracks from 1 until the sufficient-decrease (Armijo) condition
     W(u + αΔu) <= W(u) + c α rᵀΔu
 holds, a trial with J <= 0 anywhere counting as W = +inf. Close to the solution W changes by less
-than its round-off, so a trial that cuts ‖r‖ by the same factor is accepted as well.
+than its round-off, so a trial that cuts ‖r‖ by the same factor is accepted as well. A full step
+without sufficient decrease may still be taken, up to ``watchdog`` steps in a row, before the
+iteration returns to where the sequence began and backtracks (vlab.fe.line_search.Watchdog: near
+ν = ½ good full steps raise W); counted in ``NewtonRecord.relaxed`` and ``returns``.
 
 A direction with rᵀΔu >= 0 (indefinite tangent) is not a descent direction: it is repaired with
 a diagonal shift K_ff + τ diag|K_ff| (τ grown tenfold until descent), or as a last resort a
@@ -60,6 +63,7 @@ import scipy.sparse as sp
 from vlab.fe.assembly import Partition
 from vlab.fe.iterative import (AMGConjugateGradient, IterativeSolveFailed, forcing_term,
                                rigid_body_modes)
+from vlab.fe.line_search import Watchdog, dot as _dot, norm as _norm
 from vlab.fe.linsolve import Factorization, SingularSystem, factorize
 from vlab.fe.problem import Evaluation, HyperelasticBody
 
@@ -67,6 +71,7 @@ log = logging.getLogger(__name__)
 
 
 CHORD_CONTRACTION = 0.1  # a chord step that gains a decade costs ~1/8 of an exact one (dogbone)
+WATCHDOG_STEPS = 3  # Cook's membrane ν = 0.4999: the energy comes back below its reference in 2
 
 
 @dataclass(frozen=True)
@@ -83,6 +88,7 @@ class NewtonOptions:
     chord_secant: bool = True  # BFGS-update the reused factor with the chord steps' (Δu, Δr)
     chord_horizon: float = 3.0  # ... and reaches rtol at that rate within this many more steps
     linear: str = "direct"  # or "cg-amg": exact corrections by CG + AMG (vlab.fe.iterative)
+    watchdog: int = WATCHDOG_STEPS  # full Newton steps allowed without sufficient decrease (0: monotone)
 
 
 @dataclass
@@ -93,6 +99,8 @@ class NewtonRecord:
     updates: list[float] = field(default_factory=list)
     step_lengths: list[float] = field(default_factory=list)
     repairs: int = 0
+    relaxed: int = 0  # full steps taken without sufficient decrease (watchdog)
+    returns: int = 0  # watchdog returns to the reference state (the relaxed steps wasted)
     reused: int = 0  # corrections solved with a tangent factorized before this solve (chord)
     converged: bool = False
     reason: str = ""
@@ -182,12 +190,14 @@ def solve_equilibrium(body: HyperelasticBody, partition: Partition, start: Evalu
         raise NewtonFailure(record.reason, record, ev)
     tangent = last = None
     memory = _SecantMemory(None)
+    watchdog = Watchdog(options.watchdog)
     chord = False  # was the last correction a chord step
     for k in range(options.max_iterations + 1):
         r = ev.f_int[free]
         scale = max(force_floor, _norm(ev.f_int[partition.prescribed]))
         record.residuals.append(_norm(r) / scale)
-        if record.residuals[-1] <= options.rtol and (k == 0 or record.updates[-1] <= options.utol):
+        if (record.residuals[-1] <= options.rtol and (k == 0 or record.updates[-1] <= options.utol)
+                and getattr(ev, "constraint", 0.0) <= options.rtol):
             record.converged = True
             return ev, record, tangent
         if k == options.max_iterations:
@@ -220,11 +230,13 @@ def solve_equilibrium(body: HyperelasticBody, partition: Partition, start: Evalu
         if not chord and not _dot(r, du) < 0.0:
             du = _repaired_direction(Kff, r)
             record.repairs += 1
-        ev, alpha = _line_search(body, free, ev, du, options)
+        returns = record.returns
+        ev, alpha, du = watchdog.advance(body, free, ev, du, options, record)
         if ev is None:
             record.reason = "line search found no admissible decrease along the Newton direction"
             raise NewtonFailure(record.reason, record, alpha)
-        if chord and options.chord_secant and reusable.factor.backend != "cg-amg":
+        if (chord and options.chord_secant and reusable.factor.backend != "cg-amg"
+                and record.returns == returns):
             memory.add(alpha * du, ev.f_int[free] - r)  # (CG is not a fixed linear K̃⁻¹)
         record.step_lengths.append(alpha)
         record.updates.append(alpha * float(np.max(np.abs(du), initial=0.0)) / length)
@@ -292,16 +304,6 @@ def _exact_correction(body, partition: Partition, Kff, Kfp, r: np.ndarray, eta: 
     return tangent, tangent.factor.solve(-r)
 
 
-def _dot(a: np.ndarray, b: np.ndarray) -> float:
-    """aᵀb without BLAS: a BLAS level-1 call wakes its thread pool, which on a loaded machine
-    cost ~10 ms per call (measured), more than the whole residual evaluation of a small mesh."""
-    return float(np.einsum("i,i->", a, b))
-
-
-def _norm(a: np.ndarray) -> float:
-    return math.sqrt(_dot(a, a))
-
-
 def _repaired_direction(Kff: sp.csr_matrix, r: np.ndarray) -> np.ndarray:
     """A descent direction from a shifted tangent K_ff + τ diag|K_ff|, else a scaled gradient."""
     d = np.abs(Kff.diagonal())
@@ -314,23 +316,3 @@ def _repaired_direction(Kff: sp.csr_matrix, r: np.ndarray) -> np.ndarray:
         if _dot(r, du) < 0.0:
             return du
     return -r / d
-
-
-def _line_search(body: HyperelasticBody, free: np.ndarray, ev: Evaluation, du: np.ndarray,
-                 options: NewtonOptions):
-    """Backtracking on W; returns (accepted evaluation, α) or (None, last inadmissible trial)."""
-    slope = _dot(ev.f_int[free], du)
-    r0 = _norm(ev.f_int[free])
-    alpha, last = 1.0, None
-    for _ in range(options.max_backtracks):
-        u = ev.u.copy()
-        u[free] += alpha * du
-        trial = body.evaluate(u)
-        if trial.admissible:
-            decrease = trial.W <= ev.W + options.sufficient_decrease * alpha * slope
-            rn = _norm(trial.f_int[free])
-            if decrease or rn <= (1.0 - options.sufficient_decrease * alpha) * r0:
-                return trial, alpha
-        last = trial
-        alpha *= 0.5
-    return None, last

@@ -38,7 +38,8 @@ def _layout(n: int, aspect: float) -> tuple[int, int]:
 def compose(images: list[np.ndarray], titles: list[str], path: Path, bar: dict) -> list[list[int]]:
     """Write the PNG; ``bar``: label, clim, cmap, and ``uniform`` (None or the one value) with its
     ``uniform_text``. Returns the panel boxes in pixels."""
-    import matplotlib.pyplot as plt
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
 
     r0, r1, c0, c1 = crop_box(images)
     crops = [im[r0:r1, c0:c1] for im in images]
@@ -49,7 +50,8 @@ def compose(images: list[np.ndarray], titles: list[str], path: Path, bar: dict) 
     panel_h = min(panel_w / aspect, 5.0)
     panel_w = min(panel_w, panel_h * aspect)
     height = rows * (panel_h + title_h) + bar_h + 0.1
-    fig = plt.figure(figsize=(FIG_WIDTH_IN, height), dpi=DPI)
+    fig = Figure(figsize=(FIG_WIDTH_IN, height), dpi=DPI)
+    FigureCanvasAgg(fig)
     boxes = []
     try:
         x_free = FIG_WIDTH_IN - cols * panel_w - (cols - 1) * gap
@@ -66,7 +68,7 @@ def compose(images: list[np.ndarray], titles: list[str], path: Path, bar: dict) 
         _colour_bar(fig, bar, height, bar_h)
         fig.savefig(path, dpi=DPI, facecolor="white")
     finally:
-        plt.close(fig)
+        fig.clear()
     return boxes
 
 

@@ -13,13 +13,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from vlab.report.comparison_plots import colour  # noqa: E402
+from vlab.report import figures as plt  # pyplot-free Agg figures
+from vlab.report.comparison_plots import colour
 
 AXES = (("x", ""), ("y", "_y"))
 

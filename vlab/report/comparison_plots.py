@@ -11,12 +11,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import matplotlib
+import matplotlib.ticker
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import matplotlib.ticker  # noqa: E402
-import numpy as np  # noqa: E402
+from vlab.report import figures as plt  # pyplot-free Agg figures
 
 COLOURS = {"linear": "tab:blue", "stvk": "tab:orange", "stvk-volumetric": "tab:brown",
            "neo-hookean": "tab:green", "spring-network": "tab:purple"}

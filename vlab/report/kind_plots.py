@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import matplotlib.pyplot as plt
+import matplotlib
 
 
 NO_OFFSET = {"axes.formatter.useoffset": False}
@@ -20,7 +20,7 @@ def kind_of(data: dict) -> str:
 
 def kind_figures(datas: list[dict], folder: Path, true: bool, departures: dict) -> list:
     """Draw the kind's figures into ``folder``; returns their Figure entries for the page."""
-    with plt.rc_context(NO_OFFSET):
+    with matplotlib.rc_context(NO_OFFSET):
         if kind_of(datas[0]) == "biaxial":
             return _biaxial(datas, Path(folder), true)
         return _uniaxial(datas, Path(folder), true, departures)

@@ -4,10 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+from vlab.report import figures as plt  # pyplot-free Agg figures
 
 
 def plot_stress_strain(data: dict, path: Path) -> None:

@@ -100,13 +100,13 @@ def write_report(outcomes: list, out: Path, scene, scene_text: str | None,
     kind = "true" if options.true_measures else "engineering"
     with atomic_folder(out) as tmp:
         links = {o.model: _write_model_files(o, tmp, "." if single else o.model, options) for o in outcomes}
-        import matplotlib.pyplot as plt
+        import matplotlib
 
         from vlab.report.effect_plots import effect_figures
         from vlab.report.kind_plots import NO_OFFSET, kind_figures
 
         figures = kind_figures(datas, tmp, options.true_measures, departures)
-        with plt.rc_context(NO_OFFSET):
+        with matplotlib.rc_context(NO_OFFSET):
             figures += effect_figures(datas, tmp)
         renders, notes = _renders(outcomes, tmp, options, figures)
         view = _interactive(outcomes, tmp, scene.name, options)

@@ -7,10 +7,7 @@ import html
 import json
 from pathlib import Path
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+from vlab.report import figures as plt  # pyplot-free Agg figures
 
 from vlab.report.writer import atomic_folder  # noqa: E402
 from vlab.study.cost import CostAnalysis, run_seconds  # noqa: E402

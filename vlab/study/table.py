@@ -29,6 +29,7 @@ COLUMNS = (  # (header, path into the summary)
     ("other solver [s]", ("timing", "solve_other_s")),
     ("measure [s]", ("timing", "measure_s")),
     ("report [s]", ("timing", "report_s")),
+    ("compile [s]", ("timing", "compile_s")),  # before the clock, not in wall (vlab.study.warm)
     ("peak RSS [MB]", ("memory", "peak_rss_mb")),
     ("cached", ("cache_hit",)),
     ("diagnosis", ("diagnosis",)),

@@ -33,11 +33,12 @@ import skfem
 
 from vlab.fe.assembly import Partition
 from vlab.fe.mixed import MixedHyperelasticBody
-from vlab.fe.newton import NewtonFailure, NewtonOptions, solve_equilibrium
+from vlab.fe.newton import NewtonOptions
 from vlab.fe.problem import HyperelasticBody
 from vlab.fe.space import DisplacementSpace
 from vlab.materials.split import SplitNeoHookean
 from vlab.moduli import from_pair
+from vlab.verification.dead_load import ramp
 
 log = logging.getLogger(__name__)
 
@@ -65,6 +66,7 @@ class CookResult:
     iterations: int
     seconds: float
     failure: str = ""
+    per_step: list[int] = dataclasses.field(default_factory=list)  # Newton iterations per load step
 
     @property
     def element(self) -> str:
@@ -83,23 +85,6 @@ def membrane_mesh(divisions: int) -> skfem.MeshHex:
     X, S, Z = mesh.p
     lower, upper = 44.0 / 48.0 * X, 44.0 + 16.0 / 48.0 * X
     return skfem.MeshHex(np.array([X, (1.0 - S) * lower + S * upper, Z]), mesh.t)
-
-
-class DeadLoad:
-    """A body plus a dead external force: Π(u) = W(u) − f_extᵀu, force f_int − f_ext."""
-
-    def __init__(self, body, f_ext: np.ndarray):
-        self.body, self.f_ext = body, f_ext
-        self.space, self.pattern, self.material = body.space, body.pattern, body.material
-
-    def evaluate(self, u: np.ndarray):
-        ev = self.body.evaluate(u)
-        if not ev.admissible:
-            return ev
-        return dataclasses.replace(ev, W=ev.W - float(self.f_ext @ u), f_int=ev.f_int - self.f_ext)
-
-    def stiffness(self, evaluation):
-        return self.body.stiffness(evaluation)
 
 
 def edge_traction(space: DisplacementSpace, traction: float) -> np.ndarray:
@@ -121,47 +106,40 @@ class CookCase:
     divisions: int = 4           # elements per edge
     plane_strain: bool = True    # u_z = 0 on every node; False: free faces (the code gallery's set-up)
     steps: int = 5               # equal load increments (halved on a Newton failure)
+    mu: float = MU               # MPa
+    traction: float = TRACTION   # N/mm² on the right edge
+    three_field: bool = True     # mixed: Newton carries θ (False: θ projected at every iterate)
 
 
-def solve_cook(case: CookCase) -> CookResult:
+# de Souza Neto, Perić & Owen, Computational Methods for Plasticity (2008), Cook's membrane: G = 80.194 MPa,
+# ν = 0.4999, 100 N over the 16 mm edge (6.25 N/mm²), plane strain; converged tip u_y 6.934 mm (issue 20)
+SOUZA_NETO = dict(nu=0.4999, mu=80.194, traction=6.25, steps=10)
+
+
+def solve_cook(case: CookCase, options: NewtonOptions = NewtonOptions(rtol=1e-9, max_iterations=30),
+               ) -> CookResult:
     """One Cook's membrane solve; returns the tip displacement or the cause of failure."""
     t0 = time.perf_counter()
     nu, formulation, order, divisions = case.nu, case.formulation, case.order, case.divisions
-    moduli = from_pair({"mu": MU, "nu": nu})
+    moduli = from_pair({"mu": case.mu, "nu": nu})
     law = SplitNeoHookean(moduli.lmbda, moduli.mu)
     space = DisplacementSpace.build(membrane_mesh(divisions), order)
-    inner = MixedHyperelasticBody(space, law) if formulation == "mixed" else HyperelasticBody(space, law)
+    body = (MixedHyperelasticBody(space, law, case.three_field) if formulation == "mixed"
+            else HyperelasticBody(space, law))
     X = space.node_coordinates
     clamped = np.flatnonzero(np.isclose(X[:, 0], 0.0))
     fixed = [3 * clamped[:, None] + np.arange(3)]
     if case.plane_strain:
         fixed.append(3 * np.arange(len(X)) + 2)
     prescribed = np.unique(np.concatenate([f.ravel() for f in fixed]))
-    partition = Partition.build(inner.pattern, prescribed)
-    f_total = edge_traction(space, TRACTION)
+    partition = Partition.build(body.pattern, prescribed)
     tip = np.flatnonzero(np.hypot(X[:, 0] - TIP[0], X[:, 1] - TIP[1]) < 1e-9)
-    u = np.zeros(space.n_dofs)
-    load, step, iterations, failure = 0.0, 1.0 / case.steps, 0, ""
-    options = NewtonOptions(rtol=1e-9, max_iterations=30)
-    while load < 1.0 - 1e-12:
-        target = min(1.0, load + step)
-        body = DeadLoad(inner, target * f_total)
-        try:
-            ev, record, _ = solve_equilibrium(body, partition, body.evaluate(u), (1e-12, 48.0), options)
-        except NewtonFailure as exc:
-            iterations += exc.record.iterations
-            step /= 2.0
-            if step < 1e-3:
-                failure = f"load factor {target:.4g}: {exc.reason}"
-                break
-            continue
-        u, load = ev.u, target
-        iterations += record.iterations
-    tip_uy = None if failure else float(np.mean(u[3 * tip + 1]))
-    result = CookResult(nu, formulation, order, divisions, tip_uy, int(space.n_dofs), iterations,
-                        time.perf_counter() - t0, failure)
+    run = ramp(body, partition, edge_traction(space, case.traction), case.steps, options, 48.0)
+    tip_uy = None if run.failure else float(np.mean(run.u[3 * tip + 1]))
+    result = CookResult(nu, formulation, order, divisions, tip_uy, int(space.n_dofs), run.iterations,
+                        time.perf_counter() - t0, run.failure, run.per_step)
     log.info("Cook nu=%g %s %d×%d: tip u_y = %s mm (%d DOFs, %d iterations, %.1f s)",
-             nu, result.element, divisions, divisions, tip_uy, space.n_dofs, iterations, result.seconds)
+             nu, result.element, divisions, divisions, tip_uy, space.n_dofs, run.iterations, result.seconds)
     return result
 
 
