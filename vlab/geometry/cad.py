@@ -29,6 +29,29 @@ def gmsh_version() -> str | None:
     return gmsh.__version__
 
 
+def in_own_process(fn, *args):
+    """``fn(*args)`` in a fresh Python process (vlab/geometry/gmsh_worker.py), so that Gmsh's
+    OpenMP threads never live in vlab's process: a process that has run Gmsh and PARDISO and
+    then forks (vlab compare's workers) left its children hung in libgomp (measured in the test
+    suite). Not multiprocessing's spawn: it re-runs the caller's main script, which a user's
+    script need not guard."""
+    import pickle
+    import subprocess
+    import sys
+
+    job = pickle.dumps((fn.__module__, fn.__name__, args))
+    proc = subprocess.run([sys.executable, "-m", "vlab.geometry.gmsh_worker"], input=job, capture_output=True)
+    if proc.returncode != 0 or not proc.stdout:
+        tail = proc.stderr.decode(errors="replace").strip().splitlines()[-3:]
+        raise MeshImportError("specimen.file", f"the Gmsh process failed (exit {proc.returncode}): "
+                              f"{' / '.join(tail) or 'no message'}")
+    status, *value = pickle.loads(proc.stdout)
+    if status == "error":
+        field, message = value
+        raise MeshImportError(field, message.removeprefix(f"{field} "))
+    return value[0]
+
+
 @contextlib.contextmanager
 def _session():
     import gmsh
@@ -68,6 +91,10 @@ def _load(gmsh, path: Path) -> None:
 def inspect_cad(path: Path) -> tuple[list[str], list[float], list[float]]:
     """The named physical groups of a CAD file and the bounding box of its volumes (no meshing)."""
     _check_file(path)
+    return in_own_process(_inspect, path)
+
+
+def _inspect(path: Path):
     with _session() as gmsh:
         _load(gmsh, path)
         names = sorted(gmsh.model.getPhysicalName(d, t) for d, t in gmsh.model.getPhysicalGroups())
@@ -78,6 +105,10 @@ def inspect_cad(path: Path) -> tuple[list[str], list[float], list[float]]:
 def mesh_cad(path: Path, size: float) -> ImportedMesh:
     """Mesh the CAD file with Gmsh tetrahedra of largest edge ``size`` (mm) and read it back."""
     _check_file(path)
+    return in_own_process(_mesh, path, size)
+
+
+def _mesh(path: Path, size: float) -> ImportedMesh:
     with tempfile.TemporaryDirectory(prefix="vlab-gmsh-") as tmp, _session() as gmsh:
         _load(gmsh, path)
         gmsh.option.setNumber("Mesh.MeshSizeMax", float(size))

@@ -14,7 +14,7 @@ import math
 import numpy as np
 import skfem
 
-from vlab.geometry.cad import _session
+from vlab.geometry.cad import _session, in_own_process
 from vlab.geometry.dogbone import DogboneDimensions
 
 
@@ -54,8 +54,13 @@ def _outline(d: DogboneDimensions) -> list[tuple]:
 
 
 def gmsh_dogbone_mesh(d: DogboneDimensions, size: float, gauge_size: float | None = None) -> skfem.MeshTet:
-    """Gmsh tetrahedra of the dogbone (module docstring), as a scikit-fem mesh, mm."""
-    gauge_size = gauge_size or size
+    """Gmsh tetrahedra of the dogbone (module docstring), as a scikit-fem mesh, mm (Gmsh runs in its
+    own process: vlab.geometry.cad.in_own_process says why)."""
+    P, tets = in_own_process(_gmsh_tets, d, size, gauge_size or size)
+    return skfem.MeshTet(np.ascontiguousarray(P.T), np.ascontiguousarray(tets.T))
+
+
+def _gmsh_tets(d: DogboneDimensions, size: float, gauge_size: float) -> tuple[np.ndarray, np.ndarray]:
     L, h, b2 = d.overall_length, d.thickness, d.end_width / 2
     with _session() as gmsh:
         occ = gmsh.model.occ
@@ -105,4 +110,4 @@ def gmsh_dogbone_mesh(d: DogboneDimensions, size: float, gauge_size: float | Non
     a, b, c, e = (P[tets[:, k]] for k in range(4))
     flip = np.einsum("ij,ij->i", np.cross(b - a, c - a), e - a) < 0  # scikit-fem wants positive volumes
     tets[flip, 0], tets[flip, 1] = tets[flip, 1], tets[flip, 0].copy()
-    return skfem.MeshTet(np.ascontiguousarray(P.T), np.ascontiguousarray(tets.T))
+    return P, tets
