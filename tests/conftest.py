@@ -30,3 +30,15 @@ def comparison(tmp_path_factory):
                            ReportOptions(gif_model="neo-hookean"))
     return SimpleNamespace(scene=scene, outcomes=outcomes, folder=folder, summary=summary, events=events,
                            by_model={o.model: o for o in outcomes})
+
+
+@pytest.fixture(scope="session")
+def stability_fast_report(tmp_path_factory):
+    """`vlab stability --fast` once per session: (CLI result, report folder)."""
+    from typer.testing import CliRunner
+
+    from vlab.cli import app
+
+    out = tmp_path_factory.mktemp("stability") / "report"
+    result = CliRunner().invoke(app, ["stability", "--fast", "--out", str(out), "--quiet"])
+    return result, out

@@ -38,7 +38,7 @@ def test_report_screenshot_shows_the_images(comparison, tmp_path):
 
     broken = tmp_path / "broken"  # the same page with its pictures missing: the control
     shutil.copytree(comparison.folder, broken)
-    for picture in list(broken.glob("*.png")) + list(broken.glob("*.gif")):
+    for picture in list(broken.glob("*.png")) + list(broken.glob("*.gif")) + list(broken.glob("view3d.*")):
         picture.unlink()
     control = screenshot(broken / "index.html", tmp_path / "broken.png", tmp_path / "profile2")
 

@@ -13,7 +13,7 @@ Layers, bottom to top (a module may import its own layer and any layer below):
     7 report       results.json, CSV, PNG, HTML
     8 run          the one sequencer, and its stages (vlab.pipeline: prepare, solve, measure)
     9 compare, study, verification, identify
-   10 cli          (and vlab.cli_io, vlab.__main__)
+   10 cli          (and vlab.cli_io, vlab.__main__, cli_progress: the terminal display; api: the Python API)
 
 The scene sits above the registries (not at the very bottom) because its parts delegate to them:
 the shape, kind, model and effect registries own their grammar. Function-level imports (lazy, to
@@ -44,7 +44,7 @@ LAYERS = {
     "vlab.report": 7,
     "vlab.run": 8, "vlab.pipeline": 8,
     "vlab.compare": 9, "vlab.study": 9, "vlab.verification": 9, "vlab.identify": 9,
-    "vlab.cli": 10, "vlab.cli_io": 10, "vlab.__main__": 10,
+    "vlab.cli": 10, "vlab.cli_io": 10, "vlab.cli_progress": 10, "vlab.api": 10, "vlab.__main__": 10,
 }
 
 # (importing module, imported module): why a function-level import may reach upward.

@@ -13,11 +13,10 @@ from vlab.render.specimens import RenderOptions, common_range, render_side_by_si
 PIXEL_STD_FLOOR = 20.0  # a blank (uniform) picture has 0; the renders here have ~60-80
 
 
-def _panels(path, n_models, bar_weight=0.4):
-    """Split a side-by-side render into its model panels (the scalar bar column dropped)."""
+def _panels(path, boxes):
+    """The model panels of a side-by-side render, cut at the pixel boxes the renderer reports."""
     image = np.asarray(Image.open(path).convert("RGB"), dtype=float)
-    width = image.shape[1] / (n_models + bar_weight)
-    return [image[:, int(i * width):int(i * width) + int(width)] for i in range(n_models)]
+    return [image[y0:y1, x0:x1] for x0, y0, x1, y1 in boxes]
 
 
 def test_side_by_side_render_is_not_blank_and_shares_one_colour_range(comparison):
@@ -28,14 +27,14 @@ def test_side_by_side_render_is_not_blank_and_shares_one_colour_range(comparison
     lo, hi = meta["clim"]
     for snap in snapshots:  # every panel's values lie inside the one shared range
         assert lo <= snap.fields["von-mises"][-1].min() and snap.fields["von-mises"][-1].max() <= hi
-    panels = _panels(comparison.folder / meta["file"], len(models))
+    panels = _panels(comparison.folder / meta["file"], meta["panels"])
     for model, panel in zip(models, panels):
         assert panel.std() > PIXEL_STD_FLOOR, f"{model} panel is blank"
 
 
 def test_panels_differ_where_the_physics_differs(comparison):
     meta = comparison.summary["renders"]["side_by_side"]
-    panels = dict(zip(meta["models"], _panels(comparison.folder / meta["file"], len(meta["models"]))))
+    panels = dict(zip(meta["models"], _panels(comparison.folder / meta["file"], meta["panels"])))
     # linear and Neo-Hookean have different stress (colour) and lateral contraction (shape)
     difference = np.abs(panels["linear"] - panels["neo-hookean"]).mean()
     assert difference > 5.0
@@ -44,8 +43,8 @@ def test_panels_differ_where_the_physics_differs(comparison):
 def test_same_model_renders_identically(tmp_path, comparison):
     """The comparison above means something: two renders of the same state agree pixel for pixel."""
     snap = comparison.by_model["stvk"].snapshot
-    render_side_by_side([snap, snap], tmp_path / "twice.png", RenderOptions(field="J"))
-    a, b = _panels(tmp_path / "twice.png", 2)
+    meta = render_side_by_side([snap, snap], tmp_path / "twice.png", RenderOptions(field="J"))
+    a, b = _panels(tmp_path / "twice.png", meta["panels"])
     assert np.abs(a - b).mean() < 1.0
     assert a.std() > PIXEL_STD_FLOOR
 

@@ -122,3 +122,14 @@ def test_cli_compare_quiet_two_models(tmp_path):
     assert result.exit_code == 0, result.output
     assert re.fullmatch(r"report: \S+index.html\s*", result.output), result.output  # nothing but the path
     assert (tmp_path / "c" / "linear" / "results.json").is_file()
+
+
+def test_compare_writes_its_own_folder_beside_the_run_report(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    ran = CliRunner().invoke(app, ["run", "-q", "--no-render", "--no-estimate"])
+    assert ran.exit_code == 0, ran.output
+    before = (tmp_path / "reports" / "block-neo-hookean" / "results.json").read_bytes()
+    compared = CliRunner().invoke(app, ["compare", "--models", "linear", "-q", "--no-render", "-j", "1"])
+    assert compared.exit_code == 0, compared.output
+    assert (tmp_path / "reports" / "block-neo-hookean-compare" / "comparison.json").is_file()
+    assert (tmp_path / "reports" / "block-neo-hookean" / "results.json").read_bytes() == before

@@ -9,6 +9,7 @@ import pytest
 
 from golden import differences, golden_path, golden_view
 
+from vlab.report.explain import viscoelastic_apparent
 from vlab.report.writer import write_run
 from vlab.run import run_scene
 from vlab.scene import apply_overrides, parse_scene
@@ -21,7 +22,7 @@ def coarse(raw: dict) -> dict:
     four regular steps."""
     spec = parse_scene(raw, base_dir=FILES[0].parent).specimen
     overrides = {"test.steps": min(raw["test"].get("steps", 10), 4)}
-    if spec.shape == "mesh":  # meshed already
+    if spec.shape in ("mesh", "cad"):  # meshed already, or meshed by Gmsh at the file's own mesh.size
         return apply_overrides(raw, overrides)
     narrow = {"dogbone": lambda: spec.dimensions.width, "block": lambda: min(spec.size[1:]),
               "sheet": lambda: spec.size[1],
@@ -32,6 +33,14 @@ def coarse(raw: dict) -> dict:
     if "gauge_size" not in raw["mesh"]:
         overrides["mesh.size"] = max(size, min(2 * size, narrow / 2))
     return apply_overrides(raw, overrides)
+
+
+def skip_without_gmsh(path: Path) -> None:
+    from vlab.geometry.cad import gmsh_version
+
+    shape = tomllib.loads(path.read_text(encoding="utf-8"))["specimen"]["shape"]
+    if shape == "cad" and gmsh_version() is None:
+        pytest.skip("the 'cad' extra (gmsh) is not installed: pip install \"vlab[cad]\"")
 
 
 def test_the_folder_holds_scenes():
@@ -60,16 +69,22 @@ def folder(tmp_path_factory):
 
 @pytest.mark.parametrize("path", FILES, ids=lambda p: p.stem)
 def test_specimen_file_runs_on_a_coarse_mesh(path, folder):
+    skip_without_gmsh(path)
     scene, result, data = run_coarse(path, folder)
     assert result.converged, result.history.failure
     moduli, measured = scene.material.moduli, data["measured"]
+    E_in, nu_in = moduli.E, moduli.nu
+    apparent = viscoelastic_apparent(data)
+    if apparent is not None:  # a ramp measures the rate-dependent moduli, which the report states
+        E_in, nu_in = apparent["E"], apparent["nu"]
+    rel = 0.005 if scene.specimen.shape == "cad" else 0.03  # a CAD dumb-bell: like vlab's own, within 0.5 %
     if scene.test.kind == "simple-shear":
         # the free ends of the layer carry no shear: the nominal stress over the plate reads G a few % low
         assert measured["G"] == pytest.approx(moduli.mu, rel=0.05)
         assert measured["G_fit"]["r2"] > 0.999
     else:
-        assert measured["E"] == pytest.approx(moduli.E, rel=0.03)
-        assert measured["nu"] == pytest.approx(moduli.nu, rel=0.03)
+        assert measured["E"] == pytest.approx(E_in, rel=rel)
+        assert measured["nu"] == pytest.approx(nu_in, rel=rel)
     if scene.test.kind == "planar":
         assert measured["planar_modulus"] == pytest.approx(moduli.E / (1 - moduli.nu**2), rel=0.03)
     assert data["mesh"]["quality"]["min_quality"] >= scene.mesh.min_quality
@@ -94,6 +109,7 @@ def test_results_match_the_golden_files_recorded_before_the_restructuring(path, 
     a later solver change legitimately moves results at the level of Newton's rtol (1e-8), so the
     tolerance tells a relocation that changed physics from one that did not, without pinning the
     goldens to round-off that any solver improvement would break."""
+    skip_without_gmsh(path)
     expected = json.loads(golden_path(path).read_text(encoding="utf-8"))
     found = differences(expected, golden_view(run_coarse(path, folder)[2]), rtol=1e-6)
     assert not found, "\n".join(found[:20])

@@ -11,10 +11,8 @@ from vlab.verification.suite import CaseContext, Outcome, register, run_suite, s
 
 
 @pytest.fixture(scope="module")
-def fast_report(tmp_path_factory):
-    out = tmp_path_factory.mktemp("stability") / "report"
-    result = CliRunner().invoke(app, ["stability", "--fast", "--out", str(out), "--quiet"])
-    return result, out
+def fast_report(stability_fast_report):
+    return stability_fast_report  # run once per session (conftest), shared with the screenshot test
 
 
 def test_the_fast_subset_passes_and_writes_table_json_and_html(fast_report):

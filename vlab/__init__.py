@@ -25,3 +25,16 @@ def serial_blas_process() -> None:
         SERIAL_BLAS = _os.environ["OPENBLAS_NUM_THREADS"] == "1"
 
 __version__ = "0.1.0"
+
+
+_API = {"Scene": "vlab.api", "Result": "vlab.api", "Curve": "vlab.api", "SceneError": "vlab.scene"}
+
+
+def __getattr__(name: str):
+    """vlab.Scene, vlab.Result, vlab.Curve, vlab.SceneError, loaded on first use (importing vlab
+    stays light: no solver, no numba)."""
+    if name in _API:
+        import importlib
+
+        return getattr(importlib.import_module(_API[name]), name)
+    raise AttributeError(f"module 'vlab' has no attribute {name!r}")

@@ -20,14 +20,24 @@ from vlab.cli_io import (EXIT_FAILED, EXIT_INVALID, EXIT_OK, cache_folder, conso
 from vlab.moduli import ModuliError, from_pair
 from vlab.scene import SceneError, load_scene_text
 
-app = typer.Typer(add_completion=False, no_args_is_help=True,
+app = typer.Typer(add_completion=False, no_args_is_help=True, context_settings={"help_option_names": ["-h", "--help"]},
                   help="vlab — a virtual material-testing lab.")
 FORCE_HELP = ("Replace a non-empty folder vlab did not make (never one holding the scene file, the cache, "
               "the current or the home folder).")
 
 
+def _print_version(value: bool) -> None:
+    if value:
+        from vlab import __version__
+
+        typer.echo(f"vlab {__version__}")
+        raise typer.Exit(EXIT_OK)
+
+
 @app.callback()
 def _environment(
+    version: bool = typer.Option(False, "--version", callback=_print_version, is_eager=True,
+                                 help="Print vlab's version and exit."),
     kernel: Optional[str] = typer.Option(None, "--kernel", help="auto | numpy (default: VLAB_KERNEL, else auto)"),
     threads: Optional[int] = typer.Option(None, "--threads",
                                           help="assembly threads (default: VLAB_ASSEMBLY_THREADS, else all cores)"),
@@ -40,6 +50,9 @@ def _environment(
     import dataclasses
 
     from vlab import settings  # numba itself is started only by the solver
+    from vlab.cli_progress import route_warnings
+
+    route_warnings(console)
 
     try:
         chosen = settings.Settings.from_environment()
@@ -85,34 +98,33 @@ def run(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (defa
                                       help="Accuracy estimate from one coarser companion solve (mesh.size × 2)."),
         force: bool = typer.Option(False, "--force", help=FORCE_HELP)):
     """Run one test and write its report: results.json, curve.csv, PNGs, renders, VTU/PVD, index.html."""
+    from vlab.cli_progress import RunProgress, scheduled_levels
     from vlab.report.writer import write_run
     from vlab.run import run_scene
 
     parsed, text = _load(scene)
     options = _report_options(true, field, single_file, parsed.material.model if gif else None, render)
     dest = report_destination(out or Path("reports") / parsed.name, force, scene or None)
-    n_levels = [0]
-
-    def progress(level):
-        n_levels[0] += 1
-        if not quiet:
-            say(f"  level {n_levels[0]:3d}  t = {level.t:.4f}  Newton iterations {level.iterations}")
-
     if not quiet:
         from vlab.loading.kinds import kind_of
 
         kind = kind_of(parsed.test)
         say((parsed.name, "bold"), f": {parsed.material.model}, {parsed.test.kind} "
             f"to {kind.load_key} {list(parsed.test.targets)}")
-    try:
-        result = run_scene(parsed, on_level=progress)
-    except SceneError as exc:  # e.g. a mesh below mesh.min_quality: nothing is written
-        fail("invalid scene", exc)
-    if estimate:
-        from vlab.study.estimate import accuracy_estimate
+    with RunProgress(console, scheduled_levels(parsed), quiet) as progress:
+        try:
+            result = run_scene(parsed, on_level=progress.level)
+        except SceneError as exc:  # e.g. a mesh below mesh.min_quality: nothing is written
+            progress.bar.stop()
+            fail("invalid scene", exc)
+        if estimate:
+            from vlab.study.estimate import accuracy_estimate
 
-        result.diagnostics.accuracy_estimate = accuracy_estimate(result)
-    data = _write(write_run, result, dest, text, options)
+            progress.phase("accuracy estimate (mesh × 2)")
+            result.diagnostics.accuracy_estimate = accuracy_estimate(result)
+        progress.phase("report: plots, renders, 3-D")
+        data = _write(write_run, result, dest, text, options)
+        progress.phase("done")
     _print_summary(data)
     _print_estimate(data.get("accuracy_estimate"))
     say(f"report: {dest.path / 'index.html'}")
@@ -156,6 +168,10 @@ def _print_summary(data: dict) -> None:
     if m["E"] is not None:
         say(f"measured E = {m['E']:.6g} MPa, nu = {m['nu']:.6g} "
             f"(input E = {data['input']['E']:.6g}, nu = {data['input']['nu']:.6g})")
+        from vlab.report.explain import by_design_notes
+
+        for key, note in by_design_notes(data).items():  # a difference by design, said where it shows
+            say(f"  {key}: {note}")
     else:
         say(f"E and nu {m['note']}")
 
@@ -201,6 +217,10 @@ def info():
     Console().print(f"  iterative     cg-amg   {amg or 'not installed (pip install pyamg)'}",
                     highlight=False)
     Console().print(f"linear solver in use: {solver_in_use()}", highlight=False)
+    from vlab.geometry.cad import gmsh_version
+
+    found_gmsh = gmsh_version() or 'not installed (pip install "vlab[cad]")'
+    Console().print(f"  CAD meshing   gmsh     {found_gmsh} (specimen.shape = 'cad')", highlight=False)
     from vlab import jit
     threads = f", {jit.threads()} threads for the tangent" if jit.available() else ""
     Console().print(f"assembly kernels: {jit.in_use()}{threads} (VLAB_KERNEL=numpy: numpy only; "
@@ -248,7 +268,7 @@ def compare(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (
                                                       "stvk-volumetric, neo-hookean, spring-network take "
                                                       "the scene's E, nu); default: the scene's labels, "
                                                       "else linear,stvk,neo-hookean."),
-            out: Optional[Path] = typer.Option(None, "--out", "-o", help="Output folder (default reports/<scene name>)."),
+            out: Optional[Path] = typer.Option(None, "--out", "-o", help="Output folder (default reports/<scene name>-compare)."),
             workers: Optional[int] = typer.Option(None, "--workers", "-j", min=1,
                                                   help="Parallel processes (default: one per core)."),
             quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress output."),
@@ -274,7 +294,7 @@ def compare(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (
     except SceneError as exc:
         fail("invalid scene", exc)
     options = _report_options(true, field, single_file, gif, render)
-    dest = report_destination(out or Path("reports") / parsed.name, force, scene or None)
+    dest = report_destination(out or Path("reports") / f"{parsed.name}-compare", force, scene or None)  # not the run's
     with Progress(TextColumn("{task.description:>16}"), BarColumn(), MofNCompleteColumn(),
                   TextColumn("load levels"), TimeElapsedColumn(), console=console, disable=quiet) as bar:
         tasks = {m: bar.add_task(m, total=None) for m in chosen}
@@ -393,7 +413,8 @@ def cost(scene: Path = typer.Argument(..., help="Scene TOML file."),
          ratio: float = typer.Option(2 ** 0.5, "--ratio", min=1.1, max=4.0,
                                      help="Between successive mesh sizes (the sizes are h0·ratio, h0, h0/ratio, …)."),
          orders: str = typer.Option("1,2", "--orders", help="Element orders of the mesh study, e.g. 1 or 1,2."),
-         cells: str = typer.Option("tet,hex", "--cells", help="Cell types of the mesh study, e.g. hex or tet,hex."),
+         cells: str = typer.Option("tet,hex", "--cells", help="Cell types of the mesh study, e.g. hex or tet,hex; "
+                                   "gmsh-tet: a dogbone's tetrahedra from Gmsh (the cad extra)."),
          out: Optional[Path] = typer.Option(None, "--out", "-o", help="Output folder (default reports/<name>-cost)."),
          cache: Path = typer.Option(Path("reports") / ".cache", "--cache", help="Cache folder of run summaries."),
          workers: int = typer.Option(2, "--workers", "-j", min=1, help="Worker processes of the local Dask cluster."),
@@ -409,7 +430,11 @@ def cost(scene: Path = typer.Argument(..., help="Scene TOML file."),
     parsed, _ = _load(scene)
     options = CostOptions(levels=levels, ratio=ratio, target=_fraction(target),
                           orders=_choices("--orders", orders, (1, 2), int),
-                          cells=_choices("--cells", cells, ("tet", "hex")))
+                          cells=_choices("--cells", cells, ("tet", "hex", "gmsh-tet")))
+    if "gmsh-tet" in options.cells and parsed.specimen.shape != "dogbone":
+        console.print(f"[red]invalid option[/red] --cells gmsh-tet meshes a dogbone; {scene} has specimen.shape = "
+                      f"{parsed.specimen.shape!r}", highlight=False)
+        raise typer.Exit(EXIT_INVALID)
     points = knob_points(parsed, options)
     cache, scheduler = cache_folder(cache), scheduler_address(scheduler)
     dest = report_destination(out or Path("reports") / f"{parsed.name}-cost", force, scene, [cache])

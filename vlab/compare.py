@@ -109,7 +109,7 @@ def compare_models(scene: Scene, models: tuple[str, ...], workers: int | None = 
             report = (lambda done, m=model: progress(m, done, total)) if progress else None
             outcomes.append(run_model(scene, model, report))
         return outcomes
-    context = mp.get_context("fork" if "fork" in mp.get_all_start_methods() else "spawn")
+    context = _worker_context()
     events = context.Queue()
     with ProcessPoolExecutor(workers, mp_context=context, initializer=_init_worker,
                              initargs=(events, settings.current())) as pool:
@@ -120,6 +120,17 @@ def compare_models(scene: Scene, models: tuple[str, ...], workers: int | None = 
             _drain(events, progress)
         _drain(events, progress)
         return [futures[m].result() for m in models]
+
+
+def _worker_context():
+    """Workers start from a fork server, a fresh interpreter that has only imported vlab: a plain
+    fork of a parent that has already run MKL PARDISO (or Gmsh) hands the child GNU OpenMP's
+    thread pool in a locked state, and the child hangs in its first parallel factorization."""
+    if "forkserver" not in mp.get_all_start_methods():
+        return mp.get_context("spawn")
+    context = mp.get_context("forkserver")
+    context.set_forkserver_preload(["vlab.compare", "vlab.run"])  # import once in the server, not per worker
+    return context
 
 
 def _drain(events, progress: Progress | None) -> None:

@@ -2,11 +2,9 @@
 
 from __future__ import annotations
 
-import logging
 
 from vlab.effects.registry import EFFECTS
 
-log = logging.getLogger(__name__)
 
 
 def history_law(scene, elastic):
@@ -43,6 +41,4 @@ def effect_warnings(scene) -> list[str]:
     if protocol.unloads and not scene.effects:
         found.append(f"test.protocol = {protocol.name!r} on an elastic material: unloading retraces "
                      "loading (no hysteresis, no permanent set)")
-    for text in found:
-        log.warning(text)
-    return found
+    return found  # logged once by the caller (vlab.run._warnings), with the run's other warnings

@@ -136,7 +136,7 @@ def _imported(scene) -> tuple[int, int]:
 def estimate(scene) -> SizeEstimate:
     """The scene's mesh size, counted from its geometry (module docstring)."""
     mesh = scene.mesh
-    if scene.specimen.shape == "mesh":
+    if scene.specimen.shape in ("mesh", "cad"):  # a CAD file is meshed by Gmsh when the scene is read
         elements, nodes = _imported(scene)
         how, dim = "the file's own cells", 3
     elif scene.specimen.shape == "cruciform":

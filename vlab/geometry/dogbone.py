@@ -17,9 +17,11 @@ at the grip edges, the ends of the parallel section and the arc junctions, so th
 is meshed with undistorted boxes (a homogeneous uniaxial state is represented exactly there) and
 the grips select whole element layers. One octant (x ≥ L/2, η ≥ 0, z ≥ h/2) of hexahedra, or of
 their Kuhn split into tetrahedra, is mirrored across the mid-planes (geometry/lattice.py), so the
-mesh is symmetric and ``[mesh] symmetry`` can keep half, a quarter or an eighth of it. (Why not Gmsh: the PyPI ``gmsh`` wheel's libgmsh links libGLU,
-libGL, libXrender, libXft, libXcursor, libXinerama and libX11 — ldd on gmsh 4.15.2 — which a
-pip-only machine need not have; this mesher needs only numpy and scikit-fem.)
+mesh is symmetric and ``[mesh] symmetry`` can keep half, a quarter or an eighth of it. (Why not Gmsh
+by default: the PyPI ``gmsh`` wheel's libgmsh links libGLU, libGL, libXrender, libXft, libXcursor,
+libXinerama and libX11 — ldd on gmsh 4.15.2 — which a pip-only machine need not have; this mesher
+needs only numpy and scikit-fem. ``[mesh] mesher = "gmsh"`` offers Gmsh's tetrahedra of the same
+outline where it is installed: geometry/gmsh_dogbone.py.)
 """
 
 from __future__ import annotations
@@ -177,12 +179,18 @@ def dogbone_mesh(dims: DogboneDimensions, size: float, cell: str, gauge_size: fl
 
 
 def dogbone_specimen(dims: DogboneDimensions, size: float, cell: str, gauge_size: float | None = None,
-                     symmetry: str = "none") -> Specimen:
+                     symmetry: str = "none", mesher: str = "vlab") -> Specimen:
     """Clamped grips over ``grip_length`` (snapped to the nearest mesh plane) at each end; gauge marks of ``gauge_length`` centred on
-    the top face; transverse marks across the width and thickness marks at the gauge centre."""
+    the top face; transverse marks across the width and thickness marks at the gauge centre.
+    ``mesher = "gmsh"``: Gmsh's tetrahedra of the same outline (geometry/gmsh_dogbone.py)."""
     dims.check()
     L, G, b1, h = dims.overall_length, dims.gauge_length, dims.width, dims.thickness
-    mesh = dogbone_mesh(dims, size, cell, gauge_size, symmetry)
+    if mesher == "gmsh":
+        from vlab.geometry.gmsh_dogbone import gmsh_dogbone_mesh
+
+        mesh = gmsh_dogbone_mesh(dims, size, gauge_size)
+    else:
+        mesh = dogbone_mesh(dims, size, cell, gauge_size, symmetry)
     planes = np.unique(mesh.p[0])
     g = L - float(planes[np.argmin(np.abs(planes - (L - dims.grip_length)))])  # the meshed grip edge
     tol = 1e-9 * L

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import contextlib
 import io
+import logging
 from contextvars import ContextVar
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -30,6 +31,8 @@ from vlab import fields
 from vlab.fields import SceneError
 from vlab.geometry.shape import Shape
 from vlab.geometry.specimen import GaugeMarks, Grip, Specimen
+
+log = logging.getLogger(__name__)
 
 MESH_SUFFIXES = (".msh", ".vtu")
 _DIM = {"vertex": 0, "line": 1, "line3": 1, "triangle": 2, "triangle6": 2, "quad": 2, "quad8": 2, "quad9": 2,
@@ -240,6 +243,11 @@ def _parse_mesh_file(t: fields.Table) -> MeshFileSpecimen:
         data = read_mesh(path)
     except MeshImportError as exc:
         raise SceneError(f"{exc}") from None
+    return mesh_file_specimen(t, path, data)
+
+
+def mesh_file_specimen(t: fields.Table, path: Path, data: ImportedMesh) -> MeshFileSpecimen:
+    """The specimen of a mesh read from ``path`` (a mesh file, or Gmsh's mesh of a CAD file)."""
     grips = t.get("grips")
     if not isinstance(grips, dict) or len(grips) != 2 or not all(isinstance(v, str) for v in grips.values()):
         raise SceneError(f"{t.field('grips')} must be a table of two region names, e.g. {{left = \"grip_left\", "

@@ -29,7 +29,8 @@ class Snapshot:
     For the VTU files: vtk = (points (n_nodes, 3) mm, meshio cell type, connectivity);
     nodal_displacement (n_frames, n_nodes, 3) mm; tensors: name -> (n_frames, n_cells, 3, 3)
     ("cauchy" MPa, "green_lagrange" 1); time: (n_frames,) s, or None (quasi-static);
-    grip_stretch: (n_frames, n_axes)."""
+    grip_stretch: (n_frames, n_axes); control: what ``stretch`` holds;
+    completed: whether the test reached its end."""
 
     model: str
     mesh: skfem.Mesh
@@ -44,6 +45,7 @@ class Snapshot:
     time: np.ndarray | None = None
     grip_stretch: np.ndarray | None = None
     control: str = "grip stretch"  # what ``stretch`` holds: the test kind's control ("shear": the amount γ)
+    completed: bool = True  # the test reached its end (False: stopped; the last frame is the last converged)
 
     @property
     def n_frames(self) -> int:
@@ -106,4 +108,4 @@ def take_snapshot(result) -> Snapshot:
                for name in ("cauchy", "green_lagrange")}
     nodal = np.stack([_in_3d(ev.u.reshape(-1, d)) for ev in states])
     return Snapshot(result.scene.material.model, mesh, t, stretch, u, fields, marks, vtk_cells(space),
-                    nodal, tensors, time, grip, control)
+                    nodal, tensors, time, grip, control, result.converged)

@@ -14,7 +14,8 @@ from pathlib import Path
 import numpy as np
 
 from vlab.render.offscreen import setup
-from vlab.render.specimens import _apply_camera, _camera, _outline
+from vlab.render.camera import apply_camera, fit_camera
+from vlab.render.specimens import _outline
 
 
 def render_mode(mesh, base: np.ndarray, mode: np.ndarray, path: Path, label: str,
@@ -45,7 +46,9 @@ def render_mode(mesh, base: np.ndarray, mode: np.ndarray, path: Path, label: str
                                           "vertical": True, "position_x": 0.84, "position_y": 0.1,
                                           "height": 0.7, "width": 0.06})
         plotter.add_text(label, position=(0.02, 0.82), viewport=True, font_size=11, color="black")
-        _apply_camera(plotter, _camera(np.vstack([X, deformed.points])))
+        aspect = size[1] / size[0]  # the fixed window; margin for the label above the specimen
+        apply_camera(plotter, fit_camera(np.vstack([X, deformed.points]), width=size[0], margin=0.45,
+                                         min_aspect=aspect, max_aspect=aspect, reserve_right=0.2))
         plotter.screenshot(str(path))
     finally:
         plotter.close()

@@ -16,11 +16,11 @@ import numpy as np
 
 from vlab.post.fields import FIELDS
 from vlab.post.snapshot import Snapshot
+from vlab.render.camera import apply_camera, fit_camera
 from vlab.render.offscreen import setup
 
 MARK_COLOURS = {"extensometer x": "red", "extensometer y": "magenta", "transverse": "orange",
                 "thickness": "deepskyblue"}
-VIEW_DIRECTION = np.array([0.55, -1.0, 0.75])  # from the front-right, above: x runs left to right
 
 
 @dataclass(frozen=True)
@@ -28,9 +28,13 @@ class RenderOptions:
     field: str = "von-mises"
     panel_size: tuple[int, int] = (440, 440)  # pixels per panel
     cmap: str = "viridis"
-    frame: int = -1  # which snapshot frame (default: the last recorded level)
+    frame: int | None = None  # which snapshot frame; None: the state below
+    state: str = "peak"  # "peak" (the test's largest stretch, or its end) | "end"
+    width: int = 1200  # pixels of each panel's render before cropping
 
     def __post_init__(self):
+        if self.state not in ("peak", "end"):
+            raise ValueError(f"render state {self.state!r} unknown; allowed: peak, end")
         if self.field not in FIELDS:
             raise ValueError(f"render field {self.field!r} unknown; allowed: {', '.join(FIELDS)}")
 
@@ -51,37 +55,68 @@ def _bar_title(field: str, width: int = 14) -> str:
     return "\n".join(lines)
 
 
+NON_NEGATIVE = {"von-mises", "max-stretch", "J"}  # fields whose colour scale never goes below 0
+UNIFORM_RTOL = 1e-6  # a spread below this fraction of the field's magnitude is round-off: one colour
+
+
 def common_range(snapshots: list[Snapshot], field: str, frames=None) -> tuple[float, float]:
-    """Smallest and largest cell value of ``field`` over the given frames of all snapshots."""
-    values = [s.fields[field][frames if frames is not None else -1] for s in snapshots]
+    """Smallest and largest cell value of ``field`` over the given frames (one per snapshot, or
+    one index/slice for all) of all snapshots; clamped at 0 for a non-negative field."""
+    per = frames if isinstance(frames, (list, tuple)) else [frames if frames is not None else -1] * len(snapshots)
+    values = [s.fields[field][f] for s, f in zip(snapshots, per)]
     lo, hi = float(min(np.min(v) for v in values)), float(max(np.max(v) for v in values))
-    if hi - lo < 1e-12 * max(1.0, abs(hi)):
+    magnitude = max(float(np.abs(s.fields[field]).max()) for s in snapshots)
+    if uniform_value(lo, hi, scale=magnitude) is not None:
         lo, hi = lo - 0.5 * max(abs(lo), 1e-3), hi + 0.5 * max(abs(hi), 1e-3)
+    if field in NON_NEGATIVE:
+        lo = max(lo, 0.0)
     return lo, hi
 
 
-def _camera(points: np.ndarray) -> dict:
-    """Parallel camera framing ``points``: from the front-right above for a solid, straight from
-    above (x to the right, y up) for a flat sheet (all z equal)."""
-    lo, hi = points.min(axis=0), points.max(axis=0)
-    centre, radius = (lo + hi) / 2, 0.5 * float(np.linalg.norm(hi - lo))
-    if hi[2] - lo[2] <= 1e-12 * max(radius, 1e-300):
-        direction, up = np.array([0.0, 0.0, 1.0]), np.array([0.0, 1.0, 0.0])
-    else:
-        direction = VIEW_DIRECTION / np.linalg.norm(VIEW_DIRECTION)
-        up = np.array([0.0, 0.0, 1.0]) - direction[2] * direction  # screen "up" in world coordinates
-    focal = centre + 0.3 * radius * up / np.linalg.norm(up)  # leaves room for the label on top
-    viewup = (0.0, 1.0, 0.0) if direction[2] == 1.0 else (0.0, 0.0, 1.0)
-    return {"position": tuple(focal + 4.0 * radius * direction), "focal_point": tuple(focal),
-            "viewup": viewup, "parallel_scale": 1.3 * radius}
+def uniform_value(lo: float, hi: float, rtol: float = UNIFORM_RTOL, scale: float = 0.0) -> float | None:
+    """The field's one value when hi − lo ≤ rtol · m, m = max(|lo|, |hi|, ``scale``) (``scale``: the
+    field's magnitude over the whole test, so that an unloaded state's 1e−16 noise is uniform 0),
+    else None; a value below rtol · m is 0."""
+    m = max(abs(lo), abs(hi), scale)
+    if hi - lo > rtol * m and m >= 1e-300:
+        return None
+    value = 0.5 * (lo + hi)
+    return 0.0 if abs(value) <= rtol * m else value
 
 
-def _apply_camera(plotter, camera: dict) -> None:
-    plotter.enable_parallel_projection()
-    plotter.camera.position = camera["position"]
-    plotter.camera.focal_point = camera["focal_point"]
-    plotter.camera.up = camera["viewup"]
-    plotter.camera.parallel_scale = camera["parallel_scale"]
+@dataclass(frozen=True)
+class State:
+    """A recorded level worth a picture and what it is ("peak stretch 1.3", "end of test")."""
+
+    frame: int
+    title: str
+
+
+def render_states(snapshot: Snapshot) -> list[State]:
+    """The peak of the test (largest distance of the control from rest: |grip stretch − 1|, or
+    |γ| in shear) and, if the test came back from it, the end; one state for a monotonic test;
+    the last converged level of a test that stopped."""
+    s, last, what = snapshot.stretch, snapshot.n_frames - 1, snapshot.control
+    rest = 1.0 if what == "grip stretch" else 0.0
+    if not snapshot.completed:
+        return [State(last, f"stopped at {what} {s[last]:.4g} (last converged level)")]
+    peak = int(np.argmax(np.abs(s - rest)))
+    if abs(s[peak] - s[last]) <= 1e-12 * max(1.0, abs(s[peak])):
+        return [State(last, f"end of test, {what} {s[last]:.4g}")]
+    return [State(peak, f"peak {'stretch' if rest else what} {s[peak]:.4g}"), State(last, f"end of test, {what} {s[last]:.4g}")]
+
+
+def _state(snapshot: Snapshot, which: str) -> State:
+    states = render_states(snapshot)
+    return states[-1] if which == "end" else states[0]
+
+
+def _camera(points: np.ndarray, width: int = 1200):
+    """The fitted camera (kept for callers that render a single view: buckling modes)."""
+    return fit_camera(points, width=width)
+
+
+_apply_camera = apply_camera
 
 
 def _outline(grid):
@@ -120,7 +155,7 @@ class _Scene:
         self.marks = {}
         for name, (_, current) in snapshot.marks.items():
             cloud = pv.PolyData(current[0].copy())
-            plotter.add_mesh(cloud, color=MARK_COLOURS.get(name, "black"), point_size=11,
+            plotter.add_mesh(cloud, color=MARK_COLOURS.get(name, "black"), point_size=16,
                              render_points_as_spheres=True)
             self.marks[name] = cloud
 
@@ -130,16 +165,6 @@ class _Scene:
         self.deformed.cell_data[self.field] = s.fields[self.field][frame]
         for name, cloud in self.marks.items():
             cloud.points = s.marks[name][1][frame]
-
-
-def _label(snapshot: Snapshot, field: str, frame: int) -> str:
-    lo, hi = snapshot.field_range(field, frame)
-    unit = FIELDS[field][1]
-    unit = "" if unit == "1" else f" {unit}"
-    span = f"{lo:.3g}{unit}" if f"{lo:.3g}" == f"{hi:.3g}" else f"{lo:.3g} to {hi:.3g}{unit}"
-    stopped = snapshot.t[frame] < 1.0 - 1e-12 and frame in (-1, snapshot.n_frames - 1)
-    return (f"{snapshot.model}{' (test stopped)' if stopped else ''}\n"
-            f"{snapshot.control} {snapshot.stretch[frame]:.4g}\n{FIELDS[field][0]}\n{span}")
 
 
 def _add_label(plotter, text: str):
@@ -167,26 +192,47 @@ def _scalar_bar(plotter, column: int, actor, field: str) -> None:
 
 
 def render_side_by_side(snapshots: list[Snapshot], path: Path, options: RenderOptions = RenderOptions()) -> dict:
-    """One PNG with a panel per snapshot; returns what it drew (range, camera, panel models)."""
-    field, frame = options.field, options.frame
-    clim = common_range(snapshots, field, frame)
-    deformed = [s.points + s.displacement[frame] for s in snapshots]
-    camera = _camera(np.vstack(deformed + [snapshots[0].points]))
-    plotter = _new_plotter(len(snapshots), options.panel_size, bar=True)
+    """One PNG with a panel per snapshot at its peak (or end) state, one camera fitted to all of
+    them and one colour range; returns what it drew (range, camera, states, panel boxes)."""
+    from vlab.render.compose import compose
+
+    field = options.field
+    states = [State(options.frame, f"level {options.frame}") if options.frame is not None else
+              _state(s, options.state) for s in snapshots]
+    frames = [st.frame for st in states]
+    clim = common_range(snapshots, field, frames)
+    raw = [s.fields[field][f] for s, f in zip(snapshots, frames)]
+    magnitude = max(float(np.abs(s.fields[field]).max()) for s in snapshots)
+    uniform = uniform_value(min(float(v.min()) for v in raw), max(float(v.max()) for v in raw), scale=magnitude)
+    deformed = [s.points + s.displacement[f] for s, f in zip(snapshots, frames)]
+    camera = fit_camera(np.vstack(deformed + [snapshots[0].points]), width=options.width)
+    images = [_panel_image(s, f, field, clim, options.cmap, camera) for s, f in zip(snapshots, frames)]
+    label, unit = FIELDS[field]
+    bar = {"label": field_title(field), "clim": clim, "cmap": options.cmap, "uniform": uniform,
+           "uniform_text": None if uniform is None else
+           f"{label}: uniform, {uniform:.4g}{'' if unit == '1' else ' ' + unit} in every cell "
+           f"(spread below {UNIFORM_RTOL:g} of its magnitude)"}
+    titles = [f"{s.model}\n{st.title}" for s, st in zip(snapshots, states)]
+    boxes = compose(images, titles, Path(path), bar)
+    return {"file": Path(path).name, "field": field, "clim": list(clim), "unit": unit,
+            "models": [s.model for s in snapshots], "frames": frames, "states": [st.title for st in states],
+            "uniform": uniform, "camera": camera.as_dict(), "panels": boxes}
+
+
+def _panel_image(snapshot: Snapshot, frame: int, field: str, clim, cmap: str, camera) -> np.ndarray:
+    """The RGB render of one snapshot's frame through ``camera``, on white."""
+    import pyvista as pv
+
+    setup()
+    plotter = pv.Plotter(off_screen=True, window_size=camera.window, border=False)
     try:
-        for col, snap in enumerate(snapshots):
-            plotter.subplot(0, col)
-            scene = _Scene(plotter, snap, field, clim, options.cmap)
-            scene.show_frame(frame)
-            _add_label(plotter, _label(snap, field, frame))
-            _apply_camera(plotter, camera)
-        _scalar_bar(plotter, len(snapshots), scene.actor, field)
-        plotter.screenshot(str(path))
+        plotter.set_background("white")
+        scene = _Scene(plotter, snapshot, field, clim, cmap)
+        scene.show_frame(frame)
+        apply_camera(plotter, camera)
+        return np.asarray(plotter.screenshot(return_img=True))
     finally:
         plotter.close()
-    return {"file": Path(path).name, "field": field, "clim": list(clim), "unit": FIELDS[field][1],
-            "models": [s.model for s in snapshots], "panel_width": options.panel_size[0],
-            "frame": frame}
 
 
 def render_animation(snapshot: Snapshot, path: Path, options: RenderOptions = RenderOptions(),
@@ -197,13 +243,15 @@ def render_animation(snapshot: Snapshot, path: Path, options: RenderOptions = Re
     field = options.field
     frames = list(range(snapshot.n_frames))
     clim = common_range([snapshot], field, slice(None))
-    camera = _camera(np.vstack([snapshot.points + u for u in snapshot.displacement]))
+    side = options.panel_size[0]  # a square panel, the label above the specimen
+    camera = fit_camera(np.vstack([snapshot.points + u for u in snapshot.displacement]), width=side,
+                        margin=0.35, min_aspect=1.0, max_aspect=1.0)
     plotter = _new_plotter(1, options.panel_size, bar=True)
     images = []
     try:
         plotter.subplot(0, 0)
         scene = _Scene(plotter, snapshot, field, clim, options.cmap)
-        _apply_camera(plotter, camera)
+        apply_camera(plotter, camera)
         text = _add_label(plotter, "")
         _scalar_bar(plotter, 1, scene.actor, field)
         for frame in frames:

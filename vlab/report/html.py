@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from vlab.report.kind_rows import kind_of_data, kind_rows
+from vlab.report.explain import by_design_notes
 
 
 def _fmt(value, digits: int = 5) -> str:
@@ -37,14 +38,20 @@ def _solvers(solver: dict) -> str:
     return f"{text}; {_fmt(solver.get('tangent_kernel'))}"
 
 
+def _why(notes: dict, key: str) -> str:
+    """The reason a measured constant differs from its input by design, set under the number."""
+    return f"<br><small class=why>{html.escape(notes[key])}</small>" if key in notes else ""
+
+
 def summary_rows(data: dict) -> list[tuple[str, str]]:
     m, inp, solver, timing, mesh = (data["measured"], data["input"], data["solver"],
                                     data["timing"], data["mesh"])
     kind = kind_of_data(data)
+    why = by_design_notes(data)
     force = kind.force_column
     elastic = [
-        ("E measured / input [MPa]", f"{_fmt(m['E'])} / {_fmt(inp['E'])}"),
-        ("ν measured / input", f"{_fmt(m['nu'])} / {_fmt(inp['nu'])}"),
+        ("E measured / input [MPa]", f"{_fmt(m['E'])} / {_fmt(inp['E'])}{_why(why, 'E')}"),
+        ("ν measured / input", f"{_fmt(m['nu'])} / {_fmt(inp['nu'])}{_why(why, 'nu')}"),
         ("E from crosshead strain [MPa]", _fmt(m.get("E_crosshead"))),
     ] if kind.measures_E else []
     rows = [
@@ -153,6 +160,7 @@ class ReportPage:
     links: dict[str, list[str]]
     provenance: dict
     notes: list[str] = field(default_factory=list)
+    view3d: str | None = None  # the interactive 3-D view's page in the folder
 
 
 def _model_status(data: dict) -> str:
@@ -188,9 +196,9 @@ def comparison_rows(page: ReportPage) -> list[tuple[str, list[str]]]:
         return lambda d: _fmt((page.departures.get(d["input"].get("label", d["input"]["model"])) or {}).get(key), 4)
 
     elastic = [
-        ("E measured [MPa]", per(_measured_E)),
+        ("E measured [MPa]", per(lambda d: _measured_E(d) + _why(by_design_notes(d), "E"))),
         ("E input [MPa]", per(lambda d: _fmt(d["input"]["E"]))),
-        ("ν measured", per(lambda d: _fmt(d["measured"]["nu"]))),
+        ("ν measured", per(lambda d: _fmt(d["measured"]["nu"]) + _why(by_design_notes(d), "nu"))),
         ("ν input", per(lambda d: _fmt(d["input"]["nu"]))),
         ("E fit R²", per(lambda d: _fmt((d["measured"].get("E_fit") or {}).get("r2"), 8))),
     ] if kind.measures_E else []
@@ -297,6 +305,19 @@ def _spring_note(page: ReportPage) -> str:
     return ""
 
 
+def _view3d(page: ReportPage, folder: Path, inline: bool) -> str:
+    """The interactive view in a frame (single-file reports carry the page itself, in srcdoc)."""
+    if not page.view3d:
+        return ""
+    src = html.escape(page.view3d)
+    where = (f'srcdoc="{html.escape((folder / page.view3d).read_text(encoding="utf-8"))}"' if inline
+             else f'src="{src}"')
+    return (f'<h2>Interactive 3-D view</h2><iframe {where} title="interactive 3-D view" '
+            'style="width:100%;height:640px;border:1px solid #ddd"></iframe><p><small>Drag to rotate, '
+            'scroll to zoom; choose the model, the field and the load level; hover for values. '
+            f'<a href="{src}">Open full page</a>.</small></p>')
+
+
 def write_comparison(page: ReportPage, folder: Path, inline_images: bool = False) -> Path:
     """index.html in ``folder`` (which already holds the figures); inlined images when asked."""
     folder = Path(folder)
@@ -317,7 +338,7 @@ def write_comparison(page: ReportPage, folder: Path, inline_images: bool = False
 <h1>vlab report: {html.escape(page.title)}</h1>
 <p>{html.escape(prov.get('description') or '')}</p>
 <table><tr><th></th>{heads}</tr>{rows}</table>{notes}
-{figures}{_spring_note(page)}
+{_view3d(page, folder, inline_images)}{figures}{_spring_note(page)}
 <h2>Files</h2><ul>{links}</ul>
 <h2>Provenance</h2>
 <p>vlab {html.escape(prov['vlab_version'])} · {html.escape(prov['date'])} · scene content hash

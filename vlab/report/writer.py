@@ -89,35 +89,31 @@ def write_report(outcomes: list, out: Path, scene, scene_text: str | None,
         figures = (_stretch_figures(datas, tmp, options, departures, kind) if test_kind.lateral_ratio
                    else _kind_figures(datas, tmp))
         renders, notes = _renders(outcomes, tmp, options, figures)
+        view = _interactive(outcomes, tmp, scene.name, options)
         if scene_text is not None:
             (tmp / "scene.toml").write_text(scene_text, encoding="utf-8")
         summary = {"models": [o.model for o in outcomes], "departures_from_neo_hookean": departures,
-                   "renders": renders, "files": links, "measures": kind}
+                   "renders": renders, "files": links, "measures": kind, "view3d": view}
         (tmp / "comparison.json").write_text(json.dumps(summary, indent=2))
         page = ReportPage(title=scene.name, models=datas, checks={o.model: o.checks for o in outcomes},
                           departures=departures, figures=figures, links=links,
-                          provenance=_provenance(scene, scene_text, outcomes), notes=notes)
+                          provenance=_provenance(scene, scene_text, outcomes), notes=notes,
+                          view3d=view["file"] if view else None)
         write_comparison(page, tmp, inline_images=options.single_file)
     return summary
 
 
 def _stretch_figures(datas: list[dict], tmp: Path, options: ReportOptions, departures: dict, kind: str) -> list:
-    """Uniaxial and biaxial tests: stress–strain overlay, lateral strain, the protocol's figures."""
-    from vlab.report.comparison_plots import plot_lateral, plot_overlay
-    from vlab.report.effect_plots import effect_figures
-    from vlab.report.html import Figure
+    """Uniaxial and biaxial tests: each kind's own figures (vlab/report/stretch_plots.py), then the
+    protocol's; no offset notation on any tick label."""
+    import matplotlib
 
-    plot_overlay(datas, tmp / "stress_strain.png", options.true_measures, departures)
-    plot_lateral(datas, tmp / "lateral_strain.png")
-    figures = [
-        Figure("stress_strain.png", f"{kind.capitalize()} stress against extensometer strain for every "
-               "model; dashed: the analytic homogeneous solution where the specimen has one; shaded: "
-               "the E fit window (inset: zoom on it); ○/✕: where a model's stress first differs from "
-               "Neo-Hookean's by 5 %/10 %."),
-        Figure("lateral_strain.png", "Lateral against axial strain and the apparent Poisson's ratio "
-               "−ε_lat/ε_axial as the strain grows."),
-    ]
-    return figures + effect_figures(datas, tmp)
+    from vlab.report.effect_plots import effect_figures
+    from vlab.report.stretch_plots import NO_OFFSET, kind_figures
+
+    figures = kind_figures(datas, tmp, options.true_measures, departures)
+    with matplotlib.rc_context(NO_OFFSET):
+        return figures + effect_figures(datas, tmp)
 
 
 def _kind_figures(datas: list[dict], tmp: Path) -> list:
@@ -154,17 +150,19 @@ def _renders(outcomes, tmp: Path, options: ReportOptions, figures: list) -> tupl
     if not options.render:
         return {}, []
     from vlab.render.offscreen import RenderUnavailable
-    from vlab.render.specimens import RenderOptions, field_title, render_animation, render_side_by_side
+    from vlab.render.specimens import RenderOptions, render_animation, render_side_by_side, render_states
 
     ropts = RenderOptions(field=options.field)
     try:
         meta = render_side_by_side([o.snapshot for o in outcomes], tmp / f"render_{options.field}.png", ropts)
-        lo, hi = meta["clim"]
-        figures.append(Figure(meta["file"], f"Deformed specimens at the last recorded level, same camera and "
-                              f"colour scale ({field_title(options.field)}: {lo:.4g} to {hi:.4g}); grey: "
-                              "undeformed outline; points: extensometer (red, magenta), transverse (orange) "
-                              "and thickness (blue) gauge marks."))
+        figures.append(Figure(meta["file"], _render_caption(meta, "at its peak (largest grip stretch) or, for a "
+                                                            "monotonic test, at its end")))
         renders = {"side_by_side": meta}
+        if any(len(render_states(o.snapshot)) > 1 for o in outcomes):  # the test came back from its peak
+            end = render_side_by_side([o.snapshot for o in outcomes], tmp / f"render_{options.field}_end.png",
+                                      RenderOptions(field=options.field, state="end"))
+            figures.append(Figure(end["file"], _render_caption(end, "at the end of the test")))
+            renders["end"] = end
         if options.gif_model:
             snap = {o.model: o.snapshot for o in outcomes}[options.gif_model]
             gif = render_animation(snap, tmp / f"animation_{options.gif_model}.gif", ropts)
@@ -175,6 +173,26 @@ def _renders(outcomes, tmp: Path, options: ReportOptions, figures: list) -> tupl
     except RenderUnavailable as exc:
         log.warning("3D renders skipped: %s", exc)
         return {"skipped": str(exc)}, [f"3D renders skipped: {exc}"]
+
+
+def _interactive(outcomes, tmp: Path, title: str, options: ReportOptions) -> dict | None:
+    """view3d.html: the deformed specimens in the reader's browser (rotate, zoom, field, level)."""
+    if not options.render:
+        return None
+    from vlab.report.interactive import write_view
+
+    return write_view([o.snapshot for o in outcomes], tmp, title, inline=options.single_file)
+
+
+def _render_caption(meta: dict, when: str) -> str:
+    from vlab.render.specimens import field_title
+
+    lo, hi = meta["clim"]
+    scale = (f"uniform field, {meta['uniform']:.4g} in every cell" if meta["uniform"] is not None
+             else f"{lo:.4g} to {hi:.4g}")
+    return (f"Deformed specimens {when}; one camera and one colour scale for all panels "
+            f"({field_title(meta['field'])}: {scale}); grey: undeformed outline; points: extensometer "
+            "(red, magenta), transverse (orange) and thickness (blue) gauge marks.")
 
 
 def _critical_modes(outcomes, tmp: Path, figures: list) -> dict:

@@ -91,6 +91,10 @@ def _parse(data: Mapping[str, Any]) -> Scene:
         raise SceneError(f"description must be a string, got {fields.show(description)}")
     specimen = parse_specimen(data["specimen"])
     mesh, material = parse_mesh(data["mesh"], specimen), parse_material(data["material"])
+    if specimen.shape == "cad":  # meshed by Gmsh now that mesh.size is known
+        from vlab.geometry.cad_specimen import meshed
+
+        specimen = meshed(specimen, mesh.size)
     check_formulation(mesh, material.model)
     parse_compare(data.get("compare", {}))  # every [compare.<label>] card, validated now
     model = material.model

@@ -40,13 +40,17 @@ class MeshSpec:
     formulation: str = "displacement"  # or "mixed": condensed θ/p per element (vlab/fe/mixed.py)
     symmetry: str = "none"  # none | half | quarter | eighth (geometry/symmetry.py)
     max_dofs: int | None = None  # size budget (vlab/geometry/budget.py); None = its default
+    mesher: str = "vlab"  # dogbone tetrahedra: "vlab" (hexahedra split) | "gmsh" (Delaunay; the cad extra)
 
 
 def parse_mesh(raw: Any, specimen: Specimen) -> MeshSpec:
     t = fields.Table("mesh", raw, ("size", "order", "cell", "gauge_size", "min_quality", "symmetry", "formulation",
-                                   "max_dofs"))
+                                   "max_dofs", "mesher"))
     max_dofs = t.get("max_dofs", None)
     max_dofs = None if max_dofs is None else fields.integer(t.field("max_dofs"), max_dofs, 1, 10**12)
+    if specimen.shape == "cad" and t.get("cell", "tet") != "tet":
+        raise SceneError(f"{t.field('cell')} must be 'tet' for specimen.shape = 'cad' (Gmsh meshes it in "
+                         f"tetrahedra), got {fields.show(t.raw['cell'])}")
     if specimen.shape == "mesh":
         return dataclasses.replace(_parse_mesh_of_file(t, specimen), max_dofs=max_dofs)
     size = t.number("size", gt=0, le=specimen.max_dimension, note=" (the largest specimen dimension)")
@@ -59,10 +63,26 @@ def parse_mesh(raw: Any, specimen: Specimen) -> MeshSpec:
         raise SceneError(f"{t.field('symmetry')} must be 'none' for specimen.shape = {specimen.shape!r} "
                          f"(symmetry reduction is for {', '.join(SYMMETRIC_SHAPES)}), got {symmetry!r}")
     cells = getattr(specimen, "cells", ("tet", "hex"))  # a specimen's own cells (2D: tri, quad)
-    return MeshSpec(size=size, order=t.integer("order", 1, 2, default=1),
-                    cell=t.choice("cell", cells, default=cells[0]), gauge_size=gauge_size,
+    cell = t.choice("cell", cells, default=cells[0])
+    return MeshSpec(size=size, order=t.integer("order", 1, 2, default=1), mesher=_mesher(t, specimen, cell, symmetry),
+                    cell=cell, gauge_size=gauge_size,
                     min_quality=t.number("min_quality", default=0.15, gt=0, lt=1), symmetry=symmetry,
                     formulation=t.choice("formulation", FORMULATIONS, default="displacement"), max_dofs=max_dofs)
+
+
+def _mesher(t: fields.Table, specimen: Specimen, cell: str, symmetry: str) -> str:
+    """``mesher = "gmsh"``: a dogbone's tetrahedra from Gmsh (whole specimen, tet cells, Gmsh installed)."""
+    mesher = t.choice("mesher", ("vlab", "gmsh"), default="vlab")
+    if mesher == "gmsh":
+        from vlab.geometry.cad import gmsh_version
+
+        if specimen.shape != "dogbone" or cell != "tet" or symmetry != "none":
+            raise SceneError(f"{t.field('mesher')} = 'gmsh' meshes a dogbone in tetrahedra: needs specimen.shape "
+                             f"= 'dogbone', mesh.cell = 'tet', mesh.symmetry = 'none' (got {specimen.shape!r}, "
+                             f"{cell!r}, {symmetry!r})")
+        if gmsh_version() is None:
+            raise SceneError(f"{t.field('mesher')} = 'gmsh' needs Gmsh: pip install \"vlab[cad]\"")
+    return mesher
 
 
 def _parse_mesh_of_file(t: fields.Table, specimen: MeshFileSpecimen) -> MeshSpec:

@@ -44,6 +44,9 @@ class CostOptions:
     cells: tuple[str, ...] = ("tet", "hex")
 
 
+GMSH_TET = "gmsh-tet"  # --cells entry: Gmsh's Delaunay tetrahedra (dogbones; the cad extra)
+
+
 def mesh_family(order: int, cell: str) -> str:
     return f"mesh size (order {order}, {cell})"
 
@@ -62,6 +65,8 @@ def knob_points(scene: Scene, options: CostOptions) -> list[GridPoint]:
             for k in range(options.levels):
                 factor = options.ratio ** (1 - k)
                 over = {"mesh.size": round(mesh.size * factor, 6), "mesh.order": order, "mesh.cell": cell}
+                if cell == GMSH_TET:  # a dogbone's tetrahedra from Gmsh instead of split hexahedra
+                    over |= {"mesh.cell": "tet", "mesh.mesher": "gmsh"}
                 if mesh.gauge_size is not None:
                     over["mesh.gauge_size"] = round(mesh.gauge_size * factor, 6)
                 add(mesh_family(order, cell), over["mesh.size"], over)

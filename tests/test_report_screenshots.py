@@ -1,0 +1,166 @@
+"""Every report type in a real browser: headless Chromium screenshots the page (kept in
+reports/test-artefacts/), every image the page shows exists and is not blank, and each render of a
+specimen is framed on it (the specimen spans at least 40 % of its panel's width, measured on the
+PNG as the share of columns holding a non-background pixel). The interactive 3-D view loads without
+a console error and draws a canvas that is not blank."""
+
+import html
+import json
+import re
+import shutil
+import subprocess
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from scenes import scene_dict
+
+BROWSER = next((p for p in map(shutil.which, ("chromium", "chromium-browser", "google-chrome")) if p), None)
+pytestmark = pytest.mark.skipif(BROWSER is None, reason="no chromium on PATH (Debian package 'chromium')")
+ROOT = Path(__file__).resolve().parents[1]
+ARTEFACTS = ROOT / "reports" / "test-artefacts"
+FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+         "--disable-background-networking", "--disable-component-update", "--disable-sync",
+         "--hide-scrollbars", "--enable-unsafe-swiftshader", "--virtual-time-budget=8000"]
+STD_FLOOR = 20.0  # grey-level spread of a blank (uniform) picture: 0
+MIN_WIDTH_SHARE = 0.40
+
+
+def browse(page: Path, profile: Path, *args: str, size=(1300, 2600)) -> subprocess.CompletedProcess:
+    return subprocess.run([BROWSER, *FLAGS, f"--window-size={size[0]},{size[1]}", f"--user-data-dir={profile}",
+                           *args, page.resolve().as_uri()], capture_output=True, text=True, timeout=120)
+
+
+def screenshot(page: Path, name: str, tmp_path: Path, size=(1300, 2600)) -> np.ndarray:
+    png = tmp_path / f"{name}.png"
+    proc = browse(page, tmp_path / f"profile-{name}", f"--screenshot={png}", size=size)
+    assert png.is_file(), proc.stderr[-2000:]
+    ARTEFACTS.mkdir(parents=True, exist_ok=True)
+    shutil.copy(png, ARTEFACTS / f"{name}.png")
+    return np.asarray(Image.open(png).convert("RGB"), dtype=float)
+
+
+def page_images(folder: Path) -> list[Path]:
+    text = (folder / "index.html").read_text(encoding="utf-8")
+    return [folder / html.unescape(src) for src in re.findall(r'<img src=["\']([^"\']+)["\']', text)]
+
+
+def assert_images_shown(folder: Path) -> list[Path]:
+    images = page_images(folder)
+    assert images, "the page shows images"
+    for image in images:
+        assert image.is_file(), image
+        assert np.asarray(Image.open(image).convert("L"), dtype=float).std() > STD_FLOOR, f"{image.name} is blank"
+    return images
+
+
+def width_share(pixels: np.ndarray) -> float:
+    """Share of columns with a non-background (non-white) pixel."""
+    return float(np.mean((pixels[..., :3] < 245).any(axis=-1).any(axis=0)))
+
+
+def assert_framed(folder: Path, meta: dict) -> None:
+    image = np.asarray(Image.open(folder / meta["file"]).convert("RGB"))
+    for model, (x0, y0, x1, y1) in zip(meta["models"], meta["panels"]):
+        share = width_share(image[y0:y1, x0:x1])
+        assert share >= MIN_WIDTH_SHARE, f"{model}: the specimen spans {share:.0%} of its panel"
+
+
+def test_run_report_in_the_browser(tmp_path):
+    from vlab.report.writer import write_run
+    from vlab.run import run_scene
+    from vlab.scene import apply_overrides, parse_scene
+
+    path = ROOT / "specimens" / "dogbone-iso527-2-1a.toml"
+    raw = apply_overrides(tomllib.loads(path.read_text(encoding="utf-8")), {"mesh.size": 6.0, "test.steps": 3})
+    scene = parse_scene(raw, origin=path.name, base_dir=path.parent)
+    folder = tmp_path / "run"
+    write_run(run_scene(scene), folder, path.read_text(encoding="utf-8"))
+    shot = screenshot(folder / "index.html", "run-report", tmp_path)
+    assert shot.std() > STD_FLOOR
+    assert_images_shown(folder)
+    assert_framed(folder, json.loads((folder / "comparison.json").read_text())["renders"]["side_by_side"])
+    check_interactive_view(folder, tmp_path, "run-view3d")
+
+
+def test_compare_report_in_the_browser(comparison, tmp_path):
+    shot = screenshot(comparison.folder / "index.html", "compare-report", tmp_path)
+    assert shot.std() > STD_FLOOR
+    assert_images_shown(comparison.folder)
+    assert_framed(comparison.folder, comparison.summary["renders"]["side_by_side"])
+    check_interactive_view(comparison.folder, tmp_path, "compare-view3d")
+
+
+def test_sweep_report_in_the_browser(tmp_path):
+    from vlab.study.grid import expand_grid, parse_axis
+    from vlab.study.summary import RunKnobs, summarize
+    from vlab.study.table import write_sweep_report
+
+    points = expand_grid(scene_dict(name="shot-sweep"), [parse_axis("material.nu=0.3,0.45")])
+    summaries = [summarize(p.source, RunKnobs(), p.label) for p in points]
+    index = write_sweep_report(tmp_path / "sweep", "shot-sweep: sweep", summaries, {})
+    shot = screenshot(index, "sweep-report", tmp_path, size=(1300, 900))
+    assert shot.std() > STD_FLOOR  # a table page: text on white, not an empty page
+    assert "0.45" in index.read_text(encoding="utf-8")
+
+
+def test_cost_report_in_the_browser(tmp_path):
+    from vlab.scene import parse_scene
+    from vlab.study.cost import CostOptions, analyse, knob_points
+    from vlab.study.cost_report import write_cost_report
+    from vlab.study.summary import RunKnobs, summarize
+
+    scene = parse_scene(scene_dict(name="shot-cost"))
+    options = CostOptions(levels=3, ratio=2.0, orders=(1,), cells=("hex",))
+    summaries = [summarize(p.source, RunKnobs(), p.label) for p in knob_points(scene, options)]
+    index = write_cost_report(tmp_path / "cost", "shot-cost", summaries, analyse(scene, summaries, options),
+                              0.01, {})
+    shot = screenshot(index, "cost-report", tmp_path)
+    assert shot.std() > STD_FLOOR
+    assert_images_shown(index.parent)
+
+
+def test_stability_report_in_the_browser(stability_fast_report, tmp_path):
+    _, folder = stability_fast_report
+    shot = screenshot(folder / "index.html", "stability-report", tmp_path)
+    assert shot.std() > STD_FLOOR
+    for image in assert_images_shown(folder):
+        pixels = np.asarray(Image.open(image).convert("RGB"))
+        middle = pixels[int(0.3 * len(pixels)):int(0.9 * len(pixels))]  # below the label in the top-left corner
+        assert width_share(middle) >= MIN_WIDTH_SHARE, f"{image.name}: {width_share(middle):.0%}"
+
+
+ERROR_HOOK = """<script>window.__vlabErrors = [];
+window.addEventListener("error", e => window.__vlabErrors.push("error: " + e.message));
+window.addEventListener("unhandledrejection", e => window.__vlabErrors.push("rejection: " + e.reason));
+const __err = console.error; console.error = (...a) => { window.__vlabErrors.push("console.error: " + a.join(" ")); __err(...a); };
+window.addEventListener("load", () => setTimeout(() => { const p = document.createElement("pre");
+  p.id = "vlab-errors"; p.textContent = JSON.stringify({errors: window.__vlabErrors,
+  canvases: document.querySelectorAll("#view canvas").length}); document.body.appendChild(p); }, 3000));
+</script>"""
+
+
+def check_interactive_view(folder: Path, tmp_path: Path, name: str) -> None:
+    """view3d.html loads with no error (an error hook injected into a copy records uncaught errors,
+    rejections and console.error; Chromium's --dump-dom reads them back), draws WebGL canvases,
+    and its screenshot shows the specimen (pixel spread, colour)."""
+    page = folder / "view3d.html"
+    assert page.is_file() and (folder / "plotly.min.js").is_file()
+    assert "https://" not in re.sub(r"<script src=\"plotly.min.js\"></script>", "",
+                                    page.read_text(encoding="utf-8")).split("<script id=\"vlab-data\"")[0]
+    probe = folder / "view3d-probe.html"
+    probe.write_text(page.read_text(encoding="utf-8").replace("<head>", "<head>" + ERROR_HOOK, 1), encoding="utf-8")
+    proc = browse(probe, tmp_path / f"profile-{name}-dom", "--dump-dom", size=(1200, 800))
+    probe.unlink()
+    found = re.search(r'<pre id="vlab-errors">(.*?)</pre>', proc.stdout, re.S)
+    assert found, proc.stderr[-2000:]
+    report = json.loads(html.unescape(found.group(1)))
+    assert report["errors"] == [] and report["canvases"] >= 1, report
+    shot = screenshot(page, name, tmp_path, size=(1200, 800))
+    plot = shot[60:, :]  # below the menus
+    assert plot.std() > STD_FLOOR
+    hsv = np.asarray(Image.fromarray(plot.astype(np.uint8)).convert("HSV"), dtype=float)
+    assert np.mean((hsv[..., 1] > 90) & (hsv[..., 2] > 60)) > 0.01  # the coloured specimen is drawn

@@ -1,0 +1,93 @@
+"""The picture around the renders: panels cropped to the specimen, titled, and one colour bar
+drawn by matplotlib (so its labels are set in points and read at the report's width, like the
+plots), or, for a uniform field, one swatch with the value stated.
+
+Panels are cropped to the union of their non-background pixels, so one camera (one scale) still
+holds across panels. Long specimens (cropped width > 1.6 × height) are stacked in one column,
+others side by side. Returns each panel's pixel box in the PNG (x0, y0, x1, y1; origin top left)
+so tests and readers can find the specimen.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+FIG_WIDTH_IN, DPI = 12.4, 100  # 1240 px: the report page's width
+BACKGROUND_LEVEL = 250  # a pixel whose three channels are all above this is background (white)
+
+
+def crop_box(images: list[np.ndarray], pad: int = 8) -> tuple[int, int, int, int]:
+    """(r0, r1, c0, c1): the union of the images' non-background pixels, padded."""
+    mask = np.zeros(images[0].shape[:2], dtype=bool)
+    for image in images:
+        mask |= (image[..., :3] < BACKGROUND_LEVEL).any(axis=-1)
+    rows, cols = np.flatnonzero(mask.any(axis=1)), np.flatnonzero(mask.any(axis=0))
+    if rows.size == 0:
+        return 0, mask.shape[0], 0, mask.shape[1]
+    return (max(rows[0] - pad, 0), min(rows[-1] + 1 + pad, mask.shape[0]),
+            max(cols[0] - pad, 0), min(cols[-1] + 1 + pad, mask.shape[1]))
+
+
+def _layout(n: int, aspect: float) -> tuple[int, int]:
+    """(rows, columns) of n panels whose width/height is ``aspect``."""
+    return (n, 1) if aspect > 1.6 and n > 1 else (1, n)
+
+
+def compose(images: list[np.ndarray], titles: list[str], path: Path, bar: dict) -> list[list[int]]:
+    """Write the PNG; ``bar``: label, clim, cmap, and ``uniform`` (None or the one value) with its
+    ``uniform_text``. Returns the panel boxes in pixels."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    r0, r1, c0, c1 = crop_box(images)
+    crops = [im[r0:r1, c0:c1] for im in images]
+    aspect = (c1 - c0) / max(r1 - r0, 1)
+    rows, cols = _layout(len(crops), aspect)
+    gap, title_h, bar_h, side = 0.15, 0.6, 1.0, 0.2  # inches
+    panel_w = (FIG_WIDTH_IN - 2 * side - (cols - 1) * gap) / cols
+    panel_h = min(panel_w / aspect, 5.0)
+    panel_w = min(panel_w, panel_h * aspect)
+    height = rows * (panel_h + title_h) + bar_h + 0.1
+    fig = Figure(figsize=(FIG_WIDTH_IN, height), dpi=DPI)
+    FigureCanvasAgg(fig)
+    boxes = []
+    try:
+        x_free = FIG_WIDTH_IN - cols * panel_w - (cols - 1) * gap
+        for i, (crop, title) in enumerate(zip(crops, titles)):
+            row, col = divmod(i, cols)
+            x = x_free / 2 + col * (panel_w + gap)
+            y = height - (row + 1) * (panel_h + title_h)
+            ax = fig.add_axes([x / FIG_WIDTH_IN, y / height, panel_w / FIG_WIDTH_IN, panel_h / height])
+            ax.imshow(crop, interpolation="antialiased")
+            ax.set_axis_off()
+            ax.set_title(title, fontsize=11, loc="left")
+            x0, y0 = int(round(x * DPI)), int(round((height - y - panel_h) * DPI))
+            boxes.append([x0, y0, x0 + int(panel_w * DPI), y0 + int(panel_h * DPI)])
+        _colour_bar(fig, bar, height, bar_h)
+        fig.savefig(path, dpi=DPI, facecolor="white")
+    finally:
+        fig.clear()
+    return boxes
+
+
+def _colour_bar(fig, bar: dict, height: float, bar_h: float) -> None:
+    import matplotlib as mpl
+
+    width = min(7.0, FIG_WIDTH_IN - 1.0)
+    rect = [(FIG_WIDTH_IN - width) / 2 / FIG_WIDTH_IN, 0.5 / height, width / FIG_WIDTH_IN, 0.22 / height]
+    ax = fig.add_axes(rect)
+    cmap = mpl.colormaps[bar["cmap"]]
+    if bar.get("uniform") is not None:  # one colour, its value stated (not a round-off colour scale)
+        ax.imshow([[0.5]], cmap=cmap, vmin=0.0, vmax=1.0, aspect="auto", extent=(0, 1, 0, 1))
+        ax.set_xticks([]), ax.set_yticks([])
+        ax.set_xlabel(bar["uniform_text"], fontsize=11)
+        return
+    norm = mpl.colors.Normalize(*bar["clim"])
+    cb = fig.colorbar(mpl.cm.ScalarMappable(norm=norm, cmap=cmap), cax=ax, orientation="horizontal")
+    cb.formatter = mpl.ticker.ScalarFormatter(useOffset=False)
+    cb.formatter.set_powerlimits((-4, 5))
+    cb.update_ticks()
+    cb.ax.tick_params(labelsize=10)
+    cb.set_label(bar["label"], fontsize=11)
