@@ -19,6 +19,7 @@ from pathlib import Path
 FOLDER = Path(__file__).resolve().parent / "data" / "golden"
 KEPT = ("converged", "measured", "input", "curve", "reference", "homogeneity", "cruciform", "stability",
         "effects", "critical", "lateral_deflection", "imperfection", "warnings", "failure")
+DEFLECTION_FLOOR = 1e-6  # mm
 ERROR_FLOOR = 1e-6  # relative errors against an oracle below this are all "exact to the solver's tolerance"
 MESH_KEPT = ("cell", "order", "size", "formulation", "symmetry", "elements", "nodes", "dofs", "quality")
 
@@ -44,6 +45,9 @@ def differences(expected, actual, rtol: float, path: str = "") -> list[str]:
     if isinstance(expected, list) and isinstance(actual, list):
         if len(expected) != len(actual):
             return [f"{path}: length {len(actual)} != {len(expected)}"]
+        if path.rsplit(".", 1)[-1] == "lateral_deflection":  # below a nanometre: round-off, not a deflection
+            expected, actual = ([0.0 if _number(v) and abs(v) <= DEFLECTION_FLOOR else v for v in x]
+                                for x in (expected, actual))
         scale = max((abs(v) for v in expected if _number(v)), default=0.0)
         out = []
         for i, (e, a) in enumerate(zip(expected, actual)):
@@ -53,7 +57,13 @@ def differences(expected, actual, rtol: float, path: str = "") -> list[str]:
                 out += differences(e, a, rtol, f"{path}[{i}]")
         return out
     if _number(expected) and _number(actual):
-        if path.rsplit(".", 1)[-1].startswith("max_relative_error"):
+        key = path.rsplit(".", 1)[-1]
+        if key.endswith("stderr"):
+            # a fit's standard error on nearly exact data amplifies round-off (PARDISO's threaded
+            # factorization is not bit-reproducible): 8.3e-10 against 5.5e-10 MPa on a dogbone
+            return [] if math.isclose(actual, expected, rel_tol=1e-3, abs_tol=1e-9) else \
+                [f"{path}: {actual!r} != {expected!r} (rtol 1e-3)"]
+        if key.startswith("max_relative_error"):
             # an error against the analytic curve is Newton's residual at work (~1e-9): what must
             # not change is that it stays at that level, not its last digits
             return [] if max(abs(expected), abs(actual)) <= ERROR_FLOOR else \

@@ -36,8 +36,7 @@ def route_warnings(console: Console) -> None:
     handler.setLevel(logging.WARNING)
     handler.addFilter(OnceFilter())
     handler._vlab_cli = True
-    logger.addHandler(handler)
-    logger.propagate = False
+    logger.addHandler(handler)  # still propagates: a caller's own handlers (pytest's caplog) see it too
 
 
 def scheduled_levels(scene) -> int:

@@ -27,7 +27,7 @@ def constants_text(data: dict) -> str:
     if m.get("E") is None:
         return "E, ν not measured"
     axes = [a for a in (m.get("axes") or []) if a.get("axis") in ("x", "y")]
-    per = "; ".join(f"{a['axis']}: E {a['E']:.4g}" for a in axes) if len(axes) > 1 else ""
+    per = "; ".join(f"{a['axis']}: E {a['E']:.4g}" for a in axes) if axes[1:] else ""  # both axes fitted
     return f"E = {m['E']:.4g} MPa, ν = {m['nu']:.4f}" + (f" ({per})" if per else "")
 
 
