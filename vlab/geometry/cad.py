@@ -9,6 +9,7 @@ mesh checks; ``mesh.order = 2`` puts P2 elements on the straight-sided tetrahedr
 from __future__ import annotations
 
 import contextlib
+import functools
 import tempfile
 from pathlib import Path
 
@@ -19,14 +20,22 @@ from vlab.geometry.imported import ImportedMesh, MeshImportError, read_mesh
 CAD_SUFFIXES = (".geo", ".step", ".stp", ".brep")
 
 
+@functools.lru_cache(maxsize=1)
 def gmsh_version() -> str | None:
     """Gmsh's version, or None where the module does not import (not installed, or a system
-    library it links to is missing: Debian libglu1-mesa libxcursor1 libxft2 libxinerama1)."""
+    library it links to is missing: Debian libglu1-mesa libxcursor1 libxft2 libxinerama1).
+    Asked of a child process: importing Gmsh loads its own OpenMP runtime into the process, which
+    changed the round-off of later threaded factorizations here (a borderline bifurcation test
+    went from "bifurcation in tension" to "no convergence" after a Gmsh import)."""
+    import subprocess
+    import sys
+
     try:
-        import gmsh
-    except (ImportError, OSError):
+        proc = subprocess.run([sys.executable, "-c", "import gmsh; print(gmsh.__version__)"],
+                              capture_output=True, text=True, timeout=60)
+    except (OSError, subprocess.TimeoutExpired):
         return None
-    return gmsh.__version__
+    return proc.stdout.strip() or None if proc.returncode == 0 else None
 
 
 def in_own_process(fn, *args):
