@@ -19,6 +19,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from vlab.effects.registry import Effect
+from vlab.loading.kinds import peak_grip_strain
 from vlab.materials.base import Material
 from vlab.materials.registry import models_where
 from vlab.fields import SceneError, Table
@@ -76,9 +77,14 @@ def warnings(spec: PlasticitySpec, material, test) -> list[str]:
     found = [f"effects.plasticity: the elastic part is Hencky with material E = {material.moduli.E:g} MPa, "
              f"nu = {material.moduli.nu:g} (the same at small strain; material.model = "
              f"{material.model!r} is not used at finite elastic strain)"]
-    E = material.moduli.E
-    peak = max(abs(s - 1.0) for s in test.stretch)
-    if peak < spec.yield_stress / E:
+    E, G = material.moduli.E, material.moduli.mu
+    peak = peak_grip_strain(test)
+    if test.kind == "simple-shear":  # von Mises in shear: τ_y = σ_y0/√3 at γ_y = τ_y/G
+        if peak < spec.yield_stress / (3.0**0.5 * G):
+            found.append(f"effects.plasticity: the largest amount of shear {peak:g} is below the yield "
+                         f"shear strain σ_y0/(√3 G) = {spec.yield_stress / (3.0**0.5 * G):g}: the specimen "
+                         "may stay elastic")
+    elif peak < spec.yield_stress / E:
         found.append(f"effects.plasticity: the largest grip strain {peak:g} is below the uniaxial yield "
                      f"strain σ_y0/E = {spec.yield_stress / E:g}: the specimen may stay elastic")
     return found

@@ -20,6 +20,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from vlab.effects.registry import Effect
+from vlab.loading.kinds import peak_grip_strain
 from vlab.materials.registry import models_where
 from vlab.fields import SceneError, number, show
 from vlab.materials.viscoelastic import PronyViscoelastic
@@ -58,7 +59,7 @@ def warnings(spec: ViscoelasticSpec, material, test) -> list[str]:
                      "is still integrated (at its cost) and the result equals the elastic run")
     p = test.protocol
     if p.timed and p.name != "creep":
-        span = max(abs(s - 1.0) for s in test.stretch)
+        span = peak_grip_strain(test)
         ramp = p.ramp_time if p.ramp_time is not None else span / p.strain_rate
         if ramp > 50 * max(spec.tau) and not p.has_hold:
             found.append(f"effects.viscoelastic: the ramp ({ramp:g} s) is > 50 times the longest "

@@ -27,8 +27,9 @@ import numpy as np
 
 from vlab.materials.hencky import admissible_part
 from vlab.materials.isochoric import IsochoricVolumetric
-from vlab.materials.principal import (principal_coefficients, principal_frame, principal_stress,
-                                      principal_tangent)
+from vlab.materials import ogden_kernel
+from vlab.materials.principal import (PrincipalFrame, principal_coefficients, principal_frame,
+                                      principal_stress, principal_tangent)
 from vlab.materials.structure import IsotropicTangent
 from vlab.tensor import as_tensor_field
 
@@ -79,28 +80,35 @@ class Ogden(IsochoricVolumetric):
         return psi, tau, c, g
 
     def _frame(self, F):
-        """(principal frame, mask J > 0, principal_iso) of F; the last F's are kept, because
-        the solver asks for ψ, P and the tangent of the same F in turn and the batched eigh of
-        C costs ~7× an invariant model's whole energy (one entry, checked by value, not id)."""
+        """(principal frame, mask J > 0, principal_iso, P_iso or None) of F; the last F's are
+        kept, because the solver asks for ψ, P and the tangent of the same F in turn (one entry,
+        checked by value, not id). Large batches take the compiled kernel (vlab.materials.
+        ogden_kernel: frame, ψ, τ, c, g and P_iso in one pass), small ones numpy's eigh."""
         F = as_tensor_field(F)
         hit = _LAST.get("key")
         if hit is not None and hit[0] == self and hit[1].shape == F.shape and np.array_equal(hit[1], F):
             return _LAST["value"]
         Fa, ok = admissible_part(F)
-        frame = principal_frame(Fa)
-        value = (frame, ok, self.principal_iso(frame.eps))
+        module = ogden_kernel.kernels(int(np.prod(F.shape[2:], dtype=int)))
+        if module is not None:
+            out = ogden_kernel.state(module, Fa, np.array(self.mus), np.array(self.alphas))
+            frame = PrincipalFrame(lam=out["lam"], eps=out["eps"], n=out["n"], N=out["N"])
+            value = (frame, ok, (out["psi"], out["tau"], out["c"], out["g"]), out["P"])
+        else:
+            frame = principal_frame(Fa)
+            value = (frame, ok, self.principal_iso(frame.eps), None)
         _LAST["key"], _LAST["value"] = (self, F.copy()), value
         return value
 
     def isochoric_energy(self, F) -> np.ndarray:
         """ψ_iso, +inf where J <= 0, MPa."""
-        _, ok, (psi, *_) = self._frame(F)
+        _, ok, (psi, *_), _ = self._frame(F)
         return np.where(ok, psi, np.inf)
 
     def isochoric_stress(self, F) -> np.ndarray:
         """P_iso = Σ_A τ_A/λ_A n_A ⊗ N_A, nan where J <= 0, MPa."""
-        frame, ok, (_, tau, _, _) = self._frame(F)
-        return np.where(ok, principal_stress(frame, tau), np.nan)
+        frame, ok, (_, tau, _, _), P = self._frame(F)
+        return np.where(ok, principal_stress(frame, tau) if P is None else P, np.nan)
 
     def tangent_forms(self, F) -> list[IsotropicTangent]:
         """A (isochoric + volumetric) as nine isotropic forms α X ⊗ X of the compiled kernel: in
@@ -110,13 +118,17 @@ class Ogden(IsochoricVolumetric):
         and b = t1 − t2 on (M_AB − M_BA)/√2 (6 forms). J ≤ 0 is never assembled (the solver
         rejects such states before asking for a tangent)."""
         F = as_tensor_field(F)
-        frame, ok, (_, tau, c, g) = self._frame(F)
+        frame, ok, (_, tau, c, g), _ = self._frame(F)
         lam, n, N = frame.lam, frame.n, frame.N
         J = np.prod(lam, axis=0)
         x = self.volume(F)
         tau = tau + J * self.dU(x)
         c = c + J * self.dU(x) + J * J * self.d2U(x)
         w, a, b = principal_coefficients(frame, tau, c, g)
+        module = ogden_kernel.kernels(int(np.prod(lam.shape[1:], dtype=int)))
+        if module is not None:
+            X, coef = ogden_kernel.forms(module, n, N, w, a, b)
+            return [IsotropicTangent(X[k], coef[k], 0.0, 0.0, None, None) for k in range(9)]
         M = [[np.einsum("i...,J...->iJ...", n[:, A], N[:, B]) for B in range(3)] for A in range(3)]
         Wm = np.moveaxis(w, (0, 1), (-2, -1))
         m, V = np.linalg.eigh(Wm)
@@ -130,5 +142,5 @@ class Ogden(IsochoricVolumetric):
 
     def isochoric_tangent(self, F) -> np.ndarray:
         """A_iso from (τ, c, g) in the principal frame, nan where J <= 0, MPa."""
-        frame, ok, (_, tau, c, g) = self._frame(F)
+        frame, ok, (_, tau, c, g), _ = self._frame(F)
         return np.where(ok, principal_tangent(frame, tau, c, g), np.nan)

@@ -1,12 +1,24 @@
 """Figures of the time-dependent protocols, from results dicts: hysteresis loops (load–unload,
 cyclic), relaxation (stress against time under a held strain) and creep (strain against time
-under a held force). A monotonic untimed test gets none of them."""
+under a held force). A monotonic untimed test gets none of them. Columns follow the test kind
+(vlab.report.kind_rows.kind_of_data): a simple-shear test plots its shear force against the
+amount of shear γ (plate travel / gap) and relaxes its shear stress."""
 
 from __future__ import annotations
 
 from pathlib import Path
 
 from vlab.report import figures as plt  # pyplot-free Agg figures
+
+
+def _axes(data: dict) -> tuple[str, str, str, str]:
+    """(x column, force column, stress column, x label) of the loops and relaxation plots."""
+    from vlab.report.kind_rows import kind_of_data
+
+    if kind_of_data(data).load_key == "shear":
+        return "shear", "shear_force", "shear_stress", "amount of shear γ (plate travel / gap) [–]"
+    return ("crosshead_strain", "force", "stress",
+            "grip extension / grip separation (crosshead strain) [–]")
 
 
 def _protocol(data: dict) -> dict:
@@ -24,7 +36,7 @@ def effect_figures(datas: list[dict], folder: Path) -> list:
         figures.append(Figure("hysteresis.png", "Load against grip extension over the whole protocol: "
                               "the area enclosed by a loop is the energy dissipated per cycle."))
     if "relaxation" in names:
-        _against_time(datas, folder / "relaxation.png", "stress", "engineering stress [MPa]",
+        _against_time(datas, folder / "relaxation.png", _axes(datas[0])[2], "engineering stress [MPa]",
                       "relaxation under a held grip stretch")
         figures.append(Figure("relaxation.png", "Stress against time: the ramp, then the held stretch."))
     if "creep" in names:
@@ -50,13 +62,14 @@ def _finish(fig, ax, path: Path, title: str) -> None:
 
 def _hysteresis(datas: list[dict], path: Path) -> None:
     fig, ax = plt.subplots(figsize=(6.4, 4.4), dpi=120)
+    x_col, f_col, _, xlabel = _axes(datas[0])
     for d in datas:
         c = d["curve"]
-        x = [0.0] + c["crosshead_strain"]
-        ax.plot(x, [0.0] + c["force"], "-", marker="o", ms=2, label=_label(d))
-        ax.annotate("", xy=(x[2], c["force"][1]), xytext=(x[1], c["force"][0]),
+        x = [0.0] + c[x_col]
+        ax.plot(x, [0.0] + c[f_col], "-", marker="o", ms=2, label=_label(d))
+        ax.annotate("", xy=(x[2], c[f_col][1]), xytext=(x[1], c[f_col][0]),
                     arrowprops={"arrowstyle": "->", "color": "0.4"})
-    ax.set_xlabel("grip extension / grip separation (crosshead strain) [–]")
+    ax.set_xlabel(xlabel)
     ax.set_ylabel("load-cell force [N]")
     ax.axhline(0, color="0.7", lw=0.5)
     _finish(fig, ax, path, f"{datas[0]['scene']['name']}: {_protocol(datas[0])['name']} loops")

@@ -41,7 +41,7 @@ from __future__ import annotations
 
 from vlab.loading.kinds.base import TestKind
 
-__all__ = ["KINDS", "TestKind", "kind_of", "register"]
+__all__ = ["KINDS", "TestKind", "kind_of", "peak_grip_strain", "register"]
 
 KINDS: dict[str, TestKind] = {}
 
@@ -54,6 +54,12 @@ def register(kind: TestKind) -> TestKind:
 def kind_of(test) -> TestKind:
     """The kind of a TestSpec (or of a kind name)."""
     return KINDS[test if isinstance(test, str) else test.kind]
+
+
+def peak_grip_strain(test) -> float:
+    """The largest |grip strain| of a TestSpec at t = 1 (λ − 1 of any grip, or γ): what an
+    effect's caveats compare with its own strain or time scales, whatever the kind."""
+    return max(abs(g) for g in kind_of(test).grip_strain(test.targets))
 
 
 def _register_builtins() -> None:

@@ -64,8 +64,11 @@ class TestKind:
         imperfection (uniaxial only) are refused where their keys are parsed (vlab/scene/test.py)."""
         if effects and not self.effects:
             name = f"effects.{next(iter(effects))}"
+            from vlab.loading.kinds import KINDS
+
+            allowed = ", ".join(k.name for k in KINDS.values() if k.effects)
             raise SceneError(f"{name}: [effects] are not available with test.kind = {self.name!r} in this "
-                             f"build (they are with uniaxial, biaxial and planar tests)")
+                             f"build (they are with test.kind = {allowed})")
 
     # --- grips ---------------------------------------------------------------------------------
     def at(self, targets: tuple[float, ...], t: float) -> list[float]:

@@ -37,6 +37,7 @@ class SimpleShear(TestKind):
     axes = (0,)
     oracle_setups = {"block": "kinematic"}
     cyclic = True
+    effects = True
     symmetric = False  # shear is antisymmetric about the planes a reduction would cut
     force_column, control_column = "shear_force", "shear"
     measures_E = False

@@ -1,0 +1,148 @@
+"""Ogden's compiled point kernels: the principal frame, ψ_iso, τ, c, g and P_iso in one pass,
+and the nine isotropic tangent forms (vlab.materials.ogden states the formulas; the numpy path
+there is the twin and the reference of tests/test_principal_eig.py).
+
+Per quadrature point ``ogden_state`` does what Ogden's numpy path does with a batched eigh, a
+dozen einsums and N passes over (3,3,*batch) temporaries:
+
+    C = FᵀF = Σ λ_A² N_A ⊗ N_A  (vlab.materials.principal_eig.eig3),  n_A = F N_A / λ_A
+    ē_A = ln λ_A − ⅓ Σ ln λ_B,  per term p: ψ_iso += 2μₚ/αₚ² Σ_A expm1(αₚ ē_A),
+    τ_A += 2μₚ/αₚ (λ̄_A^αₚ − s_p/3),  c_AB += 2μₚ (λ̄_A^αₚ (δ_AB − ⅓) − ⅓ λ̄_B^αₚ + s_p/9),
+    g_AB += 2μₚ/αₚ λ̄_B^αₚ expm1(αₚ d)/d  (d = ε_A − ε_B; αₚ(1 + αₚ d/2) for |αₚ d| < 1e−8),
+    P_iso = Σ_A τ_A/λ_A n_A ⊗ N_A                                                     (MPa)
+
+``ogden_forms`` turns the principal coefficients (w, a, b) of vlab.materials.principal into the
+nine forms α_k X_k ⊗ X_k: the symmetric 3×3 block w diagonalised per point (eig3 again),
+X_k = Σ_A V_Ak n_A ⊗ N_A, and X = (n_A ⊗ N_B ± n_B ⊗ N_A)/√2 with coefficients a_AB, b_AB.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from vlab.materials.principal_eig import SOURCE as _EIG_SOURCE
+
+__all__ = ["kernels"]
+
+_SOURCE = _EIG_SOURCE + '''
+
+@numba.njit(**_OPTIONS)
+def ogden_state(F, mus, alphas, lam, N, n, eps, psi, tau, c, g, P):
+    """(module docstring) F (3,3,p) admissible; outputs as PrincipalFrame and principal_iso."""
+    for p in range(F.shape[2]):
+        c00 = F[0, 0, p] * F[0, 0, p] + F[1, 0, p] * F[1, 0, p] + F[2, 0, p] * F[2, 0, p]
+        c01 = F[0, 0, p] * F[0, 1, p] + F[1, 0, p] * F[1, 1, p] + F[2, 0, p] * F[2, 1, p]
+        c02 = F[0, 0, p] * F[0, 2, p] + F[1, 0, p] * F[1, 2, p] + F[2, 0, p] * F[2, 2, p]
+        c11 = F[0, 1, p] * F[0, 1, p] + F[1, 1, p] * F[1, 1, p] + F[2, 1, p] * F[2, 1, p]
+        c12 = F[0, 1, p] * F[0, 2, p] + F[1, 1, p] * F[1, 2, p] + F[2, 1, p] * F[2, 2, p]
+        c22 = F[0, 2, p] * F[0, 2, p] + F[1, 2, p] * F[1, 2, p] + F[2, 2, p] * F[2, 2, p]
+        out = eig3(c00, c01, c02, c11, c12, c22)
+        for A in range(3):
+            l = math.sqrt(out[A])
+            lam[A, p] = l
+            eps[A, p] = math.log(l)
+            N0, N1, N2 = out[3 + A], out[6 + A], out[9 + A]
+            N[0, A, p], N[1, A, p], N[2, A, p] = N0, N1, N2
+            r = 1.0 / l
+            for i in range(3):
+                n[i, A, p] = (F[i, 0, p] * N0 + F[i, 1, p] * N1 + F[i, 2, p] * N2) * r
+        mean = (eps[0, p] + eps[1, p] + eps[2, p]) / 3.0
+        ps = 0.0
+        for A in range(3):
+            tau[A, p] = 0.0
+            for B in range(3):
+                c[A, B, p] = 0.0
+                g[A, B, p] = 0.0
+        for k in range(mus.shape[0]):
+            mu, al = mus[k], alphas[k]
+            x0, x1, x2 = al * (eps[0, p] - mean), al * (eps[1, p] - mean), al * (eps[2, p] - mean)
+            L0, L1, L2 = math.exp(x0), math.exp(x1), math.exp(x2)
+            s = L0 + L1 + L2
+            ps += 2.0 * mu / (al * al) * (math.expm1(x0) + math.expm1(x1) + math.expm1(x2))
+            Ls = (L0, L1, L2)
+            for A in range(3):
+                tau[A, p] += 2.0 * mu / al * (Ls[A] - s / 3.0)
+                for B in range(3):
+                    delta = 1.0 if A == B else 0.0
+                    c[A, B, p] += 2.0 * mu * (Ls[A] * (delta - 1.0 / 3.0) - Ls[B] / 3.0 + s / 9.0)
+                    d = eps[A, p] - eps[B, p]
+                    x = al * d
+                    if abs(x) < 1e-8:
+                        quotient = al * (1.0 + 0.5 * x)
+                    else:
+                        quotient = math.expm1(x) / d
+                    g[A, B, p] += 2.0 * mu / al * Ls[B] * quotient
+        psi[p] = ps
+        for i in range(3):
+            for J in range(3):
+                v = 0.0
+                for A in range(3):
+                    v += tau[A, p] / lam[A, p] * n[i, A, p] * N[J, A, p]
+                P[i, J, p] = v
+
+
+@numba.njit(**_OPTIONS)
+def ogden_forms(n, N, w, a, b, X, coef):
+    """(module docstring) X (9,3,3,p) and coef (9,p) of the nine forms coef_k X_k ⊗ X_k."""
+    root = math.sqrt(0.5)
+    for p in range(n.shape[2]):
+        out = eig3(w[0, 0, p], w[0, 1, p], w[0, 2, p], w[1, 1, p], w[1, 2, p], w[2, 2, p])
+        for k in range(3):
+            coef[k, p] = out[k]
+            V0, V1, V2 = out[3 + k], out[6 + k], out[9 + k]
+            for i in range(3):
+                for J in range(3):
+                    X[k, i, J, p] = (V0 * n[i, 0, p] * N[J, 0, p] + V1 * n[i, 1, p] * N[J, 1, p]
+                                     + V2 * n[i, 2, p] * N[J, 2, p])
+        k = 3
+        for A in range(3):
+            for B in range(A + 1, 3):
+                coef[k, p] = a[A, B, p]
+                coef[k + 1, p] = b[A, B, p]
+                for i in range(3):
+                    for J in range(3):
+                        ab = n[i, A, p] * N[J, B, p]
+                        ba = n[i, B, p] * N[J, A, p]
+                        X[k, i, J, p] = root * (ab + ba)
+                        X[k + 1, i, J, p] = root * (ab - ba)
+                k += 2
+'''
+
+_KERNELS: list = []
+_COMPILED_FROM = 64  # points: below, the numpy path (numba's call overhead outweighs it)
+
+
+def kernels(size: int):
+    """The compiled module (``ogden_state``, ``ogden_forms``) for a batch of ``size`` points, or
+    None (numba missing, VLAB_KERNEL=numpy, or a batch too small to gain)."""
+    from vlab import jit  # numba starts on the first large batch, not with this module
+    if size < _COMPILED_FROM or not jit.available():
+        return None
+    if not _KERNELS:
+        _KERNELS.append(jit.load("ogden", _SOURCE))
+    return _KERNELS[0]
+
+
+def state(module, F: np.ndarray, mus: np.ndarray, alphas: np.ndarray) -> dict:
+    """ogden_state on F (3,3,*batch) (admissible): lam, eps, n, N, psi, tau, c, g, P reshaped."""
+    from vlab import jit
+    batch = F.shape[2:]
+    flat = np.ascontiguousarray(F, dtype=float).reshape(3, 3, -1)
+    size = flat.shape[2]
+    out = {"lam": np.empty((3, size)), "N": np.empty((3, 3, size)), "n": np.empty((3, 3, size)),
+           "eps": np.empty((3, size)), "psi": np.empty(size), "tau": np.empty((3, size)),
+           "c": np.empty((3, 3, size)), "g": np.empty((3, 3, size)), "P": np.empty((3, 3, size))}
+    jit.call(module.ogden_state, flat, mus, alphas, out["lam"], out["N"], out["n"], out["eps"],
+             out["psi"], out["tau"], out["c"], out["g"], out["P"])
+    return {k: v.reshape(v.shape[:-1] + batch) for k, v in out.items()}
+
+
+def forms(module, n, N, w, a, b) -> tuple[np.ndarray, np.ndarray]:
+    """ogden_forms: (X (9,3,3,*batch), coef (9,*batch))."""
+    from vlab import jit
+    batch = n.shape[2:]
+    flat = [np.ascontiguousarray(x, dtype=float).reshape(x.shape[:2] + (-1,)) for x in (n, N, w, a, b)]
+    size = flat[0].shape[2]
+    X, coef = np.empty((9, 3, 3, size)), np.empty((9, size))
+    jit.call(module.ogden_forms, *flat, X, coef)
+    return X.reshape((9, 3, 3) + batch), coef.reshape((9,) + batch)
