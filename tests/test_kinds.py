@@ -69,7 +69,7 @@ def test_the_kinematic_shear_load_cells_are_exact_on_tetrahedra_too():
     assert ref["max_relative_error_shear"] < 1e-9 and ref["max_error_normal_over_shear"] < 1e-9
 
 
-@pytest.mark.parametrize("model", ["neo-hookean", "stvk", "stvk-volumetric"])
+@pytest.mark.parametrize("model", CONTINUUM)
 def test_simple_shear_stress_is_odd_and_normal_stresses_even_in_gamma(model):
     up, down = run(model, "simple-shear", 0.4)["curve"], run(model, "simple-shear", -0.4)["curve"]
     np.testing.assert_allclose(down["shear"], -np.array(up["shear"]), rtol=0, atol=1e-15)

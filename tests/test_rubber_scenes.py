@@ -15,7 +15,7 @@ from rubber_cards import NAMES, card, law
 from scenes import scene_dict
 from vlab.cli import app
 from vlab.fields import SceneError
-from vlab.materials.homogeneous import biaxial, uniaxial
+from vlab.materials.homogeneous import biaxial, planar, uniaxial
 from vlab.run import run_scene
 from vlab.scene import parse_scene
 
@@ -73,6 +73,15 @@ def incompressible_equibiaxial(name: str, lam: float) -> float:
     return 2 * (lam - lam**-5) * (W1 + lam**2 * W2)
 
 
+def incompressible_planar(name: str, lam: float) -> float:
+    """Pure shear F = diag(λ, 1, 1/λ): Ī₁ = Ī₂ = λ² + 1 + λ⁻², P₁₁ = 2 (λ − λ⁻³)(W₁ + W₂)."""
+    if name == "ogden":
+        return sum(2 * m / a * (lam ** (a - 1) - lam ** (-a - 1)) for m, a in zip(*_ogden()))
+    I = lam**2 + 1 + lam**-2
+    W1, W2 = _w(name, I, I)
+    return 2 * (lam - lam**-3) * (W1 + W2)
+
+
 def _ogden():
     return (0.63, 0.0012, -0.01), (1.3, 5.0, -2.0)
 
@@ -80,12 +89,15 @@ def _ogden():
 @pytest.mark.parametrize("lam", [0.6, 0.8, 1.3, 2.0, 2.6])
 @pytest.mark.parametrize("name", NAMES)
 def test_in_the_incompressible_limit_the_nominal_stress_approaches_the_closed_forms(name, lam):
+    """Uniaxial, equibiaxial and planar (pure shear) at K/μ0 = 1e4, to 1e-3."""
     m = law(name, K=1e4 * law(name).mu0)
     u = uniaxial(m, lam).nominal_stress
     assert u == pytest.approx(incompressible_uniaxial(name, lam), rel=1e-3)
     if 0.8 <= lam <= 2.0:  # equibiaxial 2.6 locks Gent (Ī₁ − 3 > 12); 0.6 thickens the sheet 2.8×
         b = biaxial(m, lam, lam).nominal_stress
         assert b == pytest.approx(incompressible_equibiaxial(name, lam), rel=1e-3)
+    p = planar(m, lam).P[0, 0]
+    assert p == pytest.approx(incompressible_planar(name, lam), rel=1e-3)
 
 
 # --- small strain through the whole lab -------------------------------------------------------

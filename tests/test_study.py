@@ -331,3 +331,23 @@ def test_final_quantities_are_read_at_the_peak_stretch_of_a_cyclic_test():
     monotonic = {"measured": {"E": 5.0, "nu": 0.45},
                  "curve": {"stretch": [1.0, 1.2, 1.5], "force": [0.0, 4.0, 9.0], "stress": [0.0, 0.04, 0.09]}}
     assert measured_quantities(monotonic)["final_force"] == 9.0
+
+
+@pytest.mark.parametrize("name", ["block-ogden", "block-mooney-rivlin"])
+def test_the_cost_study_s_linear_row_on_a_rubber_scene_is_a_valid_run_at_the_card_s_small_strain_constants(name):
+    """A rubber card (mu = [..], alpha, C10, K) is not a linear card: the model knob swaps the
+    whole [material] for E, ν the card implies, so the linear row runs (it was 'invalid')."""
+    from vlab.scene import load_scene
+    from vlab.study.summary import summarize
+
+    scene = load_scene(ROOT / "specimens" / f"{name}.toml")
+    options = CostOptions(levels=3, orders=(1,), cells=("hex",))
+    (point,) = [p for p in knob_points(scene, options) if p.label == {"knob": "material model", "value": "linear"}]
+    linear = parse_scene(point.source)
+    assert linear.material.model == "linear"
+    assert linear.material.moduli.E == pytest.approx(scene.material.moduli.E, rel=1e-12)
+    assert linear.material.moduli.nu == pytest.approx(scene.material.moduli.nu, rel=1e-12)
+    source = point.source | {"mesh": point.source["mesh"] | {"size": 10.0}, "test": point.source["test"] | {"steps": 2}}
+    summary = summarize(source, label=point.label, base_dir=point.base_dir)
+    assert summary["status"] == "ok", summary.get("diagnosis")
+    assert summary["model"] == "linear" and summary["measured"]["E"] == pytest.approx(scene.material.moduli.E, rel=1e-3)

@@ -6,7 +6,8 @@ element order and cell type the shape allows):
                  gauge_size scaled alike), for order 1 and 2, tet and hex;
     load steps   test.steps ÷ 2, as given, × 2;
     Newton tol.  solver.rtol 1e-4, 1e-6, 1e-8, 1e-10;
-    model        the scene's model and ``linear`` (the cheapest: one factorization per test).
+    model        the scene's model and ``linear`` (the cheapest: one factorization per test) with the
+                 small-strain E and ν the scene's card implies (a rubber card's μ0 and K).
 
 Reference (error = |q − q_ref| / |q_ref| for q = E, ν, final force, final stress):
     analytic     uniaxial block with roller grips: the homogeneous solution of the scene's model
@@ -76,8 +77,24 @@ def knob_points(scene: Scene, options: CostOptions) -> list[GridPoint]:
     for rtol in RTOLS:
         add("Newton rtol", rtol, {"solver.rtol": rtol})
     for model in dict.fromkeys(("linear", scene.material.model)):
-        add("material model", model, {"material.model": model})
+        if model == scene.material.model:
+            add("material model", model, {"material.model": model})
+        else:  # another model's card cannot carry this one's constants (mu = [..], alpha, C10, ...)
+            label = {"knob": "material model", "value": model}
+            points.append(GridPoint(label, small_strain_card(src, scene.material, model), scene.base_dir))
     return points
+
+
+def small_strain_card(source: dict, material, model: str) -> dict:
+    """The scene with [material] replaced by ``model`` at the small-strain E and ν the scene's
+    card implies (a rubber card's μ0 and K; vlab.materials.card), keeping its density: the
+    model knob compares laws that agree at small strain."""
+    out = apply_overrides(source, {})
+    card = {"model": model, "E": float(material.moduli.E), "nu": float(material.moduli.nu)}
+    if material.density is not None:
+        card["density"] = (source.get("material") or {}).get("density")
+    out["material"] = card
+    return out
 
 
 @dataclass
