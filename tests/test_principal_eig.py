@@ -61,7 +61,19 @@ def ogden_states(rng, n: int = 80) -> np.ndarray:
 
 
 def forms_tangent(forms) -> np.ndarray:
-    return sum(np.einsum("ij...,kl...->ijkl...", f.X, f.X) * f.alpha for f in forms)
+    """Σ forms c₀ δ_ik δ_JL + δ_ik S_JL + B_ik δ_JL + α X_iJ X_kL + β X_iL X_kJ, written out."""
+    I = np.eye(3)
+    total = 0.0
+    for f in forms:
+        A = (np.einsum("ij...,kl...->ijkl...", f.X, f.X) * f.alpha
+             + np.einsum("il...,kj...->ijkl...", f.X, f.X) * f.beta)
+        A = A + f.c0 * np.einsum("ik,jl->ijkl", I, I)[..., None]
+        if f.S is not None:
+            A = A + np.einsum("ik,jl...->ijkl...", I, f.S)
+        if f.B is not None:
+            A = A + np.einsum("ik...,jl->ijkl...", f.B, I)
+        total = total + A
+    return total
 
 
 @pytest.mark.parametrize("volumetric", ["quadratic", "log"])

@@ -15,7 +15,9 @@ difference quotient is evaluated through g and the log quotient, so F = I, equib
 and stretches equal to 1e−8 lose no digits). The volumetric part U(J) adds, in this form,
 τ_A += J U'(J) and c_AB += J U' + J² U''; it is added in the F form of
 vlab.materials.isochoric. For the compiled tangent kernel ``tangent_forms`` writes the same
-tangent as nine isotropic forms α X ⊗ X (the principal basis diagonalises it blockwise).
+tangent as isotropic forms (vlab.materials.structure.IsotropicTangent): six (compiled, large
+batches: vlab.materials.ogden_kernel) or nine α X ⊗ X (numpy: the principal basis diagonalises
+it blockwise).
 """
 
 from __future__ import annotations
@@ -126,9 +128,10 @@ class Ogden(IsochoricVolumetric):
         c = c + J * self.dU(x) + J * J * self.d2U(x)
         w, a, b = principal_coefficients(frame, tau, c, g)
         module = ogden_kernel.kernels(int(np.prod(lam.shape[1:], dtype=int)))
-        if module is not None:
-            X, coef = ogden_kernel.forms(module, n, N, w, a, b)
-            return [IsotropicTangent(X[k], coef[k], 0.0, 0.0, None, None) for k in range(9)]
+        if module is not None:  # six forms (vlab.materials.ogden_kernel), no per-point eigh of w
+            X, alpha, beta, S, B = ogden_kernel.forms(module, n, N, w, 0.5 * (a + b), 0.5 * (a - b))
+            return [IsotropicTangent(X[k], alpha[k], beta[k], 0.0, S if k == 0 else None,
+                                     B if k == 0 else None) for k in range(6)]
         M = [[np.einsum("i...,J...->iJ...", n[:, A], N[:, B]) for B in range(3)] for A in range(3)]
         Wm = np.moveaxis(w, (0, 1), (-2, -1))
         m, V = np.linalg.eigh(Wm)

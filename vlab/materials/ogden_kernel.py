@@ -8,12 +8,23 @@ dozen einsums and N passes over (3,3,*batch) temporaries:
     C = FᵀF = Σ λ_A² N_A ⊗ N_A  (vlab.materials.principal_eig.eig3),  n_A = F N_A / λ_A
     ē_A = ln λ_A − ⅓ Σ ln λ_B,  per term p: ψ_iso += 2μₚ/αₚ² Σ_A expm1(αₚ ē_A),
     τ_A += 2μₚ/αₚ (λ̄_A^αₚ − s_p/3),  c_AB += 2μₚ (λ̄_A^αₚ (δ_AB − ⅓) − ⅓ λ̄_B^αₚ + s_p/9),
-    g_AB += 2μₚ/αₚ λ̄_B^αₚ expm1(αₚ d)/d  (d = ε_A − ε_B; αₚ(1 + αₚ d/2) for |αₚ d| < 1e−8),
+    g_AB += 2μₚ/αₚ λ̄_B^αₚ expm1(αₚ d)/d  (d = ε_A − ε_B; αₚ(1 + αₚ d/2) for |αₚ d| < 1e−8;
+                                           g is symmetric, one expm1 a pair),
     P_iso = Σ_A τ_A/λ_A n_A ⊗ N_A                                                     (MPa)
 
-``ogden_forms`` turns the principal coefficients (w, a, b) of vlab.materials.principal into the
-nine forms α_k X_k ⊗ X_k: the symmetric 3×3 block w diagonalised per point (eig3 again),
-X_k = Σ_A V_Ak n_A ⊗ N_A, and X = (n_A ⊗ N_B ± n_B ⊗ N_A)/√2 with coefficients a_AB, b_AB.
+``ogden_forms`` writes the tangent A = Σ w_AB M_AA ⊗ M_BB + Σ_{A≠B} [t1_AB M_AB ⊗ M_AB +
+t2_AB M_AB ⊗ M_BA] (M_AB = n_A ⊗ N_B; w, t1 = (a + b)/2, t2 = (a − b)/2 of vlab.materials.
+principal) as six forms α X_iJ X_kL + β X_iL X_kJ of the compiled kernel, with no per-point
+eigendecomposition: for each pair A < B, X = M_AB ± M_BA. The cross product of the symmetric
+one couples M_AA with M_BB (X dFᵀ X = (M_AB : dF) M_AB + (M_BB : dF) M_AA + ... for X = M_AB + M_BA),
+so in the basis M its forms give
+
+    (AB,AB) = (BA,BA) = α₊ + β₊ + α₋,   (AB,BA) = α₊ − α₋,   (AA,BB) = (BB,AA) = β₊,
+
+and the first form also carries B = ½ Σ_A w_AA n_A ⊗ n_A, S = ½ Σ_A w_AA N_A ⊗ N_A (the terms
+B_ik δ_JL + δ_ik S_JL add ½(w_CC + w_DD) to every diagonal entry (CD,CD), w_AA to (AA,AA)).
+Matching the targets: β₊ = w_AB, β₋ = 0, α± = ½ (t1 ± t2 − w_AB − h_AB), h_AB = ½ (w_AA + w_BB).
+Six forms instead of nine: the assembly pass runs once per form.
 """
 
 from __future__ import annotations
@@ -55,23 +66,28 @@ def ogden_state(F, mus, alphas, lam, N, n, eps, psi, tau, c, g, P):
                 g[A, B, p] = 0.0
         for k in range(mus.shape[0]):
             mu, al = mus[k], alphas[k]
-            x0, x1, x2 = al * (eps[0, p] - mean), al * (eps[1, p] - mean), al * (eps[2, p] - mean)
-            L0, L1, L2 = math.exp(x0), math.exp(x1), math.exp(x2)
-            s = L0 + L1 + L2
-            ps += 2.0 * mu / (al * al) * (math.expm1(x0) + math.expm1(x1) + math.expm1(x2))
-            Ls = (L0, L1, L2)
+            m0 = math.expm1(al * (eps[0, p] - mean))
+            m1 = math.expm1(al * (eps[1, p] - mean))
+            m2 = math.expm1(al * (eps[2, p] - mean))
+            Ls = (1.0 + m0, 1.0 + m1, 1.0 + m2)          # λ̄_A^α (exp = 1 + expm1 within an ulp)
+            s = Ls[0] + Ls[1] + Ls[2]
+            ps += 2.0 * mu / (al * al) * (m0 + m1 + m2)
             for A in range(3):
                 tau[A, p] += 2.0 * mu / al * (Ls[A] - s / 3.0)
+                g[A, A, p] += 2.0 * mu * Ls[A]
                 for B in range(3):
                     delta = 1.0 if A == B else 0.0
                     c[A, B, p] += 2.0 * mu * (Ls[A] * (delta - 1.0 / 3.0) - Ls[B] / 3.0 + s / 9.0)
+                for B in range(A + 1, 3):                    # g is symmetric: one expm1 a pair
                     d = eps[A, p] - eps[B, p]
                     x = al * d
                     if abs(x) < 1e-8:
                         quotient = al * (1.0 + 0.5 * x)
                     else:
                         quotient = math.expm1(x) / d
-                    g[A, B, p] += 2.0 * mu / al * Ls[B] * quotient
+                    v = 2.0 * mu / al * Ls[B] * quotient
+                    g[A, B, p] += v
+                    g[B, A, p] += v
         psi[p] = ps
         for i in range(3):
             for J in range(3):
@@ -82,29 +98,30 @@ def ogden_state(F, mus, alphas, lam, N, n, eps, psi, tau, c, g, P):
 
 
 @numba.njit(**_OPTIONS)
-def ogden_forms(n, N, w, a, b, X, coef):
-    """(module docstring) X (9,3,3,p) and coef (9,p) of the nine forms coef_k X_k ⊗ X_k."""
-    root = math.sqrt(0.5)
+def ogden_forms(n, N, w, t1, t2, X, alpha, beta, S, Bm):
+    """(module docstring) the six forms: X (6,3,3,p), alpha, beta (6,p); S, B (3,3,p) of the first."""
     for p in range(n.shape[2]):
-        out = eig3(w[0, 0, p], w[0, 1, p], w[0, 2, p], w[1, 1, p], w[1, 2, p], w[2, 2, p])
-        for k in range(3):
-            coef[k, p] = out[k]
-            V0, V1, V2 = out[3 + k], out[6 + k], out[9 + k]
-            for i in range(3):
-                for J in range(3):
-                    X[k, i, J, p] = (V0 * n[i, 0, p] * N[J, 0, p] + V1 * n[i, 1, p] * N[J, 1, p]
-                                     + V2 * n[i, 2, p] * N[J, 2, p])
-        k = 3
+        for i in range(3):
+            for J in range(3):
+                vb, vs = 0.0, 0.0
+                for A in range(3):
+                    vb += 0.5 * w[A, A, p] * n[i, A, p] * n[J, A, p]
+                    vs += 0.5 * w[A, A, p] * N[i, A, p] * N[J, A, p]
+                Bm[i, J, p], S[i, J, p] = vb, vs
+        k = 0
         for A in range(3):
             for B in range(A + 1, 3):
-                coef[k, p] = a[A, B, p]
-                coef[k + 1, p] = b[A, B, p]
+                h = 0.5 * (w[A, A, p] + w[B, B, p])
+                alpha[k, p] = 0.5 * (t1[A, B, p] + t2[A, B, p] - w[A, B, p] - h)
+                beta[k, p] = w[A, B, p]
+                alpha[k + 1, p] = 0.5 * (t1[A, B, p] - t2[A, B, p] - w[A, B, p] - h)
+                beta[k + 1, p] = 0.0
                 for i in range(3):
                     for J in range(3):
                         ab = n[i, A, p] * N[J, B, p]
                         ba = n[i, B, p] * N[J, A, p]
-                        X[k, i, J, p] = root * (ab + ba)
-                        X[k + 1, i, J, p] = root * (ab - ba)
+                        X[k, i, J, p] = ab + ba
+                        X[k + 1, i, J, p] = ab - ba
                 k += 2
 '''
 
@@ -137,12 +154,14 @@ def state(module, F: np.ndarray, mus: np.ndarray, alphas: np.ndarray) -> dict:
     return {k: v.reshape(v.shape[:-1] + batch) for k, v in out.items()}
 
 
-def forms(module, n, N, w, a, b) -> tuple[np.ndarray, np.ndarray]:
-    """ogden_forms: (X (9,3,3,*batch), coef (9,*batch))."""
+def forms(module, n, N, w, t1, t2) -> tuple[np.ndarray, ...]:
+    """ogden_forms: (X (6,3,3,*b), alpha (6,*b), beta (6,*b), S (3,3,*b), B (3,3,*b))."""
     from vlab import jit
     batch = n.shape[2:]
-    flat = [np.ascontiguousarray(x, dtype=float).reshape(x.shape[:2] + (-1,)) for x in (n, N, w, a, b)]
+    flat = [np.ascontiguousarray(x, dtype=float).reshape(x.shape[:2] + (-1,)) for x in (n, N, w, t1, t2)]
     size = flat[0].shape[2]
-    X, coef = np.empty((9, 3, 3, size)), np.empty((9, size))
-    jit.call(module.ogden_forms, *flat, X, coef)
-    return X.reshape((9, 3, 3) + batch), coef.reshape((9,) + batch)
+    X, alpha, beta = np.empty((6, 3, 3, size)), np.empty((6, size)), np.empty((6, size))
+    S, B = np.empty((3, 3, size)), np.empty((3, 3, size))
+    jit.call(module.ogden_forms, *flat, X, alpha, beta, S, B)
+    return (X.reshape((6, 3, 3) + batch), alpha.reshape((6,) + batch), beta.reshape((6,) + batch),
+            S.reshape((3, 3) + batch), B.reshape((3, 3) + batch))
