@@ -9,7 +9,7 @@ dozen einsums and N passes over (3,3,*batch) temporaries:
     ē_A = ln λ_A − ⅓ Σ ln λ_B,  per term p: ψ_iso += 2μₚ/αₚ² Σ_A expm1(αₚ ē_A),
     τ_A += 2μₚ/αₚ (λ̄_A^αₚ − s_p/3),  c_AB += 2μₚ (λ̄_A^αₚ (δ_AB − ⅓) − ⅓ λ̄_B^αₚ + s_p/9),
     g_AB += 2μₚ/αₚ λ̄_B^αₚ expm1(αₚ d)/d  (d = ε_A − ε_B; αₚ(1 + αₚ d/2) for |αₚ d| < 1e−8;
-                                           g is symmetric, one expm1 a pair),
+              symmetric; for |αₚ d| ≥ 1/8 as (λ̄_A^αₚ − λ̄_B^αₚ)/d, no transcendental),
     P_iso = Σ_A τ_A/λ_A n_A ⊗ N_A                                                     (MPa)
 
 ``ogden_forms`` writes the tangent A = Σ w_AB M_AA ⊗ M_BB + Σ_{A≠B} [t1_AB M_AB ⊗ M_AB +
@@ -37,6 +37,18 @@ __all__ = ["kernels"]
 
 _SOURCE = _EIG_SOURCE + '''
 
+@numba.njit(inline="always", **_OPTIONS)
+def _pair(mu2, al, La, Lb, d):
+    """2μ/α λ̄_B^α expm1(α d)/d, its limit 2μ λ̄_B^α (1 + α d/2) at |α d| < 1e−8, and for
+    |α d| ≥ 1/8 the same as (λ̄_A^α − λ̄_B^α)/d (relative error < 2e−15, no transcendental)."""
+    x = al * d
+    if abs(x) < 1e-8:
+        return mu2 * Lb * (1.0 + 0.5 * x)
+    if abs(x) < 0.125:
+        return mu2 / al * Lb * math.expm1(x) / d
+    return mu2 / al * (La - Lb) / d
+
+
 @numba.njit(**_OPTIONS)
 def ogden_state(F, mus, alphas, lam, N, n, eps, psi, tau, c, g, P):
     """(module docstring) F (3,3,p) admissible; outputs as PrincipalFrame and principal_iso."""
@@ -57,43 +69,49 @@ def ogden_state(F, mus, alphas, lam, N, n, eps, psi, tau, c, g, P):
             r = 1.0 / l
             for i in range(3):
                 n[i, A, p] = (F[i, 0, p] * N0 + F[i, 1, p] * N1 + F[i, 2, p] * N2) * r
-        mean = (eps[0, p] + eps[1, p] + eps[2, p]) / 3.0
-        ps = 0.0
-        for A in range(3):
-            tau[A, p] = 0.0
-            for B in range(3):
-                c[A, B, p] = 0.0
-                g[A, B, p] = 0.0
+        e0, e1, e2 = eps[0, p], eps[1, p], eps[2, p]
+        mean = (e0 + e1 + e2) / 3.0
+        # accumulate in scalars, store once: the outputs are strided (p is their last axis)
+        ps = t0 = t1 = t2 = 0.0
+        c00 = c11 = c22 = c01 = c02 = c12 = 0.0
+        g00 = g11 = g22 = g01 = g02 = g12 = 0.0
         for k in range(mus.shape[0]):
-            mu, al = mus[k], alphas[k]
-            m0 = math.expm1(al * (eps[0, p] - mean))
-            m1 = math.expm1(al * (eps[1, p] - mean))
-            m2 = math.expm1(al * (eps[2, p] - mean))
-            Ls = (1.0 + m0, 1.0 + m1, 1.0 + m2)          # λ̄_A^α (exp = 1 + expm1 within an ulp)
-            s = Ls[0] + Ls[1] + Ls[2]
-            ps += 2.0 * mu / (al * al) * (m0 + m1 + m2)
-            for A in range(3):
-                tau[A, p] += 2.0 * mu / al * (Ls[A] - s / 3.0)
-                g[A, A, p] += 2.0 * mu * Ls[A]
-                for B in range(3):
-                    delta = 1.0 if A == B else 0.0
-                    c[A, B, p] += 2.0 * mu * (Ls[A] * (delta - 1.0 / 3.0) - Ls[B] / 3.0 + s / 9.0)
-                for B in range(A + 1, 3):                    # g is symmetric: one expm1 a pair
-                    d = eps[A, p] - eps[B, p]
-                    x = al * d
-                    if abs(x) < 1e-8:
-                        quotient = al * (1.0 + 0.5 * x)
-                    else:
-                        quotient = math.expm1(x) / d
-                    v = 2.0 * mu / al * Ls[B] * quotient
-                    g[A, B, p] += v
-                    g[B, A, p] += v
+            mu2, al = 2.0 * mus[k], alphas[k]
+            m0, m1, m2 = math.expm1(al * (e0 - mean)), math.expm1(al * (e1 - mean)), math.expm1(al * (e2 - mean))
+            L0, L1, L2 = 1.0 + m0, 1.0 + m1, 1.0 + m2   # λ̄_A^α (exp = 1 + expm1 within an ulp)
+            s = L0 + L1 + L2
+            ps += mu2 / (al * al) * (m0 + m1 + m2)
+            t0 += mu2 / al * (L0 - s / 3.0)
+            t1 += mu2 / al * (L1 - s / 3.0)
+            t2 += mu2 / al * (L2 - s / 3.0)
+            c00 += mu2 * (L0 / 3.0 + s / 9.0)
+            c11 += mu2 * (L1 / 3.0 + s / 9.0)
+            c22 += mu2 * (L2 / 3.0 + s / 9.0)
+            c01 += mu2 * (s / 9.0 - (L0 + L1) / 3.0)
+            c02 += mu2 * (s / 9.0 - (L0 + L2) / 3.0)
+            c12 += mu2 * (s / 9.0 - (L1 + L2) / 3.0)
+            g00 += mu2 * L0
+            g11 += mu2 * L1
+            g22 += mu2 * L2
+            g01 += _pair(mu2, al, L0, L1, e0 - e1)
+            g02 += _pair(mu2, al, L0, L2, e0 - e2)
+            g12 += _pair(mu2, al, L1, L2, e1 - e2)
         psi[p] = ps
+        tau[0, p], tau[1, p], tau[2, p] = t0, t1, t2
+        c[0, 0, p], c[1, 1, p], c[2, 2, p] = c00, c11, c22
+        c[0, 1, p] = c[1, 0, p] = c01
+        c[0, 2, p] = c[2, 0, p] = c02
+        c[1, 2, p] = c[2, 1, p] = c12
+        g[0, 0, p], g[1, 1, p], g[2, 2, p] = g00, g11, g22
+        g[0, 1, p] = g[1, 0, p] = g01
+        g[0, 2, p] = g[2, 0, p] = g02
+        g[1, 2, p] = g[2, 1, p] = g12
+        ts = (t0, t1, t2)
         for i in range(3):
             for J in range(3):
                 v = 0.0
                 for A in range(3):
-                    v += tau[A, p] / lam[A, p] * n[i, A, p] * N[J, A, p]
+                    v += ts[A] / lam[A, p] * n[i, A, p] * N[J, A, p]
                 P[i, J, p] = v
 
 
