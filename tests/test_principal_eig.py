@@ -109,3 +109,23 @@ def test_the_compiled_ogden_stress_and_forms_tangent_pass_the_taylor_test_at_coa
     for r in (r_stress, r_tangent):
         order = np.polyfit(np.log(HS[-3:]), np.log(np.maximum(r[-3:], 1e-300)), 1)[0]
         assert np.all((order > 1.75) & (order < 3.3)), order
+
+
+def test_the_threaded_ogden_kernels_give_the_serial_results_bit_for_bit():
+    m = law("ogden", K=15.0)
+    F = np.concatenate([ogden_states(np.random.default_rng(s)) for s in range(60)], axis=-1)  # 4800 points
+    assert F.shape[-1] >= ogden_kernel._THREADED_FROM
+
+    def evaluate(threads):
+        from vlab.materials import ogden
+
+        ogden._LAST.clear()  # no reuse of the last frame (it is matched by value)
+        with settings.using(settings.Settings(assembly_threads=threads)):
+            forms = m.tangent_forms(F)
+            return m.energy(F), m.stress(F), [(f.X, f.alpha, f.beta) for f in forms]
+
+    (psi1, P1, f1), (psi2, P2, f2) = evaluate(1), evaluate(2)
+    module = ogden_kernel.kernels(F.shape[-1])
+    assert module.ogden_state_parallel.signatures and module.ogden_forms_parallel.signatures
+    assert np.array_equal(psi1, psi2) and np.array_equal(P1, P2)
+    assert all(np.array_equal(a, b) for x, y in zip(f1, f2) for a, b in zip(x, y))

@@ -25,6 +25,9 @@ and the first form also carries B = ½ Σ_A w_AA n_A ⊗ n_A, S = ½ Σ_A w_AA N
 B_ik δ_JL + δ_ik S_JL add ½(w_CC + w_DD) to every diagonal entry (CD,CD), w_AA to (AA,AA)).
 Matching the targets: β₊ = w_AB, β₋ = 0, α± = ½ (t1 ± t2 − w_AB − h_AB), h_AB = ½ (w_AA + w_BB).
 Six forms instead of nine: the assembly pass runs once per form.
+
+Both kernels run over point ranges; batches of ≥ 4096 points are split into jit.threads()
+chunks run side by side (numba prange; each point is written by one thread only).
 """
 
 from __future__ import annotations
@@ -50,9 +53,10 @@ def _pair(mu2, al, La, Lb, d):
 
 
 @numba.njit(**_OPTIONS)
-def ogden_state(F, mus, alphas, lam, N, n, eps, psi, tau, c, g, P):
-    """(module docstring) F (3,3,p) admissible; outputs as PrincipalFrame and principal_iso."""
-    for p in range(F.shape[2]):
+def ogden_state(F, mus, alphas, lam, N, n, eps, psi, tau, c, g, P, start, stop):
+    """(module docstring) F (3,3,p) admissible, points start:stop; outputs as PrincipalFrame
+    and principal_iso."""
+    for p in range(start, stop):
         c00 = F[0, 0, p] * F[0, 0, p] + F[1, 0, p] * F[1, 0, p] + F[2, 0, p] * F[2, 0, p]
         c01 = F[0, 0, p] * F[0, 1, p] + F[1, 0, p] * F[1, 1, p] + F[2, 0, p] * F[2, 1, p]
         c02 = F[0, 0, p] * F[0, 2, p] + F[1, 0, p] * F[1, 2, p] + F[2, 0, p] * F[2, 2, p]
@@ -116,9 +120,10 @@ def ogden_state(F, mus, alphas, lam, N, n, eps, psi, tau, c, g, P):
 
 
 @numba.njit(**_OPTIONS)
-def ogden_forms(n, N, w, t1, t2, X, alpha, beta, S, Bm):
-    """(module docstring) the six forms: X (6,3,3,p), alpha, beta (6,p); S, B (3,3,p) of the first."""
-    for p in range(n.shape[2]):
+def ogden_forms(n, N, w, t1, t2, X, alpha, beta, S, Bm, start, stop):
+    """(module docstring) the six forms: X (6,3,3,p), alpha, beta (6,p); S, B (3,3,p) of the
+    first; points start:stop."""
+    for p in range(start, stop):
         for i in range(3):
             for J in range(3):
                 vb, vs = 0.0, 0.0
@@ -141,10 +146,38 @@ def ogden_forms(n, N, w, t1, t2, X, alpha, beta, S, Bm):
                         X[k, i, J, p] = ab + ba
                         X[k + 1, i, J, p] = ab - ba
                 k += 2
+
+
+@numba.njit(parallel=True, **_OPTIONS)
+def ogden_state_parallel(F, mus, alphas, lam, N, n, eps, psi, tau, c, g, P, bounds):
+    for t in numba.prange(bounds.shape[0] - 1):
+        ogden_state(F, mus, alphas, lam, N, n, eps, psi, tau, c, g, P, bounds[t], bounds[t + 1])
+
+
+@numba.njit(parallel=True, **_OPTIONS)
+def ogden_forms_parallel(n, N, w, t1, t2, X, alpha, beta, S, Bm, bounds):
+    for t in numba.prange(bounds.shape[0] - 1):
+        ogden_forms(n, N, w, t1, t2, X, alpha, beta, S, Bm, bounds[t], bounds[t + 1])
 '''
 
 _KERNELS: list = []
 _COMPILED_FROM = 64  # points: below, the numpy path (numba's call overhead outweighs it)
+_THREADED_FROM = 4096  # points: below, one thread (starting the others costs more)
+
+
+def _launch(module, name: str, size: int, *args) -> None:
+    """Run kernel ``name`` over points 0:size, in jit.threads() chunks from the main thread
+    (numba's workqueue layer must not be entered from two threads at once: vlab.fe.compiled),
+    serially otherwise."""
+    import threading
+
+    from vlab import jit
+    threads = jit.threads()
+    if threads > 1 and size >= _THREADED_FROM and threading.current_thread() is threading.main_thread():
+        bounds = np.linspace(0, size, threads + 1).astype(np.int64)
+        jit.call(getattr(module, name + "_parallel"), *args, bounds)
+    else:
+        jit.call(getattr(module, name), *args, 0, size)
 
 
 def kernels(size: int):
@@ -160,26 +193,24 @@ def kernels(size: int):
 
 def state(module, F: np.ndarray, mus: np.ndarray, alphas: np.ndarray) -> dict:
     """ogden_state on F (3,3,*batch) (admissible): lam, eps, n, N, psi, tau, c, g, P reshaped."""
-    from vlab import jit
     batch = F.shape[2:]
     flat = np.ascontiguousarray(F, dtype=float).reshape(3, 3, -1)
     size = flat.shape[2]
     out = {"lam": np.empty((3, size)), "N": np.empty((3, 3, size)), "n": np.empty((3, 3, size)),
            "eps": np.empty((3, size)), "psi": np.empty(size), "tau": np.empty((3, size)),
            "c": np.empty((3, 3, size)), "g": np.empty((3, 3, size)), "P": np.empty((3, 3, size))}
-    jit.call(module.ogden_state, flat, mus, alphas, out["lam"], out["N"], out["n"], out["eps"],
-             out["psi"], out["tau"], out["c"], out["g"], out["P"])
+    _launch(module, "ogden_state", size, flat, mus, alphas, out["lam"], out["N"], out["n"], out["eps"],
+            out["psi"], out["tau"], out["c"], out["g"], out["P"])
     return {k: v.reshape(v.shape[:-1] + batch) for k, v in out.items()}
 
 
 def forms(module, n, N, w, t1, t2) -> tuple[np.ndarray, ...]:
     """ogden_forms: (X (6,3,3,*b), alpha (6,*b), beta (6,*b), S (3,3,*b), B (3,3,*b))."""
-    from vlab import jit
     batch = n.shape[2:]
     flat = [np.ascontiguousarray(x, dtype=float).reshape(x.shape[:2] + (-1,)) for x in (n, N, w, t1, t2)]
     size = flat[0].shape[2]
     X, alpha, beta = np.empty((6, 3, 3, size)), np.empty((6, size)), np.empty((6, size))
     S, B = np.empty((3, 3, size)), np.empty((3, 3, size))
-    jit.call(module.ogden_forms, *flat, X, alpha, beta, S, B)
+    _launch(module, "ogden_forms", size, *flat, X, alpha, beta, S, B)
     return (X.reshape((6, 3, 3) + batch), alpha.reshape((6,) + batch), beta.reshape((6,) + batch),
             S.reshape((3, 3) + batch), B.reshape((3, 3) + batch))
