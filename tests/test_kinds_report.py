@@ -57,3 +57,18 @@ def test_a_planar_load_unload_report_adds_the_hysteresis_loop(tmp_path):
     s = parse_scene(raw)
     write_report([outcome_of(run_scene(s))], tmp_path / "r", s, None, OPTIONS)
     assert (tmp_path / "r" / "hysteresis.png").exists() and not (tmp_path / "r" / "lateral_strain.png").exists()
+
+
+@pytest.mark.parametrize("test,effects,figure", [
+    ({"protocol": "cyclic", "shear": [0.2, 0.4], "steps": 4}, {"mullins": {"r": 2.0, "m": 0.5}}, "hysteresis.png"),
+    ({"protocol": "relaxation", "shear": 0.2, "ramp_time": 1.0, "hold_time": 5.0, "hold_steps": 3, "steps": 3},
+     {"viscoelastic": {"tau": [1.0], "beta": [0.5]}}, "relaxation.png"),
+], ids=["mullins-cycles", "viscoelastic-relaxation"])
+def test_a_simple_shear_report_with_effects_plots_shear_force_and_stress_against_gamma_and_time(
+        tmp_path, test, effects, figure):
+    raw = {"name": "shear-effects", "specimen": {"shape": "block", "size": [4.0, 3.0, 2.0]},
+           "mesh": {"size": 2.0, "cell": "hex"}, "material": {"model": "neo-hookean", "E": 3.0, "nu": 0.45},
+           "test": {"kind": "simple-shear", "grips": "kinematic"} | test, "effects": effects}
+    s = parse_scene(raw)
+    write_report([outcome_of(run_scene(s))], tmp_path / "r", s, None, OPTIONS)
+    assert (tmp_path / "r" / figure).exists()

@@ -21,6 +21,15 @@ def _axes(data: dict) -> tuple[str, str, str, str]:
             "grip extension / grip separation (crosshead strain) [–]")
 
 
+def _relaxation_words(data: dict) -> tuple[str, str]:
+    """(y label, what is held) of the relaxation figure."""
+    from vlab.report.kind_rows import kind_of_data
+
+    if kind_of_data(data).load_key == "shear":
+        return "nominal shear stress F_s / A₀ [MPa]", "relaxation under a held amount of shear"
+    return "engineering stress [MPa]", "relaxation under a held grip stretch"
+
+
 def _protocol(data: dict) -> dict:
     return ((data.get("effects") or {}).get("protocol")) or {"name": "monotonic"}
 
@@ -36,9 +45,10 @@ def effect_figures(datas: list[dict], folder: Path) -> list:
         figures.append(Figure("hysteresis.png", "Load against grip extension over the whole protocol: "
                               "the area enclosed by a loop is the energy dissipated per cycle."))
     if "relaxation" in names:
-        _against_time(datas, folder / "relaxation.png", _axes(datas[0])[2], "engineering stress [MPa]",
-                      "relaxation under a held grip stretch")
-        figures.append(Figure("relaxation.png", "Stress against time: the ramp, then the held stretch."))
+        ylabel, what = _relaxation_words(datas[0])
+        _against_time(datas, folder / "relaxation.png", _axes(datas[0])[2], ylabel, what)
+        figures.append(Figure("relaxation.png", "Stress against time: the ramp, then the held "
+                              f"{'shear' if 'shear' in what else 'stretch'}."))
     if "creep" in names:
         _against_time(datas, folder / "creep.png", "strain", "extensometer strain [–]",
                       "creep under a held force")
