@@ -48,6 +48,76 @@ def _cross(a0, a1, a2, b0, b1, b2):
     return a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
 
 
+@numba.njit(inline="always", **_OPTIONS)
+def _distinct(d0, d1, d2, a01, a02, a12, J2):
+    """η₁, the deviatoric eigenvalue most distinct from the other two (module docstring)."""
+    J3 = d0 * (d1 * d2 - a12 * a12) - a01 * (a01 * d2 - a12 * a02) + a02 * (a01 * a12 - d1 * a02)
+    c3 = min(1.0, max(-1.0, 0.5 * J3 * (3.0 / J2) ** 1.5))
+    alpha = math.acos(c3) / 3.0
+    rad = 2.0 * math.sqrt(J2 / 3.0)
+    if alpha < math.pi / 6.0:
+        return rad * math.cos(alpha)
+    return rad * math.cos(alpha + 2.0 * math.pi / 3.0)
+
+
+@numba.njit(inline="always", **_OPTIONS)
+def _range_basis(r0, r1, r2):
+    """(s₁, s₂): an orthonormal basis of the span of the rows of D − η₁ I (rank 2)."""
+    n0, n1, n2 = _dot(r0, r0), _dot(r1, r1), _dot(r2, r2)
+    if n0 >= n1 and n0 >= n2:
+        p, q1, q2, npp = r0, r1, r2, n0
+    elif n1 >= n2:
+        p, q1, q2, npp = r1, r0, r2, n1
+    else:
+        p, q1, q2, npp = r2, r0, r1, n2
+    s1 = _scale(p, 1.0 / math.sqrt(npp))
+    t1 = _minus(q1, _scale(s1, _dot(s1, q1)))
+    t2 = _minus(q2, _scale(s1, _dot(s1, q2)))
+    m1, m2 = _dot(t1, t1), _dot(t2, t2)
+    if m1 >= m2:
+        return s1, _scale(t1, 1.0 / math.sqrt(m1))
+    return s1, _scale(t2, 1.0 / math.sqrt(m2))
+
+
+@numba.njit(inline="always", **_OPTIONS)
+def _pair2x2(b11, b12, b22):
+    """(η₂ ≥ η₃, (x0, x1)): eigenvalues of [[b11, b12], [b12, b22]] and the unit vector of η₂."""
+    half, mid = 0.5 * (b11 - b22), 0.5 * (b11 + b22)
+    root = math.sqrt(half * half + b12 * b12)
+    e2, e3 = mid + root, mid - root
+    p0, p1, q0, q1 = b11 - e2, b12, b12, b22 - e2   # rows of (b − η₂ I); the vector ⟂ the longer
+    if p0 * p0 + p1 * p1 >= q0 * q0 + q1 * q1:
+        x0, x1 = -p1, p0
+    else:
+        x0, x1 = -q1, q0
+    nx = math.sqrt(x0 * x0 + x1 * x1)
+    if nx == 0.0:   # η₂ = η₃: any unit vector of the plane
+        return e2, e3, 1.0, 0.0
+    return e2, e3, x0 / nx, x1 / nx
+
+
+@numba.njit(inline="always", **_OPTIONS)
+def _dot(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+@numba.njit(inline="always", **_OPTIONS)
+def _scale(a, c):
+    return (a[0] * c, a[1] * c, a[2] * c)
+
+
+@numba.njit(inline="always", **_OPTIONS)
+def _minus(a, b):
+    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
+
+
+@numba.njit(inline="always", **_OPTIONS)
+def _apply(d0, d1, d2, a01, a02, a12, v):
+    """D v for the symmetric D with diagonal (d0, d1, d2) and off-diagonals a01, a02, a12."""
+    return (d0 * v[0] + a01 * v[1] + a02 * v[2], a01 * v[0] + d1 * v[1] + a12 * v[2],
+            a02 * v[0] + a12 * v[1] + d2 * v[2])
+
+
 @numba.njit(**_OPTIONS)
 def eig3(a00, a01, a02, a11, a12, a22):
     """(w0, w1, w2, V as 9 entries row-major) of a symmetric 3×3 matrix, w ascending."""
@@ -62,78 +132,19 @@ def eig3(a00, a01, a02, a11, a12, a22):
     if J2 < 1e-60:
         w = m * s
         return w, w, w, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0
-    J3 = d0 * (d1 * d2 - a12 * a12) - a01 * (a01 * d2 - a12 * a02) + a02 * (a01 * a12 - d1 * a02)
-    c3 = 0.5 * J3 * (3.0 / J2) ** 1.5
-    c3 = min(1.0, max(-1.0, c3))
-    alpha = math.acos(c3) / 3.0
-    rad = 2.0 * math.sqrt(J2 / 3.0)
-    if alpha < math.pi / 6.0:
-        e1 = rad * math.cos(alpha)
-    else:
-        e1 = rad * math.cos(alpha + 2.0 * math.pi / 3.0)
-    # rows of D − η₁ I
-    r0 = (d0 - e1, a01, a02)
-    r1 = (a01, d1 - e1, a12)
-    r2 = (a02, a12, d2 - e1)
-    n0 = r0[0] * r0[0] + r0[1] * r0[1] + r0[2] * r0[2]
-    n1 = r1[0] * r1[0] + r1[1] * r1[1] + r1[2] * r1[2]
-    n2 = r2[0] * r2[0] + r2[1] * r2[1] + r2[2] * r2[2]
-    if n0 >= n1 and n0 >= n2:
-        p, q1, q2, npp = r0, r1, r2, n0
-    elif n1 >= n2:
-        p, q1, q2, npp = r1, r0, r2, n1
-    else:
-        p, q1, q2, npp = r2, r0, r1, n2
-    inv = 1.0 / math.sqrt(npp)
-    s10, s11, s12 = p[0] * inv, p[1] * inv, p[2] * inv
-    c = s10 * q1[0] + s11 * q1[1] + s12 * q1[2]
-    t10, t11, t12 = q1[0] - c * s10, q1[1] - c * s11, q1[2] - c * s12
-    c = s10 * q2[0] + s11 * q2[1] + s12 * q2[2]
-    t20, t21, t22 = q2[0] - c * s10, q2[1] - c * s11, q2[2] - c * s12
-    m1 = t10 * t10 + t11 * t11 + t12 * t12
-    m2 = t20 * t20 + t21 * t21 + t22 * t22
-    if m1 >= m2:
-        inv = 1.0 / math.sqrt(m1)
-        s20, s21, s22 = t10 * inv, t11 * inv, t12 * inv
-    else:
-        inv = 1.0 / math.sqrt(m2)
-        s20, s21, s22 = t20 * inv, t21 * inv, t22 * inv
-    v10, v11, v12 = _cross(s10, s11, s12, s20, s21, s22)
-    # the 2×2 problem of D on span{s1, s2}
-    y0 = d0 * s10 + a01 * s11 + a02 * s12
-    y1 = a01 * s10 + d1 * s11 + a12 * s12
-    y2 = a02 * s10 + a12 * s11 + d2 * s12
-    z0 = d0 * s20 + a01 * s21 + a02 * s22
-    z1 = a01 * s20 + d1 * s21 + a12 * s22
-    z2 = a02 * s20 + a12 * s21 + d2 * s22
-    b11 = s10 * y0 + s11 * y1 + s12 * y2
-    b12 = s20 * y0 + s21 * y1 + s22 * y2
-    b22 = s20 * z0 + s21 * z1 + s22 * z2
-    half = 0.5 * (b11 - b22)
-    root = math.sqrt(half * half + b12 * b12)
-    mid = 0.5 * (b11 + b22)
-    e2, e3 = mid + root, mid - root
-    # eigenvector of e2 in (s1, s2): perpendicular to the longer row of (b − e2 I)
-    p0, p1 = b11 - e2, b12
-    q0, q1_ = b12, b22 - e2
-    if p0 * p0 + p1 * p1 >= q0 * q0 + q1_ * q1_:
-        x0, x1 = -p1, p0
-    else:
-        x0, x1 = -q1_, q0
-    nx = math.sqrt(x0 * x0 + x1 * x1)
-    if nx == 0.0:
-        x0, x1 = 1.0, 0.0
-    else:
-        x0, x1 = x0 / nx, x1 / nx
-    v20, v21, v22 = x0 * s10 + x1 * s20, x0 * s11 + x1 * s21, x0 * s12 + x1 * s22
-    v30, v31, v32 = _cross(v10, v11, v12, v20, v21, v22)
+    e1 = _distinct(d0, d1, d2, a01, a02, a12, J2)
+    s1, s2 = _range_basis((d0 - e1, a01, a02), (a01, d1 - e1, a12), (a02, a12, d2 - e1))
+    v1 = _cross(s1[0], s1[1], s1[2], s2[0], s2[1], s2[2])
+    y, z = _apply(d0, d1, d2, a01, a02, a12, s1), _apply(d0, d1, d2, a01, a02, a12, s2)
+    e2, e3, x0, x1 = _pair2x2(_dot(s1, y), _dot(s2, y), _dot(s2, z))
+    v2 = (x0 * s1[0] + x1 * s2[0], x0 * s1[1] + x1 * s2[1], x0 * s1[2] + x1 * s2[2])
+    v3 = _cross(v1[0], v1[1], v1[2], v2[0], v2[1], v2[2])
     l1, l2, l3 = (m + e1) * s, (m + e2) * s, (m + e3) * s
-    # ascending: e3 <= e2 always; place e1
-    if e1 >= e2:
-        return (l3, l2, l1, v30, v20, v10, v31, v21, v11, v32, v22, v12)
+    if e1 >= e2:   # ascending; e3 <= e2 always
+        return (l3, l2, l1, v3[0], v2[0], v1[0], v3[1], v2[1], v1[1], v3[2], v2[2], v1[2])
     if e1 <= e3:
-        return (l1, l3, l2, v10, v30, v20, v11, v31, v21, v12, v32, v22)
-    return (l3, l1, l2, v30, v10, v20, v31, v11, v21, v32, v12, v22)
+        return (l1, l3, l2, v1[0], v3[0], v2[0], v1[1], v3[1], v2[1], v1[2], v3[2], v2[2])
+    return (l3, l1, l2, v3[0], v1[0], v2[0], v3[1], v1[1], v2[1], v3[2], v1[2], v2[2])
 
 
 @numba.njit(**_OPTIONS)
