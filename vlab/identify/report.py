@@ -40,7 +40,7 @@ def unit_of(model: str, key: str) -> str:
     from vlab.materials.registry import MODELS
 
     entry = MODELS.get(model)
-    units = {c.key: c.unit for c in (entry.constants if entry is not None else ())}
+    units = {c.key: c.unit for c in ((entry.constants or ()) if entry is not None else ())}
     unit = units.get(key, "MPa" if key in ("mu", "K", "G") else "1")
     return "1" if unit == "-" else unit
 
