@@ -78,7 +78,11 @@ def _side_panel(ax, datas: list[dict], kind) -> None:
         ax.set_ylabel("N₁ = σ₁₁ − σ₂₂ [MPa]")
         ax.set_title("Normal-stress difference (Poynting)", fontsize=10)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=7)
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize=7)
+    else:  # a history material ([effects]) records no FE centre stress: say so, draw nothing
+        ax.text(0.5, 0.5, "no FE centre stress recorded\n(history-dependent material: [effects])",
+                ha="center", va="center", transform=ax.transAxes, fontsize=8, color="0.4")
 
 
 def plot_kind(datas: list[dict], path: Path) -> None:
