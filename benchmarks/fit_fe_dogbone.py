@@ -66,8 +66,8 @@ def main() -> None:
     s = simulate(fe, TRUE | held)
     one = time.perf_counter() - t
     rng = np.random.default_rng(args.seed)
-    force = s.force * (1 + args.noise * rng.standard_normal(len(s.force)))
-    (tmp / "readings.csv").write_text("strain,force\n" + "".join(f"{e:.17g},{f:.17g}\n" for e, f in zip(s.strain, force)))
+    force = s.force[:, 0] * (1 + args.noise * rng.standard_normal(len(s.force[:, 0])))
+    (tmp / "readings.csv").write_text("strain,force\n" + "".join(f"{e:.17g},{f:.17g}\n" for e, f in zip(s.strain[:, 0], force)))
     start = {k: args.start * v for k, v in TRUE.items()}
     (tmp / "fit.toml").write_text(f'''name = "bench-fe"
 [model]
@@ -87,7 +87,7 @@ cache = false
     out = fit_specimen(load_fit(tmp / "fit.toml"))
     wall = time.perf_counter() - t
     d = out.data
-    print(f"dumb-bell: {s.dofs} DOFs, {len(s.strain)} recorded levels, one solve + sensitivities "
+    print(f"dumb-bell: {s.dofs} DOFs, {len(s.strain[:, 0])} recorded levels, one solve + sensitivities "
           f"{one:.1f} s; fit {wall:.1f} s, {d['fe']['solves']} whole-test solves, converged {d['converged']}")
     for n in names:
         v, se = d["parameters"][n], d["uncertainty"][n]["standard_error"]

@@ -139,8 +139,12 @@ def _to_dataset(path, name, kind, role, weight, measure, factor, wanted, cols) -
     if kind == "biaxial":
         a, b, y = cols["stretch"], cols["stretch2"], np.r_[cols["stress"], cols["stress2"]] * factor
     elif kind == "specimen":
+        if ("strain2" in cols) != ("force2" in cols):
+            raise SceneError(f"{path.name}: a second axis needs both columns.strain2 and columns.force2 "
+                             "(a cruciform's second extensometer and load cell)")
         a, b, y = cols["strain"], cols.get("strain2"), cols["force"] * factor
         if "force2" in cols:
+            check_monotonic(path, wanted["strain2"], cols["strain2"], lines)
             y = np.r_[y, cols["force2"] * factor]
     else:
         a, b, y = cols[control], None, cols["stress"] * factor
