@@ -171,7 +171,9 @@ def fit_homogeneous(spec: FitSpec) -> FitOutcome:
     data = {
         "name": spec.name, "converged": bool(converged), "reason": reason,
         "model": {"name": model.law.model, "terms": model.law.terms, "bulk": model.bulk, "K": model.K,
-                  "volumetric": model.volumetric, "mu0": mu0},
+                  "volumetric": model.volumetric, "mu0": mu0}
+                 | ({"K_over_mu": model.K_over_mu, "card_K": model.K_over_mu * mu0}
+                    if model.bulk == "incompressible" else {}),
         "parameters": _parameters(model, values), "uncertainty": stats["uncertainty"],
         "confidence": spec.confidence, "correlation": stats["correlation"],
         "datasets": [_dataset_errors(model, x, d) for d in spec.datasets if d.kind != "specimen"],
