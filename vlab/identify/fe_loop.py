@@ -71,8 +71,8 @@ def _relative_error(Fi, y):
 
 
 class _Problem:
-    def __init__(self, spec):
-        self.spec, self.fe = spec, spec.fe
+    def __init__(self, spec, run=None):
+        self.spec, self.fe, self.run = spec, spec.fe, run
         self.sets = [d for d in spec.datasets if d.kind == "specimen" and d.role == "fit"]
         self.names = self.fe["parameters"]
         self.solves = 0   # evaluations of the whole test (solved, or read back from the cache)
@@ -84,7 +84,7 @@ class _Problem:
 
     def evaluate(self, p):
         self.solves += 1
-        sim = simulate(self.fe, self.values(p))
+        sim = simulate(self.fe, self.values(p), run=self.run)
         self.cached += sim.cached
         for k, v in sim.counts.items():
             self.counts[k] = self.counts.get(k, 0) + v
@@ -171,12 +171,22 @@ def _card_space(model: Constitutive, values: dict, names, cov):
     return T_inv @ card, T_inv @ cov_card @ T_inv.T
 
 
-def fit_specimen(spec):
-    """The FE-in-the-loop fit of spec's specimen data sets."""
+def fit_specimen(spec, execution=None):
+    """The FE-in-the-loop fit of spec's specimen data sets; ``execution`` (vlab.study.sweep.Execution)
+    runs the whole-test solves on Dask (vlab.identify.fe_dask), None in this process."""
+    t0 = time.perf_counter()
+    if execution is None:
+        return _fit_specimen(spec, None, t0)
+    from vlab.identify.fe_dask import DaskSolves
+
+    with DaskSolves(execution) as run:
+        return _fit_specimen(spec, run, t0)
+
+
+def _fit_specimen(spec, run, t0):
     from vlab.identify.fitting import FitOutcome, _information
 
-    t0 = time.perf_counter()
-    prob = _Problem(spec)
+    prob = _Problem(spec, run)
     names = prob.names
     p0 = np.array([spec.fe["start"][n] for n in names])
     try:
@@ -216,6 +226,7 @@ def fit_specimen(spec):
         "card": card_of(model, model.card_vector(x)),
         "fe": {"scene": spec.fe["scene_path"], "solves": prob.solves, "from_cache": prob.cached,
                "axes": ["xy"[a] for a in spec.fe["axes"]], "counts": prob.counts,
+               "execution": {"dask": False} if run is None else run.describe(),
                "cache": spec.fe.get("cache"), "trail": trail,
                "homogeneous_fit": _homogeneous_comparison(spec, sim, p, se, names)},
         "warnings": [f"vlab run: {w}" for w in sim.warnings],

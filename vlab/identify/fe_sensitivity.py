@@ -88,26 +88,29 @@ class _Quiet(logging.Filter):
 CACHE_FORMAT = 2  # entries per loading axis, with the factorization counts
 
 
-def simulate(fe: dict, values: dict, refactorize: bool = False) -> Simulation:
+def simulate(fe: dict, values: dict, refactorize: bool = False, run=None) -> Simulation:
     """Run the scene at ``values`` and differentiate its readings (RuntimeError if the test fails).
 
     With ``fe["cache"]`` (a folder) the readings and sensitivities are kept in vlab's run cache
     (vlab.study.cache: content-addressed by the scene with these constants, the vlab version, the
-    fitted constants' names and the axes), so a repeated fit re-solves nothing. ``refactorize``:
-    the sensitivities assemble and factorize K at each level themselves (the A/B count only)."""
+    fitted constants' names and the axes), so a repeated fit re-solves nothing. ``run(fe, values)``
+    computes a miss elsewhere (vlab.identify.fe_dask: on a Dask cluster); the cache stays here.
+    ``refactorize``: the sensitivities assemble and factorize K at each level themselves (the A/B
+    count only; never cached)."""
     scene = scene_with(fe, values)
-    if not fe.get("cache") or refactorize:
-        return _solve(fe, scene, values, refactorize)
-    from vlab.study.cache import SummaryCache, cache_key
+    cache = key = None
+    if fe.get("cache") and not refactorize:
+        from vlab.study.cache import SummaryCache, cache_key
 
-    cache = SummaryCache(fe["cache"])
-    key = cache_key(scene.content_hash(), {"identify.fe_sensitivity": list(fe["parameters"]),
-                                           "axes": list(fe.get("axes", (0,))), "format": CACHE_FORMAT})
-    hit = cache.get(key)
-    if hit is not None:
-        return Simulation.from_dict(hit)
-    sim = _solve(fe, scene, values, False)
-    cache.put(key, sim.as_dict())
+        cache = SummaryCache(fe["cache"])
+        key = cache_key(scene.content_hash(), {"identify.fe_sensitivity": list(fe["parameters"]),
+                                               "axes": list(fe.get("axes", (0,))), "format": CACHE_FORMAT})
+        hit = cache.get(key)
+        if hit is not None:
+            return Simulation.from_dict(hit)
+    sim = _solve(fe, scene, values, refactorize) if run is None else run(fe, values)
+    if cache is not None:
+        cache.put(key, sim.as_dict())
     return sim
 
 
