@@ -120,3 +120,24 @@ def test_sensitivities_back_substitute_with_the_monitors_factor_and_factorize_no
     assert k["total_factorizations"] == c["total_factorizations"] + c["levels"]
     np.testing.assert_allclose(reused.dforce, own.dforce, rtol=1e-9, atol=1e-12)
     np.testing.assert_allclose(reused.dstrain, own.dstrain, rtol=1e-9, atol=1e-14)
+
+
+def test_a_two_term_ogden_block_curve_gives_back_mu_and_alpha_through_vlabs_own_test(tmp_path):
+    from vlab.identify.fe_loop import fit_specimen
+    from vlab.identify.fitfile import load_fit
+
+    fe = _fe(tmp_path, OGDEN_BLOCK, "ogden", ("mu[0]",))
+    true = {"mu[0]": 0.3, "mu[1]": 0.02, "alpha[0]": 1.8, "alpha[1]": 5.0, "K": 4.0}
+    s = simulate(fe, true)
+    (tmp_path / "r.csv").write_text("strain,force\n" + "".join(f"{e:.17g},{f:.17g}\n"
+                                                                for e, f in zip(s.strain[:, 0], s.force[:, 0])))
+    (tmp_path / "fit.toml").write_text('[model]\nname = "ogden"\nterms = 2\n[[data]]\nfile = "r.csv"\nkind = "specimen"\n'
+                                       '[fe]\nscene = "scene.toml"\nparameters = ["mu[0]", "alpha"]\n'
+                                       'start = { "mu[0]" = 0.2, alpha = [1.2, 6.0] }\nmax_solves = 15\ncache = false\n')
+    d = fit_specimen(load_fit(tmp_path / "fit.toml")).data
+    assert d["converged"] and d["fe"]["solves"] <= 8 and "matched" in d["reason"]
+    assert list(d["parameters"]) == ["mu[0]", "alpha[0]", "alpha[1]"]
+    for n in d["parameters"]:  # noise-free readings: the constants come back to the solver's tolerance
+        assert d["parameters"][n] == pytest.approx(true[n], rel=1e-4), n
+    assert d["card"]["material"]["alpha"] == pytest.approx([1.8, 5.0], rel=1e-4)
+    assert d["card"]["note"] == "K held at the scene's value"

@@ -17,19 +17,20 @@ __all__ = ["card_of", "card_toml", "INCOMPRESSIBLE_K_RATIO"]
 INCOMPRESSIBLE_K_RATIO = 1000.0
 
 
-def card_of(model: Constitutive, values) -> dict:
-    """{"material": table, "toml": text, "note": why K is what it is}."""
+def card_of(model: Constitutive, values, note: str | None = None) -> dict:
+    """{"material": table, "toml": text, "note": why K is what it is (``note`` replaces it)}."""
     n = len(model.law.names)
     table = model.law.card(values[:n])
     mu0 = model.law.mu0(values[:n])
     if model.bulk == "incompressible":
         r = model.K_over_mu
-        K, note = r * mu0, (f"incompressible fit: K = {r:g} mu0 (model.K_over_mu; nu = {poisson_of(r):.6g}) "
+        K, note_default = r * mu0, (f"incompressible fit: K = {r:g} mu0 (model.K_over_mu; nu = {poisson_of(r):.6g}) "
                             "stands in for incompressibility (use [mesh] formulation = \"mixed\")")
     else:
         K = float(values[n]) if model.bulk == "fit" else float(model.K)
-        note = "K fitted" if model.bulk == "fit" else "K held fixed at the fit file's value"
+        note_default = "K fitted" if model.bulk == "fit" else "K held fixed at the fit file's value"
     table["K"] = float(f"{K:.6g}")
+    note = note or note_default
     if model.volumetric != "quadratic" and model.law.model != "neo-hookean":
         table["volumetric"] = model.volumetric
     return {"material": table, "toml": f"# {note}\n" + card_toml(table), "note": note}
