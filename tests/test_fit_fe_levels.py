@@ -141,3 +141,21 @@ def test_a_two_term_ogden_block_curve_gives_back_mu_and_alpha_through_vlabs_own_
         assert d["parameters"][n] == pytest.approx(true[n], rel=1e-4), n
     assert d["card"]["material"]["alpha"] == pytest.approx([1.8, 5.0], rel=1e-4)
     assert d["card"]["note"] == "K held at the scene's value"
+
+
+@pytest.mark.parametrize("fe_table,message", [
+    ('parameters = ["beta"]', r"fe.parameters\[\] must be one of mu\[0\], mu\[1\], alpha\[0\], alpha\[1\], K"),
+    ('parameters = ["alpha"]\nstart = { alpha = [1.0] }', r"fe.start.alpha must list 2 values \(one per term\), got 1"),
+    ('parameters = ["alpha[0]"]\nstart = { "alpha[0]" = -1.0 }', r"fe.start: .* is not admissible"),
+    ('parameters = ["K", "K"]', r"fe.parameters names a constant twice"),
+])
+def test_bad_ogden_fe_parameters_and_starts_are_refused_naming_the_key(tmp_path, fe_table, message):
+    from vlab.fields import SceneError
+    from vlab.identify.fitfile import load_fit
+
+    (tmp_path / "scene.toml").write_text(OGDEN_BLOCK)
+    (tmp_path / "r.csv").write_text("strain,force\n0.1,1\n0.2,2\n")
+    (tmp_path / "fit.toml").write_text('[model]\nname = "ogden"\nterms = 2\n[[data]]\nfile = "r.csv"\nkind = "specimen"\n'
+                                       f'[fe]\nscene = "scene.toml"\n{fe_table}\n')
+    with pytest.raises(SceneError, match=message):
+        load_fit(tmp_path / "fit.toml")
