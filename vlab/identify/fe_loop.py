@@ -206,15 +206,7 @@ def _fit_specimen(spec, run, t0):
     values = prob.values(p)
     model = _closed_form(spec.fe, "fit")
     x, cov_x = _card_space(model, values, names, cov)
-    datasets = []
-    for d in (d for d in spec.datasets if d.kind == "specimen"):
-        _, _, Fi = residuals(sim, d, True)
-        n = d.points
-        rel = np.concatenate([_relative_error(Fi[:n], d.y[:n])] + ([_relative_error(Fi[n:], d.y[n:])]
-                                                                   if d.b is not None else []))
-        datasets.append({"name": d.name, "file": d.file, "kind": "specimen", "role": d.role, "points": d.points,
-                         "rms_relative": float(np.sqrt(np.mean(rel ** 2))), "max_relative": float(np.max(np.abs(rel))),
-                         "rms_absolute_N": float(np.sqrt(np.mean((Fi - d.y) ** 2)))})
+    datasets = [_dataset_errors(sim, d) for d in spec.datasets if d.kind == "specimen"]
     stability = {k: kind_stability(model, x, k, None) for k in ("uniaxial", "equibiaxial", "planar")}
     data = {
         "name": spec.name, "converged": bool(converged), "reason": reason,
@@ -245,6 +237,17 @@ def _fit_specimen(spec, run, t0):
     outcome.extras["figures"] = [("specimen.png", "The specimen's readings (points) against vlab's own test at the "
                                   "fitted constants (line), force against extensometer strain.")]
     return outcome
+
+
+def _dataset_errors(sim, d) -> dict:
+    """fit.json's row of a specimen data set: its errors at the fitted constants (both axes)."""
+    _, _, Fi = residuals(sim, d, True)
+    n = d.points
+    rel = np.concatenate([_relative_error(Fi[:n], d.y[:n])]
+                         + ([_relative_error(Fi[n:], d.y[n:])] if d.b is not None else []))
+    return {"name": d.name, "file": d.file, "kind": "specimen", "role": d.role, "points": d.points,
+            "rms_relative": float(np.sqrt(np.mean(rel ** 2))), "max_relative": float(np.max(np.abs(rel))),
+            "rms_absolute_N": float(np.sqrt(np.mean((Fi - d.y) ** 2)))}
 
 
 def _plot(spec, sim, J, cov, tq, path):
