@@ -76,3 +76,11 @@ def test_workers_for_a_fit_without_specimen_data_is_refused_with_exit_2(tmp_path
                        capture_output=True, text=True, timeout=300)
     assert r.returncode == 2 and "no data set of kind = \"specimen\"" in r.stdout + r.stderr
     assert not (tmp_path / "o").exists()
+
+
+def test_a_scheduler_that_does_not_answer_is_an_invalid_option_with_nothing_written(tmp_path):
+    fit = _fit_file(tmp_path)
+    r = subprocess.run([sys.executable, "-m", "vlab", "fit", str(fit), "--out", str(tmp_path / "o"),
+                        "--scheduler", "tcp://127.0.0.1:1"], capture_output=True, text=True, timeout=300)
+    assert r.returncode == 2 and "invalid option" in r.stdout + r.stderr and "cannot connect" in r.stdout + r.stderr
+    assert not (tmp_path / "o").exists()

@@ -70,7 +70,7 @@ def fit_command(path: Path, out: Path | None, models: str | None, console: Conso
     try:
         return _fit_and_write(spec, names, dest, out, text, console, execution)
     except SchedulerError as exc:
-        console.print(f"[red]invalid option[/red] {exc}", highlight=False, soft_wrap=True)
+        console.print(Text.assemble(("invalid option", "red"), f" {exc}"), highlight=False, soft_wrap=True)
         return 2
     except ReportFolderError as exc:
         console.print(Text.assemble(("cannot write report", "red"), f" {exc}"), highlight=False, soft_wrap=True)
