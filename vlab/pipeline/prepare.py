@@ -83,11 +83,17 @@ def checked_quality(scene: Scene, specimen: Specimen) -> MeshQuality:
     quality = mesh_quality(specimen.mesh)
     if quality.min_quality < scene.mesh.min_quality:
         raise MeshQualityError(
-            f"mesh.min_quality: the {specimen.shape} mesh's worst element (#{quality.worst_element}) has "
+            f"mesh.min_quality: {_mesh_name(specimen.shape)}'s worst element (#{quality.worst_element}) has "
             f"{quality.measure} quality {quality.min_quality:.3g} < mesh.min_quality = "
             f"{scene.mesh.min_quality:g} (1 is ideal; max aspect ratio {quality.max_aspect_ratio:.3g}); "
             f"change mesh.size / mesh.cell, or lower mesh.min_quality")
     return quality
+
+
+def _mesh_name(shape: str) -> str:
+    """How a message names a specimen's mesh: "the dogbone mesh", but "the imported mesh" for
+    shape = "mesh" (not "the mesh mesh")."""
+    return "the imported mesh" if shape == "mesh" else f"the {shape} mesh"
 
 
 def make_body(scene: Scene, space: DisplacementSpace):

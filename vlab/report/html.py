@@ -208,7 +208,8 @@ def comparison_rows(page: ReportPage) -> list[tuple[str, list[str]]]:
         *kind_rows(page.models),
         (f"force at max {kind.load_key} [N]", per(force)),
         *([("strain where |s − s_NH|/s_NH ≥ 5 %", per(departure("5%"))),
-           ("strain where |s − s_NH|/s_NH ≥ 10 %", per(departure("10%")))] if kind.lateral_ratio else []),
+           ("strain where |s − s_NH|/s_NH ≥ 10 %", per(departure("10%")))]
+          if kind.lateral_ratio and page.departures else []),  # nothing compared: no rows
         ("stress vs analytic, max rel. error", per(error)),
         ("Newton iterations (total)", per(lambda d: _newton_cost(d["solver"]))),
         ("linear solver; tangent kernel", per(lambda d: _solvers(d["solver"]))),
