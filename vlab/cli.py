@@ -221,9 +221,10 @@ def info():
 
     found_gmsh = gmsh_version() or 'not installed (pip install "vlab[cad]")'
     Console().print(f"  CAD meshing   gmsh     {found_gmsh} (specimen.shape = 'cad')", highlight=False)
-    from vlab import jit
-    threads = f", {jit.threads()} threads for the tangent" if jit.available() else ""
-    Console().print(f"assembly kernels: {jit.in_use()}{threads} (VLAB_KERNEL=numpy: numpy only; "
+    from vlab import jit, settings
+    config = settings.current()  # what the CLI installed from the flags and the environment
+    threads = f", {jit.threads(config)} threads for the tangent" if jit.available(config) else ""
+    Console().print(f"assembly kernels: {jit.in_use(config)}{threads} (VLAB_KERNEL=numpy: numpy only; "
                     f"VLAB_ASSEMBLY_THREADS=n: n threads)", highlight=False)
     if amg:
         Console(markup=False).print(f"  [solver] linear = 'auto': CG + AMG for Newton corrections from "
