@@ -43,6 +43,9 @@ class Evaluation:
     min_J: float
     worst: tuple[int, int]
 
+    constraint = 0.0  # a mixed state's max |Π v(F) − θ| (vlab.fe.mixed.MixedEvaluation); 0: none
+    volume_change = None  # a mixed state's θ − 1 (element unknowns the body's ``advance`` moves)
+
     @property
     def admissible(self) -> bool:
         return self.f_int is not None
@@ -63,7 +66,7 @@ class HyperelasticBody(BodyDefaults):
         self.pattern = SparsityPattern.build(space.element_nodes, space.dim)
         self._compiled = None
         applies = (space.dim == 3 and space.reference_dN is not None
-                   and (hasattr(material, "tangent_terms") or hasattr(material, "tangent_forms")))
+                   and (material.tangent_terms is not None or material.tangent_forms is not None))
         config = settings if settings is not None else installed.current()
         usable = applies and compiled.available(config)
         if kernel == "compiled" and not usable:
@@ -108,10 +111,10 @@ class HyperelasticBody(BodyDefaults):
         the full (3,3,3,3,e,q) tangent: in the isotropic form of the three hyperelastic models
         the compiled kernel (vlab.fe.compiled) assembles it, otherwise it is pulled back term by
         term (vlab.fe.assembly)."""
-        forms = getattr(self.material, "tangent_forms", None)
+        forms = self.material.tangent_forms  # capabilities: vlab.materials.capabilities
         if self._compiled is not None and forms is not None:  # a sum of isotropic forms (rubber models)
             return self._compiled.matrix(forms(evaluation.F))
-        terms = getattr(self.material, "tangent_terms", None)
+        terms = self.material.tangent_terms
         A = terms(evaluation.F) if terms is not None else self.material.tangent(evaluation.F)
         if self._compiled is not None and (form := A.isotropic()) is not None:
             return self._compiled.matrix(form)

@@ -152,7 +152,7 @@ def _limit_along(admissible: Callable[[float], bool]) -> float:
 def _describe(material) -> str:
     nu = getattr(material, "poisson_ratio", None)
     name = getattr(material, "name", type(material).__name__)
-    note = getattr(material, "locking_note", None)  # e.g. Gent: where the chains lock
+    note = material.locking_note  # e.g. Gent: where the chains lock (vlab.materials.capabilities)
     text = f"{name} with nu={nu:.4g}" if nu is not None else str(name)
     return f"{text}; {note}" if note else text
 

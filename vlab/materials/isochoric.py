@@ -26,6 +26,7 @@ from typing import ClassVar
 
 import numpy as np
 
+from vlab.materials.capabilities import LawCapabilities
 from vlab.materials.split import OneFieldSplit, SplitNeoHookean
 from vlab.materials.volumetric import VOLUMETRIC
 
@@ -43,7 +44,7 @@ class NonPositiveShear(ValueError):
 
 
 @dataclass(frozen=True, kw_only=True)
-class IsochoricVolumetric(OneFieldSplit):
+class IsochoricVolumetric(OneFieldSplit, LawCapabilities):
     """ψ_iso(C̄) (the subclass) + U(J) with bulk modulus K (MPa) and ``volumetric`` form."""
 
     K: float
