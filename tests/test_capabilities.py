@@ -36,6 +36,8 @@ def test_every_law_of_the_registry_declares_each_capability_as_a_member_or_none(
         value = getattr(law, capability)
         assert value is None or callable(value), (name, capability)
     assert isinstance(law.is_linear, bool) and (law.locking_note is None or isinstance(law.locking_note, str))
+    assert law.plane == ("stress" if "stress" in name else "strain" if "strain" in name else "")
+    assert not law.plane or isinstance(law.base, LawCapabilities)
 
 
 def test_the_laws_with_memory_declare_their_history_fields():

@@ -17,7 +17,9 @@ A law that has the capability defines the member; one that has not keeps the def
   variables of a law with memory (plastic strain, Mullins damage, viscous strains), for the
   stability monitor, the VTU cells and the report.
 - ``locking_note`` (str, None): where a law with a limiting chain extensibility locks (Gent),
-  for the messages of a test past it.
+  for the messages of a test past it;
+- ``plane`` (str, ""): "stress" or "strain" for a 2D reduction of a 3D law, which is then its
+  ``base`` (vlab.materials.plane); "" for a 3D law.
 """
 
 from __future__ import annotations
@@ -35,3 +37,4 @@ class LawCapabilities:
     tangent_forms = None
     history_fields = None
     locking_note: ClassVar[str | None] = None
+    plane: ClassVar[str] = ""

@@ -241,7 +241,7 @@ def plane_strain_biaxial(material, stretch_x: float, stretch_y: float) -> Homoge
 def _plane(material):
     """(3D base law, "stress" | "strain" | "") of a material or of a 2D reduction of one
     (vlab.materials.plane: ``base`` and ``plane``)."""
-    return getattr(material, "base", material), getattr(material, "plane", "")
+    return (material.base if material.plane else material), material.plane
 
 
 def homogeneous_uniaxial(material, stretch: float) -> HomogeneousState:
