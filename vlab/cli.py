@@ -452,13 +452,15 @@ def cost(scene: Path = typer.Argument(..., help="Scene TOML file."),
          quiet: bool = QUIET,
          force: bool = FORCE):
     """Error against time for mesh size, order, cell, load steps, Newton tolerance and model."""
-    from vlab.study.cost import analyse, knob_points
+    from vlab.study.cost import analyse, fixed_mesh_note, knob_points
     from vlab.study.cost_report import write_cost_report
     from vlab.study.summary import RunKnobs
 
     parsed, _ = _load(scene)
     options = _cost_options(scene, parsed, levels, ratio, target, orders, cells)
     points = knob_points(parsed, options)
+    if fixed_mesh_note(parsed) is not None and not quiet:
+        say(fixed_mesh_note(parsed))
     cache, scheduler = cache_folder(cache), scheduler_address(scheduler)
     dest = report_destination(out or Path("reports") / f"{parsed.name}-cost", force, scene, [cache])
     outcome = _sweep_with_progress(points, RunKnobs(time_report=True, render=render), cache,
@@ -467,15 +469,21 @@ def cost(scene: Path = typer.Argument(..., help="Scene TOML file."),
     memory = next((s["memory"]["method"] for s in outcome.summaries if s.get("memory")), "")
     meta = {"scene": str(scene), "target": options.target, "levels": levels, "ratio": ratio,
             "orders": list(options.orders), "cells": list(options.cells), "cache_hits": outcome.cache_hits,
-            "computed": outcome.computed, "seconds": outcome.seconds, "render": render, "memory_method": memory}
+            "computed": outcome.computed, "seconds": outcome.seconds, "render": render, "memory_method": memory,
+            "fixed_mesh": fixed_mesh_note(parsed)}
     index = _write(write_cost_report, dest, f"{parsed.name}: what accuracy costs", outcome.summaries, analysis,
                    options.target, meta)
+    _print_cost(analysis, len(points), outcome, index)
+    raise typer.Exit(_study_exit(outcome, all_failed_only=True))
+
+
+def _print_cost(analysis, runs: int, outcome, index) -> None:
+    """The recommendation, the note of each quantity and how many runs were cached or computed."""
     say(analysis.recommendation)
     for q, note in analysis.notes.items():
         say(f"  {q}: {note}")
-    say(f"{len(points)} runs ({outcome.cache_hits} cached, {outcome.computed} computed, "
+    say(f"{runs} runs ({outcome.cache_hits} cached, {outcome.computed} computed, "
         f"{outcome.failed} failed or invalid); report: {index}")
-    raise typer.Exit(_study_exit(outcome, all_failed_only=True))
 
 
 def _cost_options(scene: Path, parsed, levels: int, ratio: float, target: str, orders: str, cells: str):
@@ -486,9 +494,8 @@ def _cost_options(scene: Path, parsed, levels: int, ratio: float, target: str, o
                           orders=_choices("--orders", orders, (1, 2), int),
                           cells=_choices("--cells", cells, ("tet", "hex", "gmsh-tet")))
     if "gmsh-tet" in options.cells and parsed.specimen.shape != "dogbone":
-        console.print(f"[red]invalid option[/red] --cells gmsh-tet meshes a dogbone; {scene} has specimen.shape = "
-                      f"{parsed.specimen.shape!r}", highlight=False)
-        raise typer.Exit(EXIT_INVALID)
+        fail("invalid option", f"--cells gmsh-tet meshes a dogbone; {scene} has specimen.shape = "
+                               f"{parsed.specimen.shape!r}")
     return options
 
 

@@ -277,7 +277,8 @@ def count_dogbone(spec, mesh) -> MeshCount:
 
 SHAPE = Shape(
     "dogbone", ("standard",) + DIMENSION_KEYS, parse_dogbone,
-    lambda spec, mesh, gauge: dogbone_specimen(spec.dimensions, mesh.size, mesh.cell, mesh.gauge_size, mesh.symmetry),
+    lambda spec, mesh, gauge: dogbone_specimen(spec.dimensions, mesh.size, mesh.cell, mesh.gauge_size, mesh.symmetry,
+                                                      mesh.mesher),
     tests={"uniaxial": ("clamped",)}, symmetric=True, gauge_size=True,
     thickness=lambda spec: float(min(spec.dimensions.thickness, spec.dimensions.width)), count=count_dogbone,
     doc="standard or custom dumb-bell between clamped grips")
