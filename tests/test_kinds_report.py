@@ -72,3 +72,10 @@ def test_a_simple_shear_report_with_effects_plots_shear_force_and_stress_against
     s = parse_scene(raw)
     write_report([outcome_of(run_scene(s))], tmp_path / "r", s, None, OPTIONS)
     assert (tmp_path / "r" / figure).exists()
+
+
+def test_a_single_model_report_shows_no_departure_rows_since_nothing_is_compared(tmp_path):
+    test = {"kind": "uniaxial", "stretch": 1.2}
+    write_report([outcome_of(run_scene(scene("neo-hookean", test)))], tmp_path / "r", scene("neo-hookean", test),
+                 None, OPTIONS)
+    assert "s_NH" not in (tmp_path / "r" / "index.html").read_text(encoding="utf-8")
