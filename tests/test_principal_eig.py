@@ -13,7 +13,7 @@ from vlab import jit, settings
 from vlab.materials import ogden_kernel
 from vlab.materials.principal_eig import eigh3
 
-pytestmark = pytest.mark.skipif(not jit.available(), reason="needs numba")
+pytestmark = pytest.mark.skipif(not jit.available(settings.current()), reason="needs numba")
 
 SPECTRA = {"random": None, "double-upper": (1.0, 2.0, 2.0), "double-lower": (1.0, 1.0, 2.0),
            "triple": (1.5, 1.5, 1.5), "near-double 1e-8": (1.0, 1.0 + 1e-8, 2.0),

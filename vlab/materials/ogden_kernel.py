@@ -171,8 +171,8 @@ def _launch(module, name: str, size: int, *args) -> None:
     serially otherwise."""
     import threading
 
-    from vlab import jit
-    threads = jit.threads()
+    from vlab import jit, settings
+    threads = jit.threads(settings.current())  # materials are called without settings in hand
     if threads > 1 and size >= _THREADED_FROM and threading.current_thread() is threading.main_thread():
         bounds = np.linspace(0, size, threads + 1).astype(np.int64)
         jit.call(getattr(module, name + "_parallel"), *args, bounds)
@@ -183,8 +183,8 @@ def _launch(module, name: str, size: int, *args) -> None:
 def kernels(size: int):
     """The compiled module (``ogden_state``, ``ogden_forms``) for a batch of ``size`` points, or
     None (numba missing, VLAB_KERNEL=numpy, or a batch too small to gain)."""
-    from vlab import jit  # numba starts on the first large batch, not with this module
-    if size < _COMPILED_FROM or not jit.available():
+    from vlab import jit, settings  # numba starts on the first large batch, not with this module
+    if size < _COMPILED_FROM or not jit.available(settings.current()):
         return None
     if not _KERNELS:
         _KERNELS.append(jit.load("ogden", _SOURCE))

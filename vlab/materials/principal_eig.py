@@ -186,8 +186,8 @@ _KERNELS: list = []
 def compiled_kernels():
     """The compiled module (``eig3``, ``eigh_batch``, ``frame_batch``), or None without numba."""
     if not _KERNELS:
-        from vlab import jit  # numba starts on the first large batch, not with this module
-        _KERNELS.append(jit.load("principal_eig", SOURCE) if jit.available() else None)
+        from vlab import jit, settings  # numba starts on the first large batch, not with this module
+        _KERNELS.append(jit.load("principal_eig", SOURCE) if jit.available(settings.current()) else None)
     return _KERNELS[0]
 
 
