@@ -99,6 +99,7 @@ def run(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (defa
         force: bool = typer.Option(False, "--force", help=FORCE_HELP)):
     """Run one test and write its report: results.json, curve.csv, PNGs, renders, VTU/PVD, index.html."""
     from vlab.cli_progress import RunProgress, scheduled_levels
+    from vlab.report.prefetch import ReportPrefetch
     from vlab.report.writer import write_run
     from vlab.run import run_scene
 
@@ -111,9 +112,10 @@ def run(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (defa
         kind = kind_of(parsed.test)
         say((parsed.name, "bold"), f": {parsed.material.model}, {parsed.test.kind} "
             f"to {kind.load_key} {list(parsed.test.targets)}")
+    prefetch = ReportPrefetch()  # the report's imports made while the solver works
     with RunProgress(console, scheduled_levels(parsed), quiet) as progress:
         try:
-            result = run_scene(parsed, on_level=progress.level)
+            result = run_scene(parsed, on_level=prefetch.on_level(progress.level))
         except SceneError as exc:  # e.g. a mesh below mesh.min_quality: nothing is written
             progress.bar.stop()
             fail("invalid scene", exc)
@@ -123,6 +125,7 @@ def run(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (defa
             progress.phase("accuracy estimate (mesh × 2)")
             result.diagnostics.accuracy_estimate = accuracy_estimate(result)
         progress.phase("report: plots, renders, 3-D")
+        prefetch.wait()
         data = _write(write_run, result, dest, text, options)
         progress.phase("done")
     _print_summary(data)
