@@ -9,11 +9,13 @@ The condensed tangent of vlab.fe.mixed, per element (N/mm),
 with g_aJ = ∂N_a/∂X_J = Σ_m ∂N̂_a/∂ξ_m R_mJ (R = ∂ξ/∂X, 9 numbers a point, as in
 vlab.fe.compiled), A_iso the law's isochoric tangent (3,3,3,3,e,q) and ∂²v/∂F∂F its volume
 Hessian (MPa; evaluated by the law in numpy, any split law), p the projected pressure (MPa) and
-C (e, m, m) the condensed volumetric stiffness of the θ space (mm⁻³ · MPa · mm⁶ …: C carries
-M⁻¹ H M⁻¹). The kernel never forms the (3,3,3,3,e,q) sum A_iso + p ∂²v, nor the element matrices:
-per point it contracts g with A (w_a,ikL = dx Σ_J g_aJ A_iJkL, then Σ_L w_a,ikL g_bL), adds the
+C (e, m, m) = M⁻¹ H M⁻¹ the condensed volumetric stiffness of the θ space (MPa/mm³ for
+P0). The kernel never forms the (3,3,3,3,e,q) sum A_iso + p ∂²v, nor the element matrices: per
+point it contracts g with A (w_a,ikL = dx Σ_J g_aJ A_iJkL, then Σ_L w_a,ikL g_bL), adds the
 volumetric rank-m update after the element's points, and scatters every 3 × 3 node block into the
-CSR data (entry (A, i, B, k) at ``base + i·rowlen + k``, see vlab.fe.assembly.SparsityPattern).
+CSR data. K is symmetric (A has the major symmetry of a second derivative, C is symmetric), so
+only the node blocks b ≥ a are computed and each is also added, transposed, as the block (b, a)
+(entry (A, i, B, k) at ``base + i·rowlen + k``, see vlab.fe.assembly.SparsityPattern).
 
 The source is fixed (the loops run over n_local and the θ-space size m at run time: one kernel
 for Q1/P0, Q2/P1dc and P2/P0); it is written once to vlab's kernel cache and imported from there
@@ -86,7 +88,7 @@ def stiffness(dN, R, dx, A, H, p, V, phi, C, base, rowlen, start, stop, data):
                             w[a, i, k, L] = g0 * t[i, 0, k, L] + g1 * t[i, 1, k, L] + g2 * t[i, 2, k, L]
             for a in range(n_loc):
                 for i in range(3):
-                    for b in range(n_loc):
+                    for b in range(a, n_loc):  # the blocks b >= a; K is symmetric
                         h0, h1, h2 = g[b, 0], g[b, 1], g[b, 2]
                         for k in range(3):
                             K[a, i, b, k] += w[a, i, k, 0] * h0 + w[a, i, k, 1] * h1 + w[a, i, k, 2] * h2
@@ -102,16 +104,21 @@ def stiffness(dN, R, dx, A, H, p, V, phi, C, base, rowlen, start, stop, data):
                 for a in range(n_loc):
                     for i in range(3):
                         x = cmn * G[m, a, i]
-                        for b in range(n_loc):
+                        for b in range(a, n_loc):
                             for k in range(3):
                                 K[a, i, b, k] += x * G[n, b, k]
         for a in range(n_loc):
             r = rowlen[e, a]
-            for b in range(n_loc):
+            for b in range(a, n_loc):
                 s0 = base[e, a, b]
                 for i in range(3):
                     for k in range(3):
                         data[s0 + i * r + k] += K[a, i, b, k]
+                if b > a:  # the block (b, a) is the transpose of (a, b)
+                    s1, rb = base[e, b, a], rowlen[e, b]
+                    for i in range(3):
+                        for k in range(3):
+                            data[s1 + k * rb + i] += K[a, i, b, k]
 '''
 
 _MODULE: list = []
