@@ -14,7 +14,9 @@ run interleaved, so that they meet the same load: the command as shipped (the re
 made by a thread while the solver works, vlab.report.prefetch; the fast exit of vlab/__main__.py),
 without the prefetch thread, and with Python's normal exit (interpreter finalization). Medians
 over the repeats; the load average is printed (the machine is shared: wall times under load
-are noisy, the CPU figures are the steadier ones).
+are noisy, the CPU figures are the steadier ones). ``--baseline TREE`` also times the plain
+command (``python -m vlab run ...``, no launcher) with PYTHONPATH = TREE (e.g. a checkout of main)
+and with this tree, interleaved: whole-command wall and CPU and wall − timing.total_s.
 """
 
 from __future__ import annotations
@@ -110,6 +112,32 @@ def one(variant: str, scene: Path, out: Path, record: Path) -> dict:
     }
 
 
+def plain(tree: Path, scene: Path, out: Path) -> list[float]:
+    """[wall, CPU, wall − timing.total_s] of the command run from ``tree``'s package."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    t0 = time.perf_counter()
+    subprocess.run([sys.executable, "-m", "vlab", "run", str(scene), "--no-render", "--no-estimate", "--out",
+                    str(out), "-q", "--force"], check=True, cwd=ROOT, capture_output=True,
+                   env=os.environ | {"PYTHONPATH": str(tree)})
+    wall = time.perf_counter() - t0
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    total = json.loads((out / "results.json").read_text())["timing"]["total_s"]
+    return [wall, cpu, wall - total]
+
+
+def compare_trees(baseline: Path, scene: Path, repeat: int, scratch: Path) -> None:
+    trees = {"baseline " + str(baseline): baseline, "this tree": ROOT}
+    rows = {name: [] for name in trees}
+    for i in range(repeat):
+        for name, tree in trees.items():
+            rows[name].append(plain(tree, scene, scratch / f"plain-{i}-{len(rows[name])}-{tree.name}"))
+    print(f"\nplain command, median of {repeat} interleaved repeats; load average now {os.getloadavg()[0]:.1f}")
+    print("| tree | whole command wall s | CPU s | wall − timing.total_s |\n|---|---|---|---|")
+    for name, values in rows.items():
+        print(f"| {name} | " + " | ".join(f"{statistics.median(v[j] for v in values):.2f}" for j in range(3)) + " |")
+
+
 def median(rows: list[dict], key: str, i: int):
     values = [r[key][i] for r in rows if r[key][i] is not None]
     return statistics.median(values) if values else None
@@ -119,6 +147,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("scene", nargs="?", default=str(ROOT / "benchmarks" / "block16.toml"))
     parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--baseline", type=Path, default=None, help="another source tree to compare with")
     args = parser.parse_args()
     rows: dict[str, list[dict]] = {v: [] for v in VARIANTS}
     load0 = os.getloadavg()[0]
@@ -137,6 +166,9 @@ def main() -> None:
                 x = median(rows[v], key, i)
                 cells.append("—" if x is None else f"{x:.2f}")
         print(f"| {key} | " + " | ".join(cells) + " |")
+    if args.baseline is not None:
+        with tempfile.TemporaryDirectory() as scratch:
+            compare_trees(args.baseline.resolve(), Path(args.scene), args.repeat, Path(scratch))
 
 
 if __name__ == "__main__":
