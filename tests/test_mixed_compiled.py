@@ -6,12 +6,12 @@ import pytest
 
 from tests.rubber_cards import card
 from tests.test_mixed import CASES, _space
-from vlab import jit
+from vlab import jit, settings
 from vlab.fe.mixed import MixedHyperelasticBody
 from vlab.materials.card import build_split_law, parse_material
 from vlab.materials.split import SplitLinear, SplitNeoHookean
 
-pytestmark = pytest.mark.skipif(not jit.available(), reason="numba is not available")
+pytestmark = pytest.mark.skipif(not jit.available(settings.current()), reason="numba is not available")
 
 LAWS = {"neo-hookean": SplitNeoHookean(1e4, 1.0), "linear": SplitLinear(50.0, 2.0),
         "ogden": build_split_law(parse_material(card("ogden", K=500.0)))}

@@ -69,7 +69,7 @@ class _BorderedState:
         self.f_int = np.append(ev.f_int, self.r_t / travel) if ev.admissible else None
         # the line search moves a state that carries element unknowns by ``advance`` (θ with u);
         # the bordered state always moves that way (t with u): not None
-        self.volume_change = getattr(ev, "volume_change", None), t
+        self.volume_change = ev.volume_change, t
 
     @property
     def admissible(self) -> bool:
@@ -89,9 +89,8 @@ class _BorderedBody:
     def advance(self, state: _BorderedState, step: np.ndarray, alpha: float) -> _BorderedState:
         dt = step[-1] / self.travel
         du = step[:-1] + dt * self.u_hat
-        advance = getattr(self.body, "advance", None)
-        if advance is not None and getattr(state.ev, "volume_change", None) is not None:
-            inner = advance(state.ev, du, alpha)
+        if self.body.advance is not None and state.ev.volume_change is not None:  # declared: vlab.fe.body
+            inner = self.body.advance(state.ev, du, alpha)
         else:
             inner = self.body.evaluate(state.ev.u + alpha * du)
         return self.state(inner, state.t + alpha * dt)
@@ -136,7 +135,7 @@ def solve_force_controlled(system: System, start: Evaluation, t0: float, Q_targe
         scale = max(force_floor, norm(ev.f_int[presc]))
         record.residuals.append(norm(state.f_int[unknowns]) / scale)
         if (record.residuals[-1] <= options.rtol and (k == 0 or record.updates[-1] <= options.utol)
-                and getattr(ev, "constraint", 0.0) <= options.rtol):
+                and ev.constraint <= options.rtol):
             record.converged = True
             return ForceControlled(ev, state.t, record, tangent)
         if k == options.max_iterations:
@@ -150,7 +149,7 @@ def solve_force_controlled(system: System, start: Evaluation, t0: float, Q_targe
                                               options, record)
         if state is None:
             record.reason = "line search found no admissible decrease under force control"
-            raise NewtonFailure(record.reason, record, getattr(alpha, "ev", alpha))
+            raise NewtonFailure(record.reason, record, alpha.ev if isinstance(alpha, _BorderedState) else alpha)
         record.step_lengths.append(alpha)
         record.updates.append(alpha * float(np.max(np.abs(step), initial=0.0)) / length)
     record.reason = f"no convergence in {options.max_iterations} iterations under force control"

@@ -41,6 +41,7 @@ import numpy as np
 import scipy.sparse as sp
 import skfem
 
+from vlab import jit, settings as installed
 from vlab.fe import compiled
 from vlab.fe.assembly import SparsityPattern, element_forces, element_stiffness, scatter_vector
 from vlab.fe.compiled_mixed import CompiledMixedTangent
@@ -118,12 +119,15 @@ class MixedHyperelasticBody(BodyDefaults):
     """Same interface as :class:`vlab.fe.problem.HyperelasticBody` (evaluate, stiffness,
     space, material, pattern); ``material`` is the split law (also a full one-field Material)."""
 
-    def __init__(self, space: DisplacementSpace, law, three_field: bool = True, kernel: str = "auto"):
+    def __init__(self, space: DisplacementSpace, law, three_field: bool = True, kernel: str = "auto",
+                 settings=None):
         """``three_field``: Newton carries θ with its linearised update (:meth:`advance`); False:
         θ = Π_e v(F) recomputed at every iterate (Newton on W(u) alone: the same solution,
         4-10× the iterations near ν = ½, kept for comparison). ``kernel``: "auto" (F, the
         internal force and the condensed tangent by the compiled kernels of vlab.fe.compiled and
-        vlab.fe.compiled_mixed where numba is available) or "numpy" (the numpy kernels only)."""
+        vlab.fe.compiled_mixed where numba is available) or "numpy" (the numpy kernels only).
+        ``settings`` (vlab.settings.Settings: the kernel switch and the assembly threads), passed
+        down by the run; None: the installed ones."""
         if kernel not in ("auto", "numpy"):
             raise ValueError(f"kernel must be 'auto' or 'numpy'; got {kernel!r}")
         if not three_field:
@@ -134,8 +138,10 @@ class MixedHyperelasticBody(BodyDefaults):
         self.projection = VolumeProjection.build(space, self.degree)
         self.pattern = SparsityPattern.build(space.element_nodes)
         self._compiled = self._tangent = None
-        if kernel == "auto" and space.reference_dN is not None and compiled.available():
-            self._compiled = compiled.CompiledKernels(space, self.pattern)
+        config = settings if settings is not None else installed.current()
+        if kernel == "auto" and space.reference_dN is not None and compiled.available(config):
+            self._compiled = compiled.CompiledKernels(space, self.pattern, jit.threads(config))
+            self._kernel_version = compiled.kernel_in_use(config)
             self._compiled.prepare()  # set-up once per mesh, like the pattern
             self._tangent = CompiledMixedTangent(self._compiled, self.projection)
             self._tangent.prepare()
@@ -146,7 +152,7 @@ class MixedHyperelasticBody(BodyDefaults):
         if self._compiled is None:
             return "numpy"
         t = self._compiled.threads
-        return f"compiled ({compiled.kernel_in_use()}, {t} thread{'s' if t > 1 else ''})"
+        return f"compiled ({self._kernel_version}, {t} thread{'s' if t > 1 else ''})"
 
     def _gradient(self, u: np.ndarray) -> np.ndarray:
         fast = self._compiled

@@ -207,7 +207,7 @@ def solve_equilibrium(system: System, start: Evaluation, options: NewtonOptions,
         scale = max(force_floor, _norm(ev.f_int[partition.prescribed]))
         record.residuals.append(_norm(r) / scale)
         if (record.residuals[-1] <= options.rtol and (k == 0 or record.updates[-1] <= options.utol)
-                and getattr(ev, "constraint", 0.0) <= options.rtol):
+                and ev.constraint <= options.rtol):
             record.converged = True
             return Equilibrium(ev, record, tangent)
         if k == options.max_iterations:
