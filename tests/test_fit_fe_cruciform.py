@@ -76,6 +76,12 @@ def test_a_cruciforms_two_arm_forces_give_back_both_mooney_rivlin_constants(tmp_
     assert d["datasets"][0]["points"] == len(s.strain)
     assert d["fe"]["homogeneous_fit"]["kind"] == "biaxial"
     assert d["fe"]["counts"]["sensitivity_factorizations"] == 0
+    # stability is judged over the readings' stretches (1 + the largest arm strain), not assumed
+    top = 1.0 + float(np.max(s.strain))
+    for kind in ("uniaxial", "equibiaxial"):
+        assert d["stability"]["kinds"][kind]["fitted_range"][1] == pytest.approx(top), kind
+    assert "fitted_range" not in d["stability"]["kinds"]["planar"]
+    assert d["stability"]["stable_over_all_fitted_ranges"] is True and "equibiaxial" in d["stability"]["basis"]
 
 
 def test_second_axis_columns_on_a_one_axis_scene_are_refused(tmp_path):

@@ -16,9 +16,6 @@ ALLOWED = {
     "moduli.py:from_pair": "the formula table of every pair of elastic constants (140)",
     # owned by other helpers this session (issue 20; issue 19; issue 21): split by them
     "fe/newton.py:solve_equilibrium": "Newton's loop, owned by the solver-scale work (66)",
-    "identify/fitting.py:fit_homogeneous": "vlab fit's homogeneous fit, owned by the fitting work (56)",
-    "identify/fe_loop.py:_fit_specimen": "vlab fit's FE-in-the-loop fit, owned by the fitting work (48)",
-    "geometry/dogbone.py:dogbone_specimen": "the dogbone mesher, being given a Gmsh branch by the reports work (41)",
 }
 
 

@@ -179,6 +179,18 @@ def dogbone_mesh(dims: DogboneDimensions, size: float, cell: str, gauge_size: fl
     return symmetric_mesh(Lattice.block(X), [(a, planes[a]) for a in mirrored_planes(symmetry)], cell, L)
 
 
+def _regions(dims: DogboneDimensions, xc: float, g: float, tol: float) -> dict:
+    """The gauge section, and the fillets less a Saint-Venant distance (one end width) from the
+    clamp edge g, whose corner singularity is the grip's and not the fillet's."""
+    G = dims.gauge_length
+    fillet_end = min(dims.parallel_length / 2 + dims.transition_length, xc - g - dims.end_width / 2)
+    return {
+        "gauge": lambda X: np.abs(X[:, 0] - xc) <= G / 2 + tol,
+        "fillets": lambda X: ((np.abs(X[:, 0] - xc) >= dims.parallel_length / 2 - tol)
+                              & (np.abs(X[:, 0] - xc) <= fillet_end + tol)),
+    }
+
+
 def dogbone_specimen(dims: DogboneDimensions, size: float, cell: str, gauge_size: float | None = None,
                      symmetry: str = "none", mesher: str = "vlab") -> Specimen:
     """Clamped grips over ``grip_length`` (snapped to the nearest mesh plane) at each end; gauge marks of ``gauge_length`` centred on
@@ -199,14 +211,7 @@ def dogbone_specimen(dims: DogboneDimensions, size: float, cell: str, gauge_size
     cut = cut_axes(symmetry)
     grips = (Grip("x-", 0, -1, lambda X: X[:, 0] <= g + tol),
              Grip("x+", 0, +1, lambda X: X[:, 0] >= L - g - tol))[1 if 0 in cut else 0:]
-    fillet_end = min(dims.parallel_length / 2 + dims.transition_length, xc - g - dims.end_width / 2)
-    regions = {
-        "gauge": lambda X: np.abs(X[:, 0] - xc) <= G / 2 + tol,
-        # the fillets, less a Saint-Venant distance (one end width) from the clamp edge, whose
-        # corner singularity is the grip's and not the fillet's
-        "fillets": lambda X: ((np.abs(X[:, 0] - xc) >= dims.parallel_length / 2 - tol)
-                              & (np.abs(X[:, 0] - xc) <= fillet_end + tol)),
-    }
+    regions = _regions(dims, xc, g, tol)
     return Specimen(
         shape="dogbone",
         mesh=mesh,

@@ -207,7 +207,6 @@ def _fit_specimen(spec, run, t0):
     model = _closed_form(spec.fe, "fit")
     x, cov_x = _card_space(model, values, names, cov)
     datasets = [_dataset_errors(sim, d) for d in spec.datasets if d.kind == "specimen"]
-    stability = {k: kind_stability(model, x, k, None) for k in ("uniaxial", "equibiaxial", "planar")}
     data = {
         "name": spec.name, "converged": bool(converged), "reason": reason,
         "model": {"name": model.law.model, "terms": model.law.terms, "bulk": "fit" if "K" in names else "fixed",
@@ -220,23 +219,51 @@ def _fit_specimen(spec, run, t0):
                    "note": "FE-in-the-loop fits start once, from fe.start"},
         "identifiability": {"identifiable": not stats["correlated_pairs"] and cond <= unc.COND_LIMIT,
                             "condition_number": cond, "correlated_pairs": stats["correlated_pairs"]},
-        "stability": {"kinds": stability, "stable_over_all_fitted_ranges": True},
+        "stability": _specimen_stability(model, x, spec),
         "card": card_of(model, model.card_vector(x), None if "K" in names else "K held at the scene's value"),
-        "fe": {"scene": spec.fe["scene_path"], "solves": prob.solves, "from_cache": prob.cached,
-               "axes": ["xy"[a] for a in spec.fe["axes"]], "counts": prob.counts,
-               "execution": {"dask": False} if run is None else run.describe(),
-               "cache": spec.fe.get("cache"), "trail": trail,
-               "homogeneous_fit": _homogeneous_comparison(spec, sim, p, se, names)},
+        "fe": _fe_record(spec, prob, run, trail, _homogeneous_comparison(spec, sim, p, se, names)),
         "warnings": [f"vlab run: {w}" for w in sim.warnings],
         "options": {"residual": spec.residual},
         "timing": {"fit_s": t_fit, "total_s": time.perf_counter() - t0},
     }
-    fe_spec = dataclasses.replace(spec, model=model)
-    outcome = FitOutcome(data, fe_spec, x, cov_x, stats["t_quantile"])
-    outcome.extras["writers"] = [("specimen.png", lambda path: _plot(spec, sim, J, cov, stats["t_quantile"], path))]
+    outcome = FitOutcome(data, dataclasses.replace(spec, model=model), x, cov_x, stats["t_quantile"])
+    _attach_figure(outcome, lambda path: _plot(spec, sim, J, cov, stats["t_quantile"], path))
+    return outcome
+
+
+def _attach_figure(outcome, writer) -> None:
+    """The specimen figure the fit report draws beside the closed-form ones."""
+    outcome.extras["writers"] = [("specimen.png", writer)]
     outcome.extras["figures"] = [("specimen.png", "The specimen's readings (points) against vlab's own test at the "
                                   "fitted constants (line), force against extensometer strain.")]
-    return outcome
+
+
+def _fe_record(spec, prob, run, trail, homogeneous: dict) -> dict:
+    """fit.json's fe entry: the scene, its solves (and how many came from the cache), the
+    instruments' axes, factorization counts, where the solves ran and the homogeneous comparison."""
+    return {"scene": spec.fe["scene_path"], "solves": prob.solves, "from_cache": prob.cached,
+            "axes": ["xy"[a] for a in spec.fe["axes"]], "counts": prob.counts,
+            "execution": {"dask": False} if run is None else run.describe(),
+            "cache": spec.fe.get("cache"), "trail": trail, "homogeneous_fit": homogeneous}
+
+
+def _specimen_stability(model, x, spec) -> dict:
+    """Drucker stability of the FE-fitted card along the homogeneous paths, judged over the data:
+    one-axis readings span the uniaxial stretches 1 + strain; two-axis (cruciform) readings are
+    judged on both the uniaxial and the equibiaxial path up to the largest arm strain (the centre
+    of a cruciform lies between those paths, not on either: stated in ``basis``)."""
+    ranges: dict = {}
+    for d in (d for d in spec.datasets if d.kind == "specimen" and d.role == "fit"):
+        strain = np.concatenate([d.a, d.b]) if d.b is not None else np.asarray(d.a)
+        span = (1.0 + min(0.0, float(np.min(strain))), 1.0 + float(np.max(strain)))
+        for kind in ("uniaxial", "equibiaxial") if d.b is not None else ("uniaxial",):
+            lo, hi = ranges.get(kind, span)
+            ranges[kind] = (min(lo, span[0]), max(hi, span[1]))
+    kinds = {k: kind_stability(model, x, k, ranges.get(k)) for k in ("uniaxial", "equibiaxial", "planar")}
+    judged = [v["stable_over_fitted_range"] for v in kinds.values() if "stable_over_fitted_range" in v]
+    basis = ("stretch = 1 + extensometer strain on the uniaxial path"
+             + ("; two-axis readings also on the equibiaxial path" if "equibiaxial" in ranges else ""))
+    return {"kinds": kinds, "stable_over_all_fitted_ranges": bool(all(judged)), "basis": basis}
 
 
 def _dataset_errors(sim, d) -> dict:

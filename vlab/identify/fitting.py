@@ -149,41 +149,60 @@ def fit_homogeneous(spec: FitSpec) -> FitOutcome:
     stability = _stability(model, x, spec)
     t3 = time.perf_counter()
     mu0 = model.law.mu0(values[:len(model.law.names)])
-    converged, reason = best.status > 0 and np.isfinite(best.cost), best.message
-    if best.status == 0:
-        reason = (f"no start converged within {spec.max_evaluations} evaluations (options.max_evaluations); "
-                  f"best objective {best.cost:.4g}")
-    if mu0 <= 0:
-        converged, reason = False, f"the best fit has mu0 = {mu0:g} MPa <= 0 (inadmissible card)"
+    converged, reason = _verdict(best, mu0, spec.max_evaluations)
     starts = summarize_starts(results, model)
-    warnings = [ident["warning"]] if ident["warning"] else []
-    if not starts["agree"]:
-        warnings.append(f"the starts disagree: {starts['reached_best']} of {starts['count']} reached the best "
-                        f"objective and those within 1 % of it differ in their parameters by up to "
-                        f"{100 * starts['near_best_parameter_spread']:.3g} %: the optimum is not well defined "
-                        "by these data")
-    bound = [n for n, b in zip(model.names, best.at_bound) if b]
-    if bound:
-        warnings.append(f"parameters on a bound of the admissible box: {', '.join(bound)} (their intervals "
-                        "assume an interior optimum)")
-    if not stability["stable_over_all_fitted_ranges"]:
-        warnings.append("the fitted model is not Drucker-stable over the whole fitted range (see stability)")
     data = {
         "name": spec.name, "converged": bool(converged), "reason": reason,
-        "model": {"name": model.law.model, "terms": model.law.terms, "bulk": model.bulk, "K": model.K,
-                  "volumetric": model.volumetric, "mu0": mu0}
-                 | ({"K_over_mu": model.K_over_mu, "card_K": model.K_over_mu * mu0}
-                    if model.bulk == "incompressible" else {}),
+        "model": _model_record(model, mu0),
         "parameters": _parameters(model, values), "uncertainty": stats["uncertainty"],
         "confidence": spec.confidence, "correlation": stats["correlation"],
         "datasets": [_dataset_errors(model, x, d) for d in spec.datasets if d.kind != "specimen"],
         "information": _information(r, len(x), s2, dof), "starts": starts, "identifiability": ident,
-        "stability": stability, "card": card_of(model, values), "warnings": warnings,
+        "stability": stability, "card": card_of(model, values),
+        "warnings": _warnings(model, best, ident, starts, stability),
         "options": {"residual": spec.residual, "starts": spec.starts, "seed": spec.seed},
         "timing": {"fit_s": t_fit, "uncertainty_s": t2 - t1, "stability_s": t3 - t2,
                    "total_s": time.perf_counter() - t0},
     }
     return FitOutcome(data, spec, x, cov_x, stats["t_quantile"])
+
+
+def _verdict(best, mu0: float, max_evaluations: int) -> tuple[bool, str]:
+    """(converged, reason) of the best start: a start that ran out of evaluations, or an optimum
+    whose μ0 ≤ 0 (an inadmissible card), is not a converged fit."""
+    if mu0 <= 0:
+        return False, f"the best fit has mu0 = {mu0:g} MPa <= 0 (inadmissible card)"
+    if best.status == 0:
+        return False, (f"no start converged within {max_evaluations} evaluations (options.max_evaluations); "
+                       f"best objective {best.cost:.4g}")
+    return bool(best.status > 0 and np.isfinite(best.cost)), best.message
+
+
+def _model_record(model, mu0: float) -> dict:
+    """fit.json's model entry; an incompressible fit states the stand-in K its card carries."""
+    out = {"name": model.law.model, "terms": model.law.terms, "bulk": model.bulk, "K": model.K,
+           "volumetric": model.volumetric, "mu0": mu0}
+    if model.bulk == "incompressible":
+        out |= {"K_over_mu": model.K_over_mu, "card_K": model.K_over_mu * mu0}
+    return out
+
+
+def _warnings(model, best, ident: dict, starts: dict, stability: dict) -> list[str]:
+    """What a reader must know before trusting the constants: identifiability, disagreeing
+    starts, parameters on a bound, and a card that is not stable over the data."""
+    out = [ident["warning"]] if ident["warning"] else []
+    if not starts["agree"]:
+        out.append(f"the starts disagree: {starts['reached_best']} of {starts['count']} reached the best "
+                   f"objective and those within 1 % of it differ in their parameters by up to "
+                   f"{100 * starts['near_best_parameter_spread']:.3g} %: the optimum is not well defined "
+                   "by these data")
+    bound = [n for n, b in zip(model.names, best.at_bound) if b]
+    if bound:
+        out.append(f"parameters on a bound of the admissible box: {', '.join(bound)} (their intervals "
+                   "assume an interior optimum)")
+    if not stability["stable_over_all_fitted_ranges"]:
+        out.append("the fitted model is not Drucker-stable over the whole fitted range (see stability)")
+    return out
 
 
 def curves(outcome: FitOutcome, d, n: int = 120) -> dict:
