@@ -51,6 +51,7 @@ from vlab.fe.linsolve import SingularSystem
 from vlab.fe.newton import TangentCache
 from vlab.fe.problem import Evaluation, HyperelasticBody
 from vlab.fe.stepping import Level
+from vlab.fe.timers import STABILITY, timed
 from vlab.checks.buckling import CriticalState, lateral_fraction
 from vlab.checks.ellipticity import non_elliptic_fraction
 
@@ -72,6 +73,8 @@ class LevelStability:
     lowest_eigenvalue: float | None = None  # N/mm; only when asked for, or near a sign change
     path_load: float | None = None  # Q = ûᵀ f_int, N·mm
     path_stiffness: float | None = None  # dQ/dt = vᵀ K v, N·mm per unit t (None: not computed)
+    stability_method: str = ""  # what vetted it: ldlt-inertia | cholesky | dense-eigenvalues | lobpcg-amg
+    eigenpair_residual: float | None = None  # ‖K x − λ x‖ / max|K_ii| of the LOBPCG pair
 
     def as_dict(self) -> dict:
         return asdict(self)
@@ -125,11 +128,14 @@ class StabilityMonitor:
         limit = self._is_limit(load, slope) if self.options.limit_points else False
         unstable = bool(found.negative) or bool(found.zero)
         solve = found.solve if not found.zero else None  # a singular K_ff: factorize K − σI instead
-        pair = _eigenpair(Kff, found.negative, solve) if unstable or self.options.eigenvalues else None
+        pair = found.lowest  # LOBPCG finds it anyway; a factorization needs a Lanczos solve
+        if pair is None and (unstable or self.options.eigenvalues):
+            pair = _eigenpair(Kff, found.negative, solve)
         record = LevelStability(float(t), self.stretch_at(t), found.negative, found.zero,
                                 found.method, forces, limit, accepted=not unstable and not limit,
                                 lowest_eigenvalue=None if pair is None else pair[0],
-                                path_load=load, path_stiffness=slope)
+                                path_load=load, path_stiffness=slope, stability_method=found.key,
+                                eigenpair_residual=found.residual)
         if record.accepted:
             self._accepted, self._accepted_Kff = record, (Kff, found.solve)
             return None
@@ -145,9 +151,11 @@ class StabilityMonitor:
         if self._accepted is not None and self._accepted.t == level.t:
             self.records.append(self._accepted)
 
+    @timed(STABILITY)
     def _inertia(self, ev: Evaluation):
         """K, K_ff, K_fp and the inertia of K_ff, from the Newton solver's factorization when it
-        is conclusive (a Cholesky, or SuperLU's symmetric LDLᵀ), else from a separate count."""
+        is conclusive (a Cholesky, or SuperLU's symmetric LDLᵀ), from LOBPCG with the AMG
+        hierarchy on the iterative path (no factorization), else from a separate count."""
         try:
             tangent = self.tangents.at(ev)
         except SingularSystem:
@@ -279,6 +287,7 @@ def _plastic_strain(body, ev: Evaluation) -> float | None:
 
 
 
+@timed(STABILITY)
 def _eigenpair(Kff, negative, solve):
     """The lowest eigenpair, or None when Lanczos fails: the inertia alone still decides stability,
     the report then shows no eigenvalue or mode rather than stopping the run."""
