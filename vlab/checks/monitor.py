@@ -120,8 +120,8 @@ class StabilityMonitor:
         if self.options.limit_points:
             try:
                 slope = self._path_stiffness(K, Kfp, found)
-            except SingularSystem:  # a Cholesky that succeeded on a numerically singular K_ff
-                found = inertia(Kff)
+            except SingularSystem:  # a Cholesky that succeeded on a numerically singular K_ff,
+                found = self._recount(Kff, found)  # or CG's negative curvature after LOBPCG
                 slope = self._path_stiffness(K, Kfp, found)
         forces = [float(ev.f_int[self.moving[a]].sum()) for a in range(len(self.direction))]
         load = float(self.u_hat @ ev.f_int)
@@ -166,6 +166,18 @@ class StabilityMonitor:
         # the stepper verified the unloaded K_ff (no free rigid modes), so a Cholesky here
         # needs no second look for a zero eigenvalue (vlab.fe.stepping._check_restrained)
         return tangent.K, Kff, tangent.Kfp, factorized_inertia(tangent.factor, Kff, verify_zero=False)
+
+    def _recount(self, Kff, found):
+        """The inertia again after the solve with ``found`` failed: on the iterative path LOBPCG
+        with CG's negative-curvature witness in its block (a certificate: λ₁ ≤ pᵀKp/pᵀp ≤ 0),
+        else (or if that still finds K_ff definite) the direct count."""
+        tangent = self.tangents.holds_any()
+        if found.key == "lobpcg-amg" and tangent is not None and tangent.factor.backend == "cg-amg" \
+                and tangent.factor.hierarchy.witness is not None:
+            again = factorized_inertia(tangent.factor, Kff)
+            if again.negative or again.zero:
+                return again
+        return inertia(Kff)
 
     def _critical_state(self, r: LevelStability, pair, ev: Evaluation) -> CriticalState:
         """The bracket [last stable, this unstable state] with both lowest eigenvalues and the

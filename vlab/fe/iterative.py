@@ -28,6 +28,7 @@ import math
 import numpy as np
 import scipy.sparse as sp
 
+from vlab import settings
 from vlab.fe.blas import serial_openblas
 from vlab.fe.linsolve import Factorization, SingularSystem
 from vlab.fe.timers import LINEAR_SOLVE, timed
@@ -61,17 +62,30 @@ def available() -> str | None:
 CROSSOVER = {"pardiso": 50_000, "superlu": 5_000}
 
 
-def choose(requested: str, n_free: int, direct_backend: str) -> str:
+def choose(requested: str, n_free: int, direct_backend: str, supported: bool = True) -> str:
     """"direct" or "cg-amg" for ``[solver] linear`` = auto | direct | cg-amg.
 
-    auto: CG + AMG from the measured crossover of the installed direct solver on, if pyamg is
-    installed. An explicit "cg-amg" without pyamg raises ValueError naming the setting."""
+    auto: CG + AMG from the measured crossover of the installed direct solver on (or from the
+    installed settings' ``iterative_from``), if pyamg is installed. An explicit "cg-amg" without
+    pyamg raises ValueError naming the setting. ``supported`` False (a body CG + AMG does not
+    take: see ``supports``) keeps the direct path."""
     if requested == "cg-amg" and available() is None:
         raise ValueError("solver.linear = 'cg-amg' needs pyamg (pip install pyamg)")
+    if not supported:
+        return "direct"
     if requested != "auto":
         return requested
-    threshold = CROSSOVER.get(direct_backend, CROSSOVER["superlu"])
+    start = settings.current().iterative_from
+    threshold = start if start is not None else CROSSOVER.get(direct_backend, CROSSOVER["superlu"])
     return "cg-amg" if n_free >= threshold and available() is not None else "direct"
+
+
+def supports(body) -> bool:
+    """CG + AMG's near-nullspace is the 3D rigid-body modes: a 3D body with three displacement
+    DOFs per node (not a plane sheet, nor a body with extra fields or none)."""
+    space = getattr(body, "space", None)
+    X = getattr(space, "node_coordinates", None)
+    return X is not None and X.ndim == 2 and X.shape[1] == 3 and space.n_dofs == 3 * len(X)
 
 
 def rigid_body_modes(X: np.ndarray) -> np.ndarray:

@@ -181,6 +181,10 @@ class TangentCache:
             self._state = evaluation
         return self._tangent
 
+    def holds_any(self) -> Tangent | None:
+        """The tangent of the last state asked for (None before the first)."""
+        return self._tangent
+
     def holds(self, evaluation: Evaluation) -> Tangent | None:
         """The cached tangent if it belongs to ``evaluation`` (no new work), else None."""
         if self._tangent is not None and (self._constant or evaluation is self._state):

@@ -164,7 +164,7 @@ def estimate(scene, linear_path=None) -> SizeEstimate:
         elements, nodes = _structured(n, mesh.cell, mesh.order)
         dim = len(n)
     dofs = dim * nodes
-    iterative = linear_path is not None and dofs < 10**15 and linear_path(dofs) == "cg-amg"
+    iterative = linear_path is not None and dim == 3 and dofs < 10**15 and linear_path(dofs) == "cg-amg"
     return SizeEstimate(elements, nodes, dofs, _memory(dofs, mesh.cell, mesh.order, iterative), how, iterative)
 
 
