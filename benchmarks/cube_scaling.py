@@ -165,11 +165,11 @@ def table(rows: list[tuple[int, str, dict]]) -> str:
         if "error" in r:
             lines.append(f"| {n}³ | {code} | | | | | | | | | | | {r['error'][:80]} | |")
             continue
-        linear = r.get("linear", r.get("cg", 0.0) + r.get("setup", 0.0))
+        linear = r.get("linear", r["cg"] + r["setup"] if "cg" in r else None)
         phases = ", ".join(f"{k} {v:.0f}" for k, v in (r.get("phase_peak_mb") or {}).items())
         methods = ", ".join(f"{k} {v}" for k, v in (r.get("stability") or {}).items())
         lines.append(f"| {n}³ | {code} | {r['dofs']:,} | {r['iterations']} | {r.get('factorizations', '—')} "
-                     f"| {r.get('amg_setups', 0)} | {r['total']:.2f} | {_cell(r, 'assembly')} | {linear:.2f} "
+                     f"| {r.get('amg_setups', 0)} | {r['total']:.2f} | {_cell(r, 'assembly')} | {_cell({'x': linear}, 'x')} "
                      f"| {_cell(r, 'stability_s')} | {methods or '—'} | {r['peak_mb']:.0f} | {phases or '—'} "
                      f"| {r['force']:.6g} |")
     return "\n".join(lines)

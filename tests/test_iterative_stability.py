@@ -61,7 +61,7 @@ def test_the_iterative_check_gives_the_direct_verdicts_and_lowest_eigenvalues(na
     assert it["solver"]["linear"]["newton"] == "cg-amg" and it["solver"]["linear"]["amg_setups"] >= 1
     assert {s["stability_method"] for s in it["stability"]} == {"lobpcg-amg"}
     assert "lobpcg-amg" not in {s["stability_method"] for s in direct["stability"]}
-    assert all(s["eigenpair_residual"] <= 1e-7 for s in it["stability"])
+    assert all(s["eigenpair_residual"] <= 1e-5 for s in it["stability"])  # (eigen_amg.DECIDED_TOL)
     # every scheduled level up to the first rejected state alike (load, verdict, lowest
     # eigenvalue); the first rejection for the same cause (its load may differ: the substeps
     # grow after easy Newton solves, and CG's iteration counts differ from the direct ones)
