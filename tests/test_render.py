@@ -49,13 +49,66 @@ def test_same_model_renders_identically(tmp_path, comparison):
     assert a.std() > PIXEL_STD_FLOOR
 
 
-def test_gif_has_a_frame_per_level(comparison):
+def _gif_frames(path) -> list[np.ndarray]:
+    with Image.open(path) as gif:
+        frames = []
+        for i in range(gif.n_frames):
+            gif.seek(i)
+            frames.append(np.asarray(gif.convert("RGB"), dtype=float))
+    return frames
+
+
+def _bar_strip(frame, box, below: int = 40):
+    """The colour bar and its tick labels and title underneath (pixels)."""
+    x0, y0, x1, y1 = box
+    return frame[y0:y1 + below, x0:x1]
+
+
+def test_gif_has_a_frame_per_level_each_with_the_same_colour_bar(comparison):
+    """One frame per recorded level; every frame carries the colour bar (the viridis ramp from its
+    dark end on the left to its yellow end on the right, tick labels and title below), and it is
+    the same bar, pixel for pixel, in every frame: one fixed range for the whole test."""
+    import matplotlib as mpl
+
     anim = comparison.summary["renders"]["animation"]
-    with Image.open(comparison.folder / anim["file"]) as gif:
-        assert gif.n_frames == comparison.by_model["neo-hookean"].snapshot.n_frames
-        gif.seek(gif.n_frames - 1)
-        last = np.asarray(gif.convert("RGB"), dtype=float)
-    assert last.std() > PIXEL_STD_FLOOR
+    frames = _gif_frames(comparison.folder / anim["file"])
+    assert len(frames) == anim["frames"] == comparison.by_model["neo-hookean"].snapshot.n_frames
+    assert frames[-1].std() > PIXEL_STD_FLOOR
+    x0, y0, x1, y1 = anim["bar_box"]
+    viridis = mpl.colormaps["viridis"]
+    first = _bar_strip(frames[0], anim["bar_box"])
+    for frame in frames:
+        row = frame[(y0 + y1) // 2, x0 + 4:x1 - 4]  # the ramp's middle row, inside its frame line
+        assert np.abs(row[0] - 255 * np.array(viridis(0.0)[:3])).max() < 30
+        assert np.abs(row[-1] - 255 * np.array(viridis(1.0)[:3])).max() < 30
+        assert np.ptp(row, axis=0).max() > 150  # a ramp, not one colour
+        strip = _bar_strip(frame, anim["bar_box"])
+        assert np.array_equal(strip, first)
+        labels = strip[y1 - y0 + 5:]
+        assert (labels < 100).all(axis=-1).sum() > 50  # dark text: tick labels and the field's name
+
+
+def test_gif_colour_range_is_the_whole_test_clamped_at_zero(comparison, tmp_path):
+    """The range spans every frame (here the largest stress is in the first frame: a per-frame or
+    last-frame range would miss it) and a non-negative field starts at 0 even with a round-off
+    negative value."""
+    import dataclasses
+
+    from vlab.render.specimens import render_animation
+
+    snap = comparison.by_model["neo-hookean"].snapshot
+    order = np.array([snap.n_frames - 1, snap.n_frames // 2, 1, 0])  # the loaded end first, unloaded last
+    vm = snap.fields["von-mises"][order].copy()
+    vm[-1] -= 5e-4  # the unloaded frame with a round-off negative stress
+    reversed_snap = dataclasses.replace(
+        snap, t=snap.t[order], stretch=snap.stretch[order], displacement=snap.displacement[order],
+        fields={"von-mises": vm}, marks={k: (r, c[order]) for k, (r, c) in snap.marks.items()})
+    meta = render_animation(reversed_snap, tmp_path / "back.gif", RenderOptions())
+    assert meta["frames"] == 4
+    assert meta["clim"] == pytest.approx([0.0, float(snap.fields["von-mises"].max())])
+    frames = _gif_frames(tmp_path / "back.gif")
+    assert all(np.array_equal(_bar_strip(f, meta["bar_box"]), _bar_strip(frames[0], meta["bar_box"]))
+               for f in frames)
 
 
 def test_unknown_field_is_rejected():

@@ -139,8 +139,70 @@ window.addEventListener("unhandledrejection", e => window.__vlabErrors.push("rej
 const __err = console.error; console.error = (...a) => { window.__vlabErrors.push("console.error: " + a.join(" ")); __err(...a); };
 window.addEventListener("load", () => setTimeout(() => { const p = document.createElement("pre");
   p.id = "vlab-errors"; p.textContent = JSON.stringify({errors: window.__vlabErrors,
-  canvases: document.querySelectorAll("#view canvas").length}); document.body.appendChild(p); }, 3000));
+  canvases: document.querySelectorAll("#view canvas").length,
+  images: [...document.images].map(i => [i.getAttribute("src"), i.naturalWidth])}); document.body.appendChild(p); }, 3000));
 </script>"""
+
+
+def page_errors(page: Path, tmp_path: Path, name: str) -> dict:
+    """What a copy of ``page`` with the error hook recorded in Chromium: uncaught errors,
+    rejections and console.error, the view's canvases, each image's natural width (0: not loaded)."""
+    probe = page.with_name(page.stem + "-probe.html")
+    probe.write_text(page.read_text(encoding="utf-8").replace("<head>", "<head>" + ERROR_HOOK, 1), encoding="utf-8")
+    proc = browse(probe, tmp_path / f"profile-{name}-dom", "--dump-dom", size=(1200, 800))
+    probe.unlink()
+    found = re.search(r'<pre id="vlab-errors">(.*?)</pre>', proc.stdout, re.S)
+    assert found, proc.stderr[-2000:]
+    return json.loads(html.unescape(found.group(1)))
+
+
+FIT = """name = "shot-fit"
+[model]
+name = "ogden"
+terms = 2
+incompressible = true
+[[data]]
+file = "{root}/uniaxial.csv"
+kind = "uniaxial"
+columns = {{ stretch = "stretch", stress = "nominal_stress_MPa" }}
+[[data]]
+file = "{root}/equibiaxial.csv"
+kind = "equibiaxial"
+columns = {{ stretch = "stretch", stress = "nominal_stress_MPa" }}
+[[data]]
+file = "{root}/pure_shear.csv"
+kind = "planar"
+columns = {{ stretch = "stretch", stress = "nominal_stress_MPa" }}
+role = "validate"
+[options]
+starts = 4
+"""
+
+
+def test_fit_report_in_the_browser(tmp_path):
+    """`vlab fit` as a user runs it (Treloar's data, one mode held out): the console shows no markup
+    tags, the page loads without a console error, both figures load and are not blank, and the
+    parameter table gives each constant's unit."""
+    import sys
+
+    fit = tmp_path / "shot.toml"
+    fit.write_text(FIT.format(root=(ROOT / "specimens" / "treloar1944").as_posix()), encoding="utf-8")
+    folder = tmp_path / "fit"
+    proc = subprocess.run([sys.executable, "-m", "vlab", "fit", str(fit), "--out", str(folder)],
+                          capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stdout + proc.stderr[-2000:]
+    printed = proc.stdout + proc.stderr
+    assert "shot-fit: ogden (converged)" in printed and "[bold]" not in printed and "[/" not in printed
+    report = page_errors(folder / "index.html", tmp_path, "fit")
+    assert report["errors"] == [], report
+    assert sorted(src for src, _ in report["images"]) == ["curves.png", "stability_map.png"]
+    assert all(width > 0 for _, width in report["images"]), report["images"]  # every figure loaded
+    shot = screenshot(folder / "index.html", "fit-report", tmp_path)
+    assert shot.std() > STD_FLOOR
+    assert_images_shown(folder)
+    page = (folder / "index.html").read_text(encoding="utf-8")
+    assert re.search(r"<td>mu\[0\]</td>(<td>[^<]*</td>){3}<td>MPa</td>", page)
+    assert re.search(r"<td>alpha\[0\]</td>(<td>[^<]*</td>){3}<td>1</td>", page)
 
 
 def check_interactive_view(folder: Path, tmp_path: Path, name: str) -> None:
@@ -151,13 +213,7 @@ def check_interactive_view(folder: Path, tmp_path: Path, name: str) -> None:
     assert page.is_file() and (folder / "plotly.min.js").is_file()
     assert "https://" not in re.sub(r"<script src=\"plotly.min.js\"></script>", "",
                                     page.read_text(encoding="utf-8")).split("<script id=\"vlab-data\"")[0]
-    probe = folder / "view3d-probe.html"
-    probe.write_text(page.read_text(encoding="utf-8").replace("<head>", "<head>" + ERROR_HOOK, 1), encoding="utf-8")
-    proc = browse(probe, tmp_path / f"profile-{name}-dom", "--dump-dom", size=(1200, 800))
-    probe.unlink()
-    found = re.search(r'<pre id="vlab-errors">(.*?)</pre>', proc.stdout, re.S)
-    assert found, proc.stderr[-2000:]
-    report = json.loads(html.unescape(found.group(1)))
+    report = page_errors(page, tmp_path, name)
     assert report["errors"] == [] and report["canvases"] >= 1, report
     shot = screenshot(page, name, tmp_path, size=(1200, 800))
     plot = shot[60:, :]  # below the menus

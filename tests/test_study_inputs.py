@@ -120,7 +120,13 @@ def test_cost_from_elsewhere_reads_the_mesh_and_an_imported_mesh_is_not_coarsene
     data = json.loads(Path("cost/cost.json").read_text())
     statuses = [r["status"] for r in data["runs"]]
     assert "does not exist" not in json.dumps(data["runs"])
-    assert statuses.count("ok") >= 8, [r.get("diagnosis") for r in data["runs"]]  # steps, rtol, models
+    # no mesh-size family (each of its points was refused: mesh.size does not apply to a file's mesh):
+    # steps, rtol and models, all run, with errors against the tightest-rtol run, and the reason said
+    assert not any(r["label"]["knob"].startswith("mesh size") for r in data["runs"])
+    assert len(statuses) >= 8 and set(statuses) == {"ok"}, [r.get("diagnosis") for r in data["runs"]]
+    assert sum(e is not None and e["max"] is not None for e in data["errors"]) == len(statuses) - 1  # not the reference
+    assert data["recommended"] is not None and "No run completed" not in data["recommendation"]
+    assert "vlab does not refine a file's mesh" in data["meta"]["fixed_mesh"]
     assert result.exit_code == 0, result.output
 
 

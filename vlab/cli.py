@@ -423,7 +423,7 @@ def cost(scene: Path = typer.Argument(..., help="Scene TOML file."),
          quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress output."),
          force: bool = typer.Option(False, "--force", help=FORCE_HELP)):
     """Error against time for mesh size, order, cell, load steps, Newton tolerance and model."""
-    from vlab.study.cost import CostOptions, analyse, knob_points
+    from vlab.study.cost import CostOptions, analyse, fixed_mesh_note, knob_points
     from vlab.study.cost_report import write_cost_report
     from vlab.study.summary import RunKnobs
 
@@ -432,10 +432,11 @@ def cost(scene: Path = typer.Argument(..., help="Scene TOML file."),
                           orders=_choices("--orders", orders, (1, 2), int),
                           cells=_choices("--cells", cells, ("tet", "hex", "gmsh-tet")))
     if "gmsh-tet" in options.cells and parsed.specimen.shape != "dogbone":
-        console.print(f"[red]invalid option[/red] --cells gmsh-tet meshes a dogbone; {scene} has specimen.shape = "
-                      f"{parsed.specimen.shape!r}", highlight=False)
-        raise typer.Exit(EXIT_INVALID)
+        fail("invalid option", f"--cells gmsh-tet meshes a dogbone; {scene} has specimen.shape = "
+                               f"{parsed.specimen.shape!r}")
     points = knob_points(parsed, options)
+    if fixed_mesh_note(parsed) is not None and not quiet:
+        say(fixed_mesh_note(parsed))
     cache, scheduler = cache_folder(cache), scheduler_address(scheduler)
     dest = report_destination(out or Path("reports") / f"{parsed.name}-cost", force, scene, [cache])
     outcome = _sweep_with_progress(points, RunKnobs(time_report=True, render=render), cache,
@@ -444,7 +445,8 @@ def cost(scene: Path = typer.Argument(..., help="Scene TOML file."),
     memory = next((s["memory"]["method"] for s in outcome.summaries if s.get("memory")), "")
     meta = {"scene": str(scene), "target": options.target, "levels": levels, "ratio": ratio,
             "orders": list(options.orders), "cells": list(options.cells), "cache_hits": outcome.cache_hits,
-            "computed": outcome.computed, "seconds": outcome.seconds, "render": render, "memory_method": memory}
+            "computed": outcome.computed, "seconds": outcome.seconds, "render": render, "memory_method": memory,
+            "fixed_mesh": fixed_mesh_note(parsed)}
     index = _write(write_cost_report, dest, f"{parsed.name}: what accuracy costs", outcome.summaries, analysis,
                    options.target, meta)
     say(analysis.recommendation)

@@ -264,7 +264,8 @@ def parse_dogbone(t: fields.Table) -> DogboneSpecimen:
 
 SHAPE = Shape(
     "dogbone", ("standard",) + DIMENSION_KEYS, parse_dogbone,
-    lambda spec, mesh, gauge: dogbone_specimen(spec.dimensions, mesh.size, mesh.cell, mesh.gauge_size, mesh.symmetry),
+    lambda spec, mesh, gauge: dogbone_specimen(spec.dimensions, mesh.size, mesh.cell, mesh.gauge_size, mesh.symmetry,
+                                                      mesh.mesher),
     tests={"uniaxial": ("clamped",)}, symmetric=True, gauge_size=True,
     thickness=lambda spec: float(min(spec.dimensions.thickness, spec.dimensions.width)),
     doc="standard or custom dumb-bell between clamped grips")

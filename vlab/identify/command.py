@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from rich.console import Console
+from rich.text import Text
 
 from vlab.fields import SceneError
 
@@ -12,8 +13,9 @@ __all__ = ["fit_command"]
 
 
 def _print_fit(console: Console, d: dict) -> None:
-    console.print(f"[bold]{d['name']}[/bold]: {d['model']['name']} "
-                  f"({'converged' if d['converged'] else 'NOT converged: ' + str(d['reason'])})", highlight=False)
+    # Text, not markup: the CLI's console prints verbatim (a name or reason may hold "[...]")
+    console.print(Text.assemble((d['name'], "bold"), f": {d['model']['name']} "
+                  f"({'converged' if d['converged'] else 'NOT converged: ' + str(d['reason'])})"), highlight=False)
     for k, u in d["uncertainty"].items():
         console.print(f"  {k:>10} = {u['interval'][0] / 2 + u['interval'][1] / 2:.6g} "
                       f"± {u['standard_error']:.3g}", highlight=False)
@@ -21,7 +23,7 @@ def _print_fit(console: Console, d: dict) -> None:
         console.print(f"  {x['name']} ({x['kind']}, {x['role']}): rms {100 * x['rms_relative']:.3g} %, "
                       f"max {100 * x['max_relative']:.3g} %", highlight=False)
     for w in d["warnings"]:
-        console.print(f"  [yellow]warning[/yellow] {w}", highlight=False, soft_wrap=True)
+        console.print(Text.assemble("  ", ("warning", "yellow"), f" {w}"), highlight=False, soft_wrap=True)
 
 
 def _destination(out: Path, force: bool, spec, path: Path):
@@ -49,19 +51,19 @@ def fit_command(path: Path, out: Path | None, models: str | None, console: Conso
             for n in names:
                 parse_model_name(n, "--models")
     except SceneError as exc:
-        console.print(f"[red]invalid fit file[/red] {exc}", highlight=False, soft_wrap=True)
+        console.print(Text.assemble(("invalid fit file", "red"), f" {exc}"), highlight=False, soft_wrap=True)
         return 2
     text = Path(path).read_text(encoding="utf-8")
     try:
         dest = _destination(out or Path("reports") / f"{spec.name}-fit", force, spec, path)
     except ReportFolderError as exc:
-        console.print(f"[red]invalid output folder[/red] {exc}", highlight=False, soft_wrap=True)
+        console.print(Text.assemble(("invalid output folder", "red"), f" {exc}"), highlight=False, soft_wrap=True)
         return 2
     out = dest.path
     try:
         return _fit_and_write(spec, names, dest, out, text, console)
     except ReportFolderError as exc:
-        console.print(f"[red]cannot write report[/red] {exc}", highlight=False, soft_wrap=True)
+        console.print(Text.assemble(("cannot write report", "red"), f" {exc}"), highlight=False, soft_wrap=True)
         return 2
 
 
@@ -82,7 +84,7 @@ def _fit_and_write(spec, names, dest, out: Path, text: str, console: Console) ->
     try:
         outcome = fit_any(spec)
     except SceneError as exc:  # found while fitting (e.g. the scene's test does not cover the data)
-        console.print(f"[red]invalid fit file[/red] {exc}", highlight=False, soft_wrap=True)
+        console.print(Text.assemble(("invalid fit file", "red"), f" {exc}"), highlight=False, soft_wrap=True)
         return 2
     d = write_fit_report(outcome, dest, text)
     _print_fit(console, d)

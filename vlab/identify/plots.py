@@ -20,7 +20,8 @@ _XLABEL = {"simple-shear": "shear γ", "biaxial": "point", "specimen": "strain",
 def _panel(ax, rax, d, cur, confidence: float):
     held = d.role == "validate"
     colour = "tab:orange" if held else "tab:blue"
-    label = f"{d.name} ({d.kind}{', held out' if held else ''})"
+    what = d.kind if d.name == d.kind else f"{d.name} ({d.kind})"  # not "uniaxial (uniaxial)"
+    label = f"{what}{', held out' if held else ''}"
     if d.kind == "biaxial":
         x = np.arange(len(d.y))
         ax.plot(x, d.y, "o", color=colour, ms=4, label=label)
@@ -79,16 +80,21 @@ def plot_stability_map(outcome, path: Path) -> None:
     ax.contourf(lam, lam, (m > 0).T.astype(float), levels=[-0.5, 0.5, 1.5], colors=["#f4c7c3", "#d9ead3"])
     ax.contour(lam, lam, m.T, levels=[0.0], colors="firebrick", linewidths=0.8)
     path_lam = np.geomspace(0.1, 10.0, 300)
-    for kind, colour in (("uniaxial", "tab:blue"), ("equibiaxial", "tab:green"), ("planar", "tab:purple")):
+    # no path in green or red: those are the map's stable and unstable regions
+    for kind, colour in (("uniaxial", "tab:blue"), ("equibiaxial", "black"), ("planar", "tab:purple")):
         _path_segments(ax, outcome, kind, path_lam, colour)
         for d in (d for d in outcome.spec.datasets if d.kind == kind):  # the data's range, drawn thick
             lam = np.geomspace(float(np.min(d.a)), float(np.max(d.a)), 50)
             l1, l2 = PATHS[kind](lam)
             ax.plot(l1, l2, "-", color=colour, lw=4, alpha=0.5, solid_capstyle="butt")
+    ticks = [0.1, 0.2, 0.5, 1, 2, 5, 10]  # plain stretches, not 10⁻¹ … 10¹
     ax.set_xscale("log")
     ax.set_yscale("log")
-    ax.set_xlabel("λ1")
-    ax.set_ylabel("λ2")
+    ax.set_xticks(ticks, [f"{t:g}" for t in ticks])
+    ax.set_yticks(ticks, [f"{t:g}" for t in ticks])
+    ax.minorticks_off()
+    ax.set_xlabel("principal stretch λ1")
+    ax.set_ylabel("principal stretch λ2")
     ax.set_title("Drucker stability (green: stable, red: unstable; λ3 = 1/(λ1 λ2));\n"
                  "thick: the stretch range of the data", fontsize=9)
     ax.legend(fontsize=7, loc="lower left")

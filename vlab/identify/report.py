@@ -34,6 +34,17 @@ def _table(head, rows) -> str:
     return f"<table><tr>{th}</tr>{body}</table>"
 
 
+def unit_of(model: str, key: str) -> str:
+    """A fitted constant's unit: the material registry's for the card's constants, MPa for the
+    moduli a fit adds (μ of Neo-Hookean, K), "1" for dimensionless ones."""
+    from vlab.materials.registry import MODELS
+
+    entry = MODELS.get(model)
+    units = {c.key: c.unit for c in ((entry.constants or ()) if entry is not None else ())}
+    unit = units.get(key, "MPa" if key in ("mu", "K", "G") else "1")
+    return "1" if unit == "-" else unit
+
+
 def _parameter_rows(d: dict) -> list:
     rows, values = [], []
     for k, v in d["parameters"].items():
@@ -41,7 +52,8 @@ def _parameter_rows(d: dict) -> list:
     for (name, value) in values:
         u = d["uncertainty"].get(name, {})
         lo, hi = u.get("interval", [None, None])
-        rows.append([html.escape(name), _f(value, 6), _f(u.get("standard_error")), f"{_f(lo)} … {_f(hi)}"])
+        unit = unit_of(d["model"]["name"], name.split("[")[0])
+        rows.append([html.escape(name), _f(value, 6), _f(u.get("standard_error")), f"{_f(lo)} … {_f(hi)}", unit])
     return rows
 
 
@@ -87,7 +99,7 @@ def page(d: dict, images: list[tuple[str, str]]) -> str:
 <p>{status}; μ0 = {_f(d['model']['mu0'])} MPa; bulk: {html.escape(d['model']['bulk'])}.</p>{warn}
 {figs}
 <h2>Parameters ({100 * d['confidence']:g} % intervals)</h2>
-{_table(['parameter', 'value', 'standard error', 'interval'], _parameter_rows(d))}
+{_table(['parameter', 'value', 'standard error', 'interval', 'unit'], _parameter_rows(d))}
 <h2>Correlations</h2>
 {_table([''] + corr['order'], [[html.escape(n)] + [f"{v:.3f}" for v in row] for n, row in zip(corr['order'], corr['matrix'])])}
 <h2>Data sets</h2>

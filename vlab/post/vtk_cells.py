@@ -14,6 +14,12 @@ VTK order):
     Q2 quadrilateral quad9                   9
 
 so ParaView draws the curved cells and interpolates the displacement quadratically.
+
+Tetrahedra are written positively oriented, as VTK expects ((x₁ − x₀) × (x₂ − x₀) · (x₃ − x₀) > 0):
+vlab's split hexahedra come in both windings, and VTK's cell volume and quality filters (pyvista's
+``compute_cell_sizes``) read a negative volume for half of them. Where the determinant is
+negative, vertices 1 and 2 swap, and for tetra10 with them the mid-nodes of edges 01 ↔ 02 and
+13 ↔ 23 (VTK's edge order 01, 12, 02, 03, 13, 23, which is scikit-fem's).
 """
 
 from __future__ import annotations
@@ -28,6 +34,20 @@ _LINEAR = {skfem.MeshTet: "tetra", skfem.MeshHex: "hexahedron", skfem.MeshTri: "
            skfem.MeshQuad: "quad"}
 
 
+_TET_SWAP = {"tetra": [0, 2, 1, 3], "tetra10": [0, 2, 1, 3, 6, 5, 4, 7, 9, 8]}
+
+
+def positively_oriented(points: np.ndarray, cell: str, conn: np.ndarray) -> np.ndarray:
+    """``conn`` with every tetrahedron of negative signed volume re-wound (other cells unchanged)."""
+    if cell not in _TET_SWAP:
+        return conn
+    x = points[conn[:, :4]]
+    det = np.einsum("ij,ij->i", np.cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]), x[:, 3] - x[:, 0])
+    out = conn.copy()
+    out[det < 0] = conn[det < 0][:, _TET_SWAP[cell]]
+    return out
+
+
 def vtk_cells(space) -> tuple[np.ndarray, str, np.ndarray]:
     """(points (n_nodes, 3) mm, meshio cell type, connectivity (n_cells, nodes per cell)) of
     ``space`` (a DisplacementSpace): every scalar DOF a VTK point, in the space's node order."""
@@ -38,8 +58,8 @@ def vtk_cells(space) -> tuple[np.ndarray, str, np.ndarray]:
     if element in _QUADRATIC:
         cell = _QUADRATIC[element]
         order = skfem_meshio.HEX_MAPPING if cell == "hexahedron27" else np.arange(dofs.shape[1])
-        return points, cell, dofs[:, order]
+        return points, cell, positively_oriented(points, cell, dofs[:, order])
     mesh = space.basis.mesh
     cell = next(name for kind, name in _LINEAR.items() if isinstance(mesh, kind))
     order = skfem_meshio.HEX_MAPPING[:8] if cell == "hexahedron" else np.arange(dofs.shape[1])
-    return points, cell, dofs[:, order]
+    return points, cell, positively_oriented(points, cell, dofs[:, order])

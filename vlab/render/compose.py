@@ -72,18 +72,19 @@ def compose(images: list[np.ndarray], titles: list[str], path: Path, bar: dict) 
     return boxes
 
 
-def _colour_bar(fig, bar: dict, height: float, bar_h: float) -> None:
+def _colour_bar(fig, bar: dict, height: float, bar_h: float, fig_width: float = FIG_WIDTH_IN):
+    """The horizontal colour bar (or uniform swatch) centred at the figure's foot; returns its axes."""
     import matplotlib as mpl
 
-    width = min(7.0, FIG_WIDTH_IN - 1.0)
-    rect = [(FIG_WIDTH_IN - width) / 2 / FIG_WIDTH_IN, 0.5 / height, width / FIG_WIDTH_IN, 0.22 / height]
+    width = min(7.0, fig_width - 1.0)
+    rect = [(fig_width - width) / 2 / fig_width, 0.5 / height, width / fig_width, 0.22 / height]
     ax = fig.add_axes(rect)
     cmap = mpl.colormaps[bar["cmap"]]
     if bar.get("uniform") is not None:  # one colour, its value stated (not a round-off colour scale)
         ax.imshow([[0.5]], cmap=cmap, vmin=0.0, vmax=1.0, aspect="auto", extent=(0, 1, 0, 1))
         ax.set_xticks([]), ax.set_yticks([])
         ax.set_xlabel(bar["uniform_text"], fontsize=11)
-        return
+        return ax
     norm = mpl.colors.Normalize(*bar["clim"])
     cb = fig.colorbar(mpl.cm.ScalarMappable(norm=norm, cmap=cmap), cax=ax, orientation="horizontal")
     cb.formatter = mpl.ticker.ScalarFormatter(useOffset=False)
@@ -91,3 +92,36 @@ def _colour_bar(fig, bar: dict, height: float, bar_h: float) -> None:
     cb.update_ticks()
     cb.ax.tick_params(labelsize=10)
     cb.set_label(bar["label"], fontsize=11)
+    return ax
+
+
+FRAME_WIDTH_IN = 8.0  # an animation frame: 800 px, shown 1:1 on the report page (which is 1240 px wide)
+
+
+def compose_frame(crop: np.ndarray, title: str, bar: dict) -> tuple[np.ndarray, list[int]]:
+    """One animation frame: the cropped render under its title and the colour bar of ``bar`` (as
+    compose()'s, labels in points) below it. Returns the RGB pixels and the colour bar's pixel box
+    (x0, y0, x1, y1; origin top left)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    title_h, bar_h, side = 0.6, 1.0, 0.2  # inches
+    aspect = crop.shape[1] / max(crop.shape[0], 1)
+    panel_w = FRAME_WIDTH_IN - 2 * side
+    panel_h = min(panel_w / aspect, 5.0)
+    height = panel_h + title_h + bar_h + 0.1
+    fig = Figure(figsize=(FRAME_WIDTH_IN, height), dpi=DPI)
+    canvas = FigureCanvasAgg(fig)
+    try:
+        ax = fig.add_axes([side / FRAME_WIDTH_IN, (bar_h + 0.1) / height, panel_w / FRAME_WIDTH_IN, panel_h / height])
+        ax.imshow(crop, interpolation="antialiased")
+        ax.set_axis_off()
+        ax.set_title(title, fontsize=12, loc="left")
+        bar_ax = _colour_bar(fig, bar, height, bar_h, FRAME_WIDTH_IN)
+        canvas.draw()
+        pixels = np.asarray(canvas.buffer_rgba())[..., :3].copy()
+        box = bar_ax.get_window_extent()
+        rows = pixels.shape[0]
+        return pixels, [int(np.ceil(box.x0)), int(np.ceil(rows - box.y1)), int(box.x1), int(rows - box.y0)]
+    finally:
+        fig.clear()

@@ -44,17 +44,6 @@ def field_title(field: str) -> str:
     return f"{label} [{unit}]"
 
 
-def _bar_title(field: str, width: int = 14) -> str:
-    """Scalar bar title with its unit, wrapped into lines of at most ``width`` characters."""
-    lines: list[str] = []
-    for word in field_title(field).split():
-        if lines and len(lines[-1]) + 1 + len(word) <= width:
-            lines[-1] += " " + word
-        else:
-            lines.append(word)
-    return "\n".join(lines)
-
-
 NON_NEGATIVE = {"von-mises", "max-stretch", "J"}  # fields whose colour scale never goes below 0
 UNIFORM_RTOL = 1e-6  # a spread below this fraction of the field's magnitude is round-off: one colour
 
@@ -167,28 +156,17 @@ class _Scene:
             cloud.points = s.marks[name][1][frame]
 
 
-def _add_label(plotter, text: str):
-    """Fixed-size text in the panel's top-left corner (viewport coordinates, no auto-scaling)."""
-    return plotter.add_text(text, position=(0.03, 0.78), viewport=True, font_size=11, color="black")
-
-
-def _new_plotter(n_panels: int, panel_size, bar: bool):
-    import pyvista as pv
-
-    setup()
-    weights = [1.0] * n_panels + ([0.4] if bar else [])
-    width = int(panel_size[0] * sum(weights))
-    plotter = pv.Plotter(off_screen=True, shape=(1, len(weights)), col_weights=weights,
-                         window_size=(width, panel_size[1]), border=False)
-    plotter.set_background("white")
-    return plotter
-
-
-def _scalar_bar(plotter, column: int, actor, field: str) -> None:
-    plotter.subplot(0, column)
-    plotter.add_scalar_bar(title=_bar_title(field), mapper=actor.mapper, vertical=True,
-                           color="black", position_x=0.3, position_y=0.08, width=0.3, height=0.72,
-                           title_font_size=14, label_font_size=12, n_labels=6, fmt="%.3g")
+def _bar(snapshots: list[Snapshot], field: str, clim, cmap: str, frames) -> dict:
+    """What compose draws under the panels: the colour bar of ``clim`` titled with the field and its
+    unit, or, when the field's spread over ``frames`` is round-off, one swatch with the value."""
+    raw = [s.fields[field][f] for s, f in zip(snapshots, frames)]
+    magnitude = max(float(np.abs(s.fields[field]).max()) for s in snapshots)
+    uniform = uniform_value(min(float(v.min()) for v in raw), max(float(v.max()) for v in raw), scale=magnitude)
+    label, unit = FIELDS[field]
+    return {"label": field_title(field), "clim": clim, "cmap": cmap, "uniform": uniform,
+            "uniform_text": None if uniform is None else
+            f"{label}: uniform, {uniform:.4g}{'' if unit == '1' else ' ' + unit} in every cell "
+            f"(spread below {UNIFORM_RTOL:g} of its magnitude)"}
 
 
 def render_side_by_side(snapshots: list[Snapshot], path: Path, options: RenderOptions = RenderOptions()) -> dict:
@@ -201,22 +179,15 @@ def render_side_by_side(snapshots: list[Snapshot], path: Path, options: RenderOp
               _state(s, options.state) for s in snapshots]
     frames = [st.frame for st in states]
     clim = common_range(snapshots, field, frames)
-    raw = [s.fields[field][f] for s, f in zip(snapshots, frames)]
-    magnitude = max(float(np.abs(s.fields[field]).max()) for s in snapshots)
-    uniform = uniform_value(min(float(v.min()) for v in raw), max(float(v.max()) for v in raw), scale=magnitude)
     deformed = [s.points + s.displacement[f] for s, f in zip(snapshots, frames)]
     camera = fit_camera(np.vstack(deformed + [snapshots[0].points]), width=options.width)
     images = [_panel_image(s, f, field, clim, options.cmap, camera) for s, f in zip(snapshots, frames)]
-    label, unit = FIELDS[field]
-    bar = {"label": field_title(field), "clim": clim, "cmap": options.cmap, "uniform": uniform,
-           "uniform_text": None if uniform is None else
-           f"{label}: uniform, {uniform:.4g}{'' if unit == '1' else ' ' + unit} in every cell "
-           f"(spread below {UNIFORM_RTOL:g} of its magnitude)"}
+    bar = _bar(snapshots, field, clim, options.cmap, frames)
     titles = [f"{s.model}\n{st.title}" for s, st in zip(snapshots, states)]
     boxes = compose(images, titles, Path(path), bar)
-    return {"file": Path(path).name, "field": field, "clim": list(clim), "unit": unit,
+    return {"file": Path(path).name, "field": field, "clim": list(clim), "unit": FIELDS[field][1],
             "models": [s.model for s in snapshots], "frames": frames, "states": [st.title for st in states],
-            "uniform": uniform, "camera": camera.as_dict(), "panels": boxes}
+            "uniform": bar["uniform"], "camera": camera.as_dict(), "panels": boxes}
 
 
 def _panel_image(snapshot: Snapshot, frame: int, field: str, clim, cmap: str, camera) -> np.ndarray:
@@ -237,31 +208,39 @@ def _panel_image(snapshot: Snapshot, frame: int, field: str, clim, cmap: str, ca
 
 def render_animation(snapshot: Snapshot, path: Path, options: RenderOptions = RenderOptions(),
                      frame_ms: int = 250) -> dict:
-    """An animated GIF of one test, unloaded to final level, at a fixed camera and colour range."""
+    """An animated GIF of one test, unloaded to final level, at a fixed camera and a fixed colour
+    range (the field's range over all frames, clamped at 0 for a non-negative field), so that a
+    colour means the same value in every frame; each frame carries the colour bar (matplotlib,
+    as the side-by-side render's) and its level. All frames share one palette (the last frame's),
+    so the bar's pixels are the same in every frame."""
     from PIL import Image
 
-    field = options.field
-    frames = list(range(snapshot.n_frames))
+    from vlab.render.compose import compose_frame, crop_box
+
+    field, frames = options.field, list(range(snapshot.n_frames))
     clim = common_range([snapshot], field, slice(None))
-    side = options.panel_size[0]  # a square panel, the label above the specimen
-    camera = fit_camera(np.vstack([snapshot.points + u for u in snapshot.displacement]), width=side,
-                        margin=0.35, min_aspect=1.0, max_aspect=1.0)
-    plotter = _new_plotter(1, options.panel_size, bar=True)
-    images = []
+    camera = fit_camera(np.vstack([snapshot.points + u for u in snapshot.displacement]), width=options.width)
+    setup()
+    import pyvista as pv
+
+    plotter = pv.Plotter(off_screen=True, window_size=camera.window, border=False)
+    renders = []
     try:
-        plotter.subplot(0, 0)
+        plotter.set_background("white")
         scene = _Scene(plotter, snapshot, field, clim, options.cmap)
         apply_camera(plotter, camera)
-        text = _add_label(plotter, "")
-        _scalar_bar(plotter, 1, scene.actor, field)
         for frame in frames:
-            plotter.subplot(0, 0)
             scene.show_frame(frame)
-            text.input = f"{snapshot.model}\n{snapshot.control} {snapshot.stretch[frame]:.4f}"
             plotter.render()
-            images.append(Image.fromarray(plotter.screenshot(return_img=True)))
+            renders.append(np.asarray(plotter.screenshot(return_img=True)))
     finally:
         plotter.close()
+    r0, r1, c0, c1 = crop_box(renders)  # one crop for all frames: the specimen does not jump
+    bar = _bar([snapshot] * len(frames), field, clim, options.cmap, frames)
+    composed = [compose_frame(im[r0:r1, c0:c1], f"{snapshot.model}: {snapshot.control} {snapshot.stretch[f]:.4f}", bar)
+                for im, f in zip(renders, frames)]
+    palette = Image.fromarray(composed[-1][0]).quantize(256, dither=Image.Dither.NONE)
+    images = [Image.fromarray(px).quantize(palette=palette, dither=Image.Dither.NONE) for px, _ in composed]
     images[0].save(path, save_all=True, append_images=images[1:], duration=frame_ms, loop=0)
     return {"file": Path(path).name, "field": field, "clim": list(clim), "model": snapshot.model,
-            "frames": len(images)}
+            "frames": len(images), "bar_box": composed[0][1], "uniform": bar["uniform"]}

@@ -51,8 +51,20 @@ def mesh_family(order: int, cell: str) -> str:
     return f"mesh size (order {order}, {cell})"
 
 
+def fixed_mesh_note(scene: Scene) -> str | None:
+    """Why a study has no mesh-size family, or None: an imported mesh (specimen.shape = "mesh") is
+    the file's, and vlab does not refine it (mesh.size does not apply to it)."""
+    if scene.specimen.shape != "mesh":
+        return None
+    return ("mesh size: not studied: specimen.shape = 'mesh' is meshed already and vlab does not refine a "
+            "file's mesh (--levels, --orders, --cells do not apply); the errors are the load stepping's, the "
+            "Newton tolerance's and the model's against the tightest-tolerance run on the file's mesh. For a "
+            "mesh study, mesh the part at each size yourself, or give its geometry as specimen.shape = 'cad'")
+
+
 def knob_points(scene: Scene, options: CostOptions) -> list[GridPoint]:
-    """Every run of the study; labels carry the knob, its value and the family's mesh size."""
+    """Every run of the study; labels carry the knob, its value and the family's mesh size (no
+    mesh-size family for an imported mesh: fixed_mesh_note)."""
     src, mesh = scene.source, scene.mesh
     points = []
 
@@ -60,7 +72,7 @@ def knob_points(scene: Scene, options: CostOptions) -> list[GridPoint]:
         label = {"knob": knob, "value": value}
         points.append(GridPoint(label, apply_overrides(src, overrides), scene.base_dir))
 
-    for order in options.orders:
+    for order in options.orders if fixed_mesh_note(scene) is None else ():
         for cell in options.cells:
             for k in range(options.levels):
                 factor = options.ratio ** (1 - k)

@@ -67,7 +67,9 @@ def write_cost_report(folder: Path, title: str, summaries: list[dict], analysis:
             "per quantity, the Richardson extrapolation of the mesh family (order, cell) closest to its own "
             "limit, each family fitted on the effective element size h_eff = (volume / elements)^(1/3) "
             "of its three finest meshes")
-    body = (f"<p><b>Recommendation.</b> {html.escape(analysis.recommendation)}</p>"
+    fixed = meta.get("fixed_mesh")  # an imported mesh: why there is no mesh-size family
+    body = ((f"<p><b>No mesh study.</b> {html.escape(fixed)}</p>" if fixed else "")
+            + f"<p><b>Recommendation.</b> {html.escape(analysis.recommendation)}</p>"
             f"<p>Reference: {kind}. Errors are relative, |q − q_ref| / |q_ref|.</p>"
             f"<table><tr><th>quantity</th><th>reference</th><th>observed order</th><th>note</th></tr>"
             f"{reference}</table>{_fits_table(analysis)}"

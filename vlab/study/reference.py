@@ -118,8 +118,13 @@ def richardson_reference(summaries: list[dict], ok: list[bool], families: list[s
 
 
 def _most_resolved(summaries: list[dict], ok: list[bool], quantity: str) -> int | None:
-    runs = [i for i, s in enumerate(summaries) if ok[i] and s["label"]["knob"].startswith("mesh size")
-            and s["measured"].get(quantity) is not None]
-    if not runs:
-        return None
-    return max(runs, key=lambda i: (summaries[i]["mesh"]["order"], -effective_size(summaries[i])))
+    """The finest mesh's run; without mesh-size runs (an imported mesh: one mesh for all), the
+    tightest Newton tolerance's."""
+    def runs(knob: str) -> list[int]:
+        return [i for i, s in enumerate(summaries) if ok[i] and s["label"]["knob"].startswith(knob)
+                and s["measured"].get(quantity) is not None]
+
+    if runs("mesh size"):
+        return max(runs("mesh size"), key=lambda i: (summaries[i]["mesh"]["order"], -effective_size(summaries[i])))
+    tight = runs("Newton rtol")
+    return min(tight, key=lambda i: summaries[i]["label"]["value"]) if tight else None
