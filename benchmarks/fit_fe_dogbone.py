@@ -14,6 +14,7 @@ uniaxial) fit of the same readings.
 from __future__ import annotations
 
 import argparse
+import os
 import json
 import tempfile
 import time
@@ -44,6 +45,22 @@ def material(model: str, values: dict) -> str:
     return f'model = "{model}"\n' + "".join(f"{k} = {v!r}\n" for k, v in values.items())
 
 
+def _factor_reuse(fe, values, simulate) -> None:
+    """A/B, interleaved: sensitivities with the monitor's factor against K assembled and
+    factorized again at each level (the previous way)."""
+    rows = {False: [], True: []}
+    for refactorize in (False, True, False, True):
+        t = time.perf_counter()
+        sim = simulate(fe, values, refactorize=refactorize)
+        rows[refactorize].append((time.perf_counter() - t, sim.counts))
+    for refactorize, label in ((False, "monitor's factor"), (True, "own factorization")):
+        times = [r[0] for r in rows[refactorize]]
+        counts = rows[refactorize][0][1]
+        print(f"  one whole test, sensitivities with the {label}: {counts['total_factorizations']} factorizations "
+              f"({counts['sensitivity_factorizations']} by the sensitivities), {counts['sensitivity_solves']} "
+              f"back-substitutions, wall {min(times):.2f} s (min of 2)")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--noise", type=float, default=0.01)
@@ -65,9 +82,10 @@ def main() -> None:
     t = time.perf_counter()
     s = simulate(fe, TRUE | held)
     one = time.perf_counter() - t
+    _factor_reuse(fe, TRUE | held, simulate)
     rng = np.random.default_rng(args.seed)
-    force = s.force * (1 + args.noise * rng.standard_normal(len(s.force)))
-    (tmp / "readings.csv").write_text("strain,force\n" + "".join(f"{e:.17g},{f:.17g}\n" for e, f in zip(s.strain, force)))
+    force = s.force[:, 0] * (1 + args.noise * rng.standard_normal(len(s.force[:, 0])))
+    (tmp / "readings.csv").write_text("strain,force\n" + "".join(f"{e:.17g},{f:.17g}\n" for e, f in zip(s.strain[:, 0], force)))
     start = {k: args.start * v for k, v in TRUE.items()}
     (tmp / "fit.toml").write_text(f'''name = "bench-fe"
 [model]
@@ -83,12 +101,14 @@ start = {{ {", ".join(f"{n} = {start[n]!r}" for n in names)} }}
 max_solves = 15
 cache = false
 ''')
-    t = time.perf_counter()
+    t, c = time.perf_counter(), time.process_time()
     out = fit_specimen(load_fit(tmp / "fit.toml"))
-    wall = time.perf_counter() - t
+    wall, cpu = time.perf_counter() - t, time.process_time() - c
     d = out.data
-    print(f"dumb-bell: {s.dofs} DOFs, {len(s.strain)} recorded levels, one solve + sensitivities "
-          f"{one:.1f} s; fit {wall:.1f} s, {d['fe']['solves']} whole-test solves, converged {d['converged']}")
+    print(f"load average {' '.join(f'{x:.2f}' for x in os.getloadavg())} on {os.cpu_count()} cores")
+    print(f"dumb-bell: {s.dofs} DOFs, {len(s.strain[:, 0])} recorded levels, one solve + sensitivities "
+          f"{one:.1f} s; fit wall {wall:.1f} s, CPU {cpu:.1f} s, {d['fe']['solves']} whole-test solves, "
+          f"converged {d['converged']}; counts over the fit {d['fe']['counts']}")
     for n in names:
         v, se = d["parameters"][n], d["uncertainty"][n]["standard_error"]
         print(f"  {n}: true {TRUE[n]:g}, start {start[n]:g}, fitted {v:.6g} ± {se:.3g}  "

@@ -11,6 +11,7 @@ repeats), the residual and Jacobian evaluations, and how many starts reached the
 from __future__ import annotations
 
 import argparse
+import os
 import time
 
 import numpy as np
@@ -49,6 +50,7 @@ def main() -> None:
         walls.append(time.perf_counter() - w)
         cpus.append(time.process_time() - c)
     d = out.data
+    print(f"load average {' '.join(f'{x:.2f}' for x in os.getloadavg())} on {os.cpu_count()} cores")
     print(f"Ogden-3, 3 x 20 points, 20 starts: wall {np.median(walls):.3f} s (min {min(walls):.3f}), "
           f"CPU {np.median(cpus):.3f} s (min {min(cpus):.3f}); median of {args.repeat}")
     print(f"  fit only (multi-start): {d['timing']['fit_s']:.3f} s; evaluations {d['starts']['evaluations']}; "

@@ -41,21 +41,21 @@ def test_load_cell_and_extensometer_sensitivities_match_whole_test_differences(t
     fe = _fe(tmp_path, ("mu", "K"))
     base = {"mu": 0.4, "K": 2.0}
     s = simulate(fe, base)
-    assert np.max(np.abs(s.dstrain[:, 0])) > 1e-3  # between clamped grips the strain itself moves with μ
+    assert np.max(np.abs(s.dstrain[:, 0, 0])) > 1e-3  # between clamped grips the strain itself moves with μ
     for j, p in enumerate(("mu", "K")):
         h = 1e-5
         a, b = simulate(fe, base | {p: base[p] + h}), simulate(fe, base | {p: base[p] - h})
-        dF, de = (a.force - b.force) / (2 * h), (a.strain - b.strain) / (2 * h)
-        assert np.allclose(s.dforce[:, j], dF, rtol=1e-5, atol=1e-6 * np.max(np.abs(dF)))
-        assert np.allclose(s.dstrain[:, j], de, rtol=1e-4, atol=1e-5 * np.max(np.abs(de)))
+        dF, de = (a.force[:, 0] - b.force[:, 0]) / (2 * h), (a.strain[:, 0] - b.strain[:, 0]) / (2 * h)
+        assert np.allclose(s.dforce[:, 0, j], dF, rtol=1e-5, atol=1e-6 * np.max(np.abs(dF)))
+        assert np.allclose(s.dstrain[:, 0, j], de, rtol=1e-4, atol=1e-5 * np.max(np.abs(de)))
 
 
 def test_a_clamped_block_curve_is_fitted_back_through_vlabs_own_test(tmp_path):
     fe = _fe(tmp_path, ("mu",))
     s = simulate(fe, {"mu": 0.4, "K": 2.0})
     rng = np.random.default_rng(3)
-    force = s.force * (1 + 0.01 * rng.standard_normal(len(s.force)))
-    (tmp_path / "readings.csv").write_text("strain,force\n" + "".join(f"{e:.17g},{f:.17g}\n" for e, f in zip(s.strain, force)))
+    force = s.force[:, 0] * (1 + 0.01 * rng.standard_normal(len(s.force[:, 0])))
+    (tmp_path / "readings.csv").write_text("strain,force\n" + "".join(f"{e:.17g},{f:.17g}\n" for e, f in zip(s.strain[:, 0], force)))
     (tmp_path / "fit.toml").write_text('''name = "block-fe"
 [model]
 name = "neo-hookean"
@@ -135,8 +135,8 @@ def test_a_dumbbell_curve_with_one_percent_noise_gives_back_its_constants_within
     within = 0
     for seed in range(5):
         rng = np.random.default_rng(seed)
-        force = s.force * (1 + 0.01 * rng.standard_normal(len(s.force)))
-        (tmp_path / "r.csv").write_text("strain,force\n" + "".join(f"{e:.17g},{f:.17g}\n" for e, f in zip(s.strain, force)))
+        force = s.force[:, 0] * (1 + 0.01 * rng.standard_normal(len(s.force[:, 0])))
+        (tmp_path / "r.csv").write_text("strain,force\n" + "".join(f"{e:.17g},{f:.17g}\n" for e, f in zip(s.strain[:, 0], force)))
         (tmp_path / "fit.toml").write_text('[model]\nname = "neo-hookean"\n[[data]]\nfile = "r.csv"\nkind = "specimen"\n'
                                            '[fe]\nscene = "dumbbell.toml"\nparameters = ["mu", "K"]\n'
                                            'start = { mu = 0.75, K = 7.5 }\nmax_solves = 15\ncache = false\n')

@@ -136,11 +136,17 @@ def fit(fitfile: Path = typer.Argument(..., help="Fit file (TOML): data sets, mo
         out: Optional[Path] = typer.Option(None, "--out", "-o", help="Output folder (default reports/<name>-fit)."),
         models: Optional[str] = typer.Option(None, "--models",
                                              help="Fit and rank several models, e.g. mooney-rivlin,yeoh,ogden-3."),
-        force: bool = typer.Option(False, "--force", help=FORCE_HELP)):
+        force: bool = typer.Option(False, "--force", help=FORCE_HELP),
+        workers: Optional[int] = typer.Option(None, "--workers", "-j", min=1,
+                                              help="FE-in-the-loop solves on a local Dask cluster of N processes."),
+        scheduler: Optional[str] = typer.Option(None, "--scheduler",
+                                                help="FE-in-the-loop solves on an existing Dask cluster tcp://HOST:PORT.")):
     """Fit a material card to measured curves: parameters with intervals, stability, the card (fit.json, index.html)."""
     from vlab.identify.command import fit_command
 
-    raise typer.Exit(fit_command(fitfile, out, models, console, force))
+    scheduler = scheduler_address(scheduler)
+    execution = _execution(workers or 1, scheduler) if workers or scheduler else None
+    raise typer.Exit(fit_command(fitfile, out, models, console, force, execution))
 
 
 def _print_estimate(est: Optional[dict]) -> None:

@@ -40,7 +40,7 @@ LOCKING_NU = 0.45  # above this, displacement-only elements lock on non-uniform 
 
 
 def run_scene(scene: Scene, on_level=None, specimen: Specimen | None = None,
-              settings: Settings | None = None) -> RunResult:
+              settings: Settings | None = None, observe=None) -> RunResult:
     """Run the test a scene describes; never raises for solver trouble (see history.failure).
 
     ``specimen`` replaces the one the scene would build (same shape; e.g. a perturbed mesh).
@@ -48,21 +48,23 @@ def run_scene(scene: Scene, on_level=None, specimen: Specimen | None = None,
     ``timing`` splits the wall time: mesh_s, solve_s (of which assembly_s and linear_solve_s,
     factorizations + back-substitutions, exclusive of each other) and measure_s. ``settings``
     (kernel, assembly threads, direct solver; vlab.settings) apply for this run only; None: the
-    process's installed ones."""
+    process's installed ones. ``observe(prepared, tangents)`` -> an observer called with every
+    converged level after the stability monitor vetted it, when ``tangents`` (the monitor's
+    TangentCache) holds the factorized tangent at that state (vlab.identify.fe_levels uses it)."""
     with using(settings):
-        return _timed_run(scene, on_level, specimen)
+        return _timed_run(scene, on_level, specimen, observe)
 
 
-def _timed_run(scene: Scene, on_level, specimen: Specimen | None) -> RunResult:
+def _timed_run(scene: Scene, on_level, specimen: Specimen | None, observe=None) -> RunResult:
     jit.available()  # numba's one-time start-up (~0.3 s), before the clocks: no import starts it
     with phase_clock() as phases:
-        result = _run_scene(scene, on_level, specimen)
+        result = _run_scene(scene, on_level, specimen, observe)
     result.timing |= {"assembly_s": 0.0, "linear_solve_s": 0.0} | phases.as_timing()
     result.timing["peak_memory_mb"] = phases.peak_memory_mb  # per phase (vlab.fe.timers)
     return result
 
 
-def _run_scene(scene: Scene, on_level, specimen: Specimen | None) -> RunResult:
+def _run_scene(scene: Scene, on_level, specimen: Specimen | None, observe=None) -> RunResult:
     clock = time.perf_counter
     t0 = clock()
     seeded = None
@@ -77,6 +79,8 @@ def _run_scene(scene: Scene, on_level, specimen: Specimen | None) -> RunResult:
     timing = {"mesh_s": clock() - t0}
     monitor, instruments, deflection = stability_monitor(prepared), Instruments(prepared), _Deflection(prepared)
     observers: list[Observer] = [monitor, deflection, instruments] + ([on_level] if on_level else [])
+    if observe is not None:  # e.g. sensitivities that back-substitute with the monitor's factor
+        observers.append(observe(prepared, monitor.tangents))
     t1 = clock()
     solved = solve(prepared, monitor, observers)
     timing["solve_s"] = clock() - t1 - instruments.seconds

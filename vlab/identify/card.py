@@ -1,8 +1,10 @@
 """The [material] card of a fit, in the grammar `vlab run` reads (Abaqus names, MPa).
 
-An incompressible fit has no bulk modulus of its own; the card then carries K = 1000 μ0
-(ν = (3K − 2μ0)/(6K + 2μ0) ≈ 0.4995), a stand-in for incompressibility that a finite-element
-run needs, best used with ``[mesh] formulation = "mixed"``. A fixed or fitted K is written as is,
+An incompressible fit has no bulk modulus of its own; the card then carries K = r μ0 with
+r = ``[model] K_over_mu`` (default INCOMPRESSIBLE_K_RATIO = 1000, allowed 10..1e8), i.e.
+ν = (3r − 2)/(6r + 2) (0.4995 at r = 1000), a stand-in for incompressibility that a finite-element
+run needs, best used with ``[mesh] formulation = "mixed"``; the ratio is stated in the card's
+comment, in its note and in fit.json → model.K_over_mu. A fixed or fitted K is written as is,
 with the fit's volumetric energy when it is not the default quadratic one.
 """
 
@@ -15,21 +17,28 @@ __all__ = ["card_of", "card_toml", "INCOMPRESSIBLE_K_RATIO"]
 INCOMPRESSIBLE_K_RATIO = 1000.0
 
 
-def card_of(model: Constitutive, values) -> dict:
-    """{"material": table, "toml": text, "note": why K is what it is}."""
+def card_of(model: Constitutive, values, note: str | None = None) -> dict:
+    """{"material": table, "toml": text, "note": why K is what it is (``note`` replaces it)}."""
     n = len(model.law.names)
     table = model.law.card(values[:n])
     mu0 = model.law.mu0(values[:n])
     if model.bulk == "incompressible":
-        K, note = INCOMPRESSIBLE_K_RATIO * mu0, (f"incompressible fit: K = {INCOMPRESSIBLE_K_RATIO:g} mu0 stands "
-                                                 "in for incompressibility (use [mesh] formulation = \"mixed\")")
+        r = model.K_over_mu
+        K, note_default = r * mu0, (f"incompressible fit: K = {r:g} mu0 (model.K_over_mu; nu = {poisson_of(r):.6g}) "
+                            "stands in for incompressibility (use [mesh] formulation = \"mixed\")")
     else:
         K = float(values[n]) if model.bulk == "fit" else float(model.K)
-        note = "K fitted" if model.bulk == "fit" else "K held fixed at the fit file's value"
+        note_default = "K fitted" if model.bulk == "fit" else "K held fixed at the fit file's value"
     table["K"] = float(f"{K:.6g}")
+    note = note or note_default
     if model.volumetric != "quadratic" and model.law.model != "neo-hookean":
         table["volumetric"] = model.volumetric
-    return {"material": table, "toml": card_toml(table), "note": note}
+    return {"material": table, "toml": f"# {note}\n" + card_toml(table), "note": note}
+
+
+def poisson_of(ratio: float) -> float:
+    """Small-strain ν of K = ratio · μ0: ν = (3r − 2)/(6r + 2)."""
+    return (3.0 * ratio - 2.0) / (6.0 * ratio + 2.0)
 
 
 def _value(v) -> str:

@@ -37,9 +37,13 @@ def _destination(out: Path, force: bool, spec, path: Path):
     return check_destination(Destination(out, force=force, protect=tuple(protect)))
 
 
-def fit_command(path: Path, out: Path | None, models: str | None, console: Console, force: bool = False) -> int:
+def fit_command(path: Path, out: Path | None, models: str | None, console: Console, force: bool = False,
+                execution=None) -> int:
+    """``execution`` (vlab.study.sweep.Execution, from --workers/--scheduler): the FE-in-the-loop
+    solves on Dask; refused (exit 2) for a fit without a specimen data set."""
     from vlab.identify.fitfile import load_fit, parse_model_name
     from vlab.report.folder import ReportFolderError
+    from vlab.study.scheduler import SchedulerError
 
     try:
         spec = load_fit(path)
@@ -50,6 +54,9 @@ def fit_command(path: Path, out: Path | None, models: str | None, console: Conso
                 raise SceneError("--models must list at least one model, e.g. mooney-rivlin,ogden-3")
             for n in names:
                 parse_model_name(n, "--models")
+        if execution is not None and spec.fe is None:
+            raise SceneError("--workers/--scheduler run the whole-test solves of an FE-in-the-loop fit; this fit "
+                             "file has no data set of kind = \"specimen\"")
     except SceneError as exc:
         console.print(Text.assemble(("invalid fit file", "red"), f" {exc}"), highlight=False, soft_wrap=True)
         return 2
@@ -61,13 +68,16 @@ def fit_command(path: Path, out: Path | None, models: str | None, console: Conso
         return 2
     out = dest.path
     try:
-        return _fit_and_write(spec, names, dest, out, text, console)
+        return _fit_and_write(spec, names, dest, out, text, console, execution)
+    except SchedulerError as exc:
+        console.print(Text.assemble(("invalid option", "red"), f" {exc}"), highlight=False, soft_wrap=True)
+        return 2
     except ReportFolderError as exc:
         console.print(Text.assemble(("cannot write report", "red"), f" {exc}"), highlight=False, soft_wrap=True)
         return 2
 
 
-def _fit_and_write(spec, names, dest, out: Path, text: str, console: Console) -> int:
+def _fit_and_write(spec, names, dest, out: Path, text: str, console: Console, execution=None) -> int:
     if names:
         from vlab.identify.ranking import fit_models, write_ranking
 
@@ -82,7 +92,7 @@ def _fit_and_write(spec, names, dest, out: Path, text: str, console: Console) ->
     from vlab.identify.report import write_fit_report
 
     try:
-        outcome = fit_any(spec)
+        outcome = fit_any(spec, execution)
     except SceneError as exc:  # found while fitting (e.g. the scene's test does not cover the data)
         console.print(Text.assemble(("invalid fit file", "red"), f" {exc}"), highlight=False, soft_wrap=True)
         return 2

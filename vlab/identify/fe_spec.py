@@ -8,10 +8,13 @@
     cache = true                    # keep each solve's readings and sensitivities in reports/.cache
                                     # (false: none; or a folder), keyed like vlab's sweep cache
 
-The scene's material model must be the fit file's [model] name. Fittable constants per model
-(the FE library's grammar), those the stress is linear in, so that ∂P/∂p is exact:
-neo-hookean: mu, K (the scene's other constant is converted to K); mooney-rivlin: C10, C01, K;
-yeoh: C10, C20, C30, K (the card models of issue #18, once the FE library has them).
+The scene's material model must be the fit file's [model] name; every model of the library can be
+fitted (vlab.identify.fe_stress gives ∂P/∂p of each). Fittable constants, by their card keys:
+neo-hookean mu, K (the scene's other constant is converted to K); mooney-rivlin C10, C01, K;
+yeoh C10, C20, C30, K; gent mu, Jm, K; arruda-boyce mu, lambda_m, K; ogden "mu[p]", "alpha[p]"
+(one per term; "mu" or "alpha" alone: every term), K. ``start`` takes the same names (quoted:
+"alpha[1]" = 2.5) or a card list (mu = [..]). A cruciform (``kind = "biaxial"``) is fitted on both
+axes when the data give columns strain2 and force2 (the second load cell and extensometer).
 """
 
 from __future__ import annotations
@@ -22,9 +25,11 @@ from pathlib import Path
 from vlab import fields
 from vlab.fields import SceneError, Table
 
-__all__ = ["parse_fe", "FITTABLE"]
+__all__ = ["parse_fe", "FITTABLE_MODELS", "fittable", "admissible"]
 
-FITTABLE = {"neo-hookean": ("mu", "K"), "mooney-rivlin": ("C10", "C01", "K"), "yeoh": ("C10", "C20", "C30", "K")}
+FITTABLE_MODELS = ("neo-hookean", "mooney-rivlin", "yeoh", "gent", "arruda-boyce", "ogden")
+FE_KINDS = ("uniaxial", "biaxial", "planar")
+SIGN_FREE = ("C01", "C20", "C30")  # may take either sign; every other constant keeps its own
 
 
 def _scene(t: Table, base: Path):
@@ -43,8 +48,82 @@ def _scene(t: Table, base: Path):
     return path, raw, parse_scene(raw, path.name, path.parent)
 
 
+def fittable(values: dict) -> tuple[str, ...]:
+    """The flat names a fit may adjust: every constant of the scene's card (K last)."""
+    return tuple(n for n in values if n != "K") + ("K",)
+
+
+def admissible(names, p, reference=None) -> bool:
+    """A trial point keeps λm > 1, K, mu, C10, Jm > 0 and each Ogden term's signs (those of
+    ``reference``); C01, C20 and C30 may take either sign."""
+    for n, v, r in zip(names, p, p if reference is None else reference):
+        if n == "lambda_m":
+            ok = v > 1.0
+        elif n in SIGN_FREE:
+            ok = True
+        elif n.startswith(("alpha[", "mu[")):
+            ok = v != 0 and (v > 0) == (r > 0)
+        else:
+            ok = v > 0
+        if not ok:
+            return False
+    return True
+
+
+def _parameters(t: Table, values: dict) -> tuple[str, ...]:
+    allowed = fittable(values)
+    params = t.get("parameters", [allowed[0]])
+    if not isinstance(params, list) or not params:
+        raise SceneError(f"fe.parameters must be a non-empty list of names from {', '.join(allowed)}, "
+                         f"got {fields.show(params)}")
+    out = []
+    for p in params:
+        expand = [n for n in allowed if isinstance(p, str) and n.startswith(p + "[")]
+        out += expand or [fields.choice("fe.parameters[]", p, allowed)]
+    if len(set(out)) != len(out):
+        raise SceneError(f"fe.parameters names a constant twice: {fields.show(params)}")
+    return tuple(out)
+
+
+def _start(raw, params, values: dict) -> dict:
+    t = Table("fe.start", raw, tuple(params) + tuple({n.split("[")[0] for n in params if "[" in n}))
+    start = {}
+    for key, v in t.raw.items():
+        if isinstance(v, list):
+            names = [n for n in params if n.startswith(key + "[")]
+            if len(v) != len(names):
+                raise SceneError(f"fe.start.{key} must list {len(names)} values (one per term), got {len(v)}")
+            start |= {n: fields.number(f"fe.start.{key}[]", x) for n, x in zip(names, v)}
+        else:
+            start[key] = t.number(key, None, note=" (the constant's unit)")
+    out = {p: float(start.get(p, values[p])) for p in params}
+    if not admissible(params, [out[p] for p in params], [values[p] for p in params]):
+        raise SceneError(f"fe.start: {out} is not admissible (K, mu, C10, Jm > 0; lambda_m > 1; "
+                         "Ogden terms keep the scene's signs)")
+    return out
+
+
+def _axes(scene, datasets) -> tuple[int, ...]:
+    from vlab.loading.kinds import kind_of
+
+    kind = scene.test.kind
+    if kind not in FE_KINDS:
+        raise SceneError(f"fe.scene: test.kind must be one of {', '.join(FE_KINDS)} for an FE-in-the-loop fit, "
+                         f"got {kind!r}")
+    two = [d.b is not None for d in datasets if d.kind == "specimen"]
+    axes = kind_of(scene.test).axes
+    if any(two) and 1 not in axes:  # the kind has no load cell along y
+        raise SceneError(f"columns strain2/force2 (a second load cell) need a biaxial scene (a cruciform); "
+                         f"fe.scene's test.kind is {kind!r}")
+    if any(two) != all(two):
+        raise SceneError("give strain2 and force2 in every specimen data set or in none")
+    return tuple(axes) if any(two) else (0,)
+
+
 def parse_fe(raw, base: Path, model, datasets) -> dict:
     """The validated [fe] table as a dict (scene path, raw scene dict, parsed scene, parameters...)."""
+    from vlab.identify.fe_stress import flat_constants
+
     if raw is None:
         raise SceneError("a data set of kind = \"specimen\" needs an [fe] table with scene = \"<scene>.toml\"")
     t = Table("fe", raw, ("scene", "parameters", "start", "max_solves", "cache"))
@@ -53,33 +132,19 @@ def parse_fe(raw, base: Path, model, datasets) -> dict:
     if name != model.law.model:
         raise SceneError(f"fe.scene: the scene's material.model is {name!r} but model.name is "
                          f"{model.law.model!r}; they must be the same model")
-    allowed = FITTABLE.get(name)
-    if allowed is None:
-        raise SceneError(f"fe.scene: FE-in-the-loop fits support material.model in {', '.join(FITTABLE)}, "
+    if name not in FITTABLE_MODELS:
+        raise SceneError(f"fe.scene: FE-in-the-loop fits support material.model in {', '.join(FITTABLE_MODELS)}, "
                          f"got {name!r}")
     if scene.mesh.formulation != "displacement" or scene.effects:
         raise SceneError("fe.scene: FE-in-the-loop fits need mesh.formulation = \"displacement\" and no [effects]")
-    params = t.get("parameters", [allowed[0]])
-    if not isinstance(params, list) or not params or len(set(params)) != len(params):
-        raise SceneError(f"fe.parameters must be a non-empty list of distinct names from {', '.join(allowed)}, "
-                         f"got {fields.show(params)}")
-    for p in params:
-        fields.choice("fe.parameters[]", p, allowed)
-    moduli = scene.material.moduli
-    values = {"K": moduli.lmbda + 2.0 * moduli.mu / 3.0}
-    values |= {"mu": moduli.mu} if name == "neo-hookean" else dict(getattr(scene.material, "params", {}))
-    start_raw = t.get("start", {})
-    st = Table("fe.start", start_raw, tuple(params))
-    start = {p: st.number(p, values[p], gt=0 if p in ("mu", "K", "C10") else None, note=" (MPa)")
-             for p in params}
-    specimen_sets = [d for d in datasets if d.kind == "specimen"]
-    if any(d.b is not None for d in specimen_sets):
-        raise SceneError("columns strain2/force2 (a cruciform's second axis) are not supported yet: fit one axis")
     if any(d.kind != "specimen" for d in datasets if d.role == "fit"):
         raise SceneError("an FE-in-the-loop fit takes only data sets of kind = \"specimen\"")
-    return {"scene_path": str(path), "scene_raw": scene_raw, "scene": scene, "parameters": tuple(params),
+    values = flat_constants(scene.material)
+    params = _parameters(t, values)
+    return {"scene_path": str(path), "scene_raw": scene_raw, "scene": scene, "parameters": params,
             "model": name, "volumetric": getattr(scene.material, "volumetric", None),
-            "start": start, "fixed": values, "max_solves": t.integer("max_solves", 1, 200, 15),
+            "start": _start(t.get("start", {}), params, values), "fixed": values,
+            "axes": _axes(scene, datasets), "max_solves": t.integer("max_solves", 1, 200, 15),
             "cache": _cache(t, base)}
 
 

@@ -3,7 +3,8 @@
     name = "rubber-a"
     [model]    name (neo-hookean | mooney-rivlin | yeoh | gent | arruda-boyce | ogden; "ogden-3" =
                ogden with terms = 3), terms (ogden, 1..6), incompressible (default true), K (fixed
-               bulk modulus, MPa) or fit_K = true, volumetric (quadratic | log | simo-taylor)
+               bulk modulus, MPa) or fit_K = true, volumetric (quadratic | log | simo-taylor),
+               K_over_mu (incompressible only: the card's K / mu0, 10..1e8, default 1000)
     [[data]]   file (resolved against the fit file's folder), kind, columns, stress_measure,
                units, role (fit | validate), weight, name
     [options]  residual (relative | absolute), starts (1..1000), seed, confidence (0.5..0.999),
@@ -21,6 +22,7 @@ import numpy as np
 
 from vlab import fields
 from vlab.fields import SceneError, Table
+from vlab.identify.card import INCOMPRESSIBLE_K_RATIO
 from vlab.identify.datasets import (COLUMN_KEYS, FORCE_UNITS, STRESS_UNITS, Dataset, check_monotonic,
                                     read_columns)
 from vlab.identify.laws import MODEL_NAMES, law_for
@@ -54,7 +56,7 @@ def parse_model_name(text: str, field_name: str = "model.name") -> tuple[str, in
 
 
 def _model(raw) -> Constitutive:
-    t = Table("model", raw, ("name", "terms", "incompressible", "K", "fit_K", "volumetric"))
+    t = Table("model", raw, ("name", "terms", "incompressible", "K", "fit_K", "volumetric", "K_over_mu"))
     name, terms = parse_model_name(t.get("name"))
     if "terms" in t.raw:
         if name != "ogden":
@@ -75,7 +77,12 @@ def _model(raw) -> Constitutive:
     if explicit_inc and not inc and K is None and not fit_k:
         raise SceneError("model.incompressible = false needs model.K (MPa, fixed) or model.fit_K = true")
     bulk = "fit" if fit_k else "fixed" if K is not None else "incompressible"
-    return Constitutive(law_for(name, terms), bulk, K, vol)
+    if "K_over_mu" in t.raw and bulk != "incompressible":
+        raise SceneError("model.K_over_mu is the card's stand-in K of an incompressible fit; with model.K or "
+                         "model.fit_K the card carries that K")
+    ratio = t.number("K_over_mu", INCOMPRESSIBLE_K_RATIO, ge=10.0, le=1e8,
+                     note=" (the card's K / mu0 of an incompressible fit)")
+    return Constitutive(law_for(name, terms), bulk, K, vol, ratio)
 
 
 def _columns(t: Table, kind: str) -> dict[str, str]:
@@ -139,8 +146,12 @@ def _to_dataset(path, name, kind, role, weight, measure, factor, wanted, cols) -
     if kind == "biaxial":
         a, b, y = cols["stretch"], cols["stretch2"], np.r_[cols["stress"], cols["stress2"]] * factor
     elif kind == "specimen":
+        if ("strain2" in cols) != ("force2" in cols):
+            raise SceneError(f"{path.name}: a second axis needs both columns.strain2 and columns.force2 "
+                             "(a cruciform's second extensometer and load cell)")
         a, b, y = cols["strain"], cols.get("strain2"), cols["force"] * factor
         if "force2" in cols:
+            check_monotonic(path, wanted["strain2"], cols["strain2"], lines)
             y = np.r_[y, cols["force2"] * factor]
     else:
         a, b, y = cols[control], None, cols["stress"] * factor

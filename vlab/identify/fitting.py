@@ -171,7 +171,9 @@ def fit_homogeneous(spec: FitSpec) -> FitOutcome:
     data = {
         "name": spec.name, "converged": bool(converged), "reason": reason,
         "model": {"name": model.law.model, "terms": model.law.terms, "bulk": model.bulk, "K": model.K,
-                  "volumetric": model.volumetric, "mu0": mu0},
+                  "volumetric": model.volumetric, "mu0": mu0}
+                 | ({"K_over_mu": model.K_over_mu, "card_K": model.K_over_mu * mu0}
+                    if model.bulk == "incompressible" else {}),
         "parameters": _parameters(model, values), "uncertainty": stats["uncertainty"],
         "confidence": spec.confidence, "correlation": stats["correlation"],
         "datasets": [_dataset_errors(model, x, d) for d in spec.datasets if d.kind != "specimen"],
@@ -198,9 +200,10 @@ def curves(outcome: FitOutcome, d, n: int = 120) -> dict:
     return {"a": grid.a, "y": y, "band": unc.band(g, outcome.cov_x, outcome.tq), "at_data": yd}
 
 
-def fit_any(spec: FitSpec) -> FitOutcome:
-    """The homogeneous fit, or the FE-in-the-loop fit when a data set is a specimen's readings."""
+def fit_any(spec: FitSpec, execution=None) -> FitOutcome:
+    """The homogeneous fit, or the FE-in-the-loop fit when a data set is a specimen's readings
+    (its whole-test solves on Dask with ``execution``, vlab.study.sweep.Execution)."""
     if spec.fe is not None:
         from vlab.identify.fe_loop import fit_specimen
-        return fit_specimen(spec)
+        return fit_specimen(spec, execution)
     return fit_homogeneous(spec)

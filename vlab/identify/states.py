@@ -38,12 +38,14 @@ _FREE = {"uniaxial": 1, "equibiaxial": 2, "planar": 2, "biaxial": 2}
 
 @dataclass(frozen=True)
 class Constitutive:
-    """A law and its bulk: ``bulk`` = "incompressible" | "fixed" | "fit" (K is then x's last entry)."""
+    """A law and its bulk: ``bulk`` = "incompressible" | "fixed" | "fit" (K is then x's last entry).
+    ``K_over_mu``: the K = K_over_mu · μ0 an incompressible fit's card carries (vlab.identify.card)."""
 
     law: Law
     bulk: str = "incompressible"
     K: float | None = None
     volumetric: str = "quadratic"
+    K_over_mu: float = 1000.0
 
     @property
     def names(self) -> tuple[str, ...]:

@@ -168,3 +168,6 @@ class _client:
         if self.cluster is not None:
             self.cluster.close()
         return False
+
+
+cluster_client = _client  # the same cluster set-up for vlab.identify.fe_dask (FE-in-the-loop fits)
