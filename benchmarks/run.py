@@ -121,7 +121,7 @@ class _Clock:
 
 
 def run_vlab(problem: str) -> dict:
-    from vlab import jit
+    from vlab import jit, settings
     from vlab.fe import linsolve, newton, problem as fe_problem, tangents
     from vlab.run import run_scene
 
@@ -133,7 +133,7 @@ def run_vlab(problem: str) -> dict:
         clock.wrap(cls, "solve", "solve")
     scene = _scene(problem)
     linsolve.solver_in_use()  # loads MKL's runtime, as FElupe's `import pypardiso` does untimed
-    jit.available()  # numba's start-up, untimed like FElupe's imports (no vlab import starts it)
+    jit.available(settings.current())  # numba's start-up, untimed like FElupe's imports (no vlab import starts it)
     t0 = time.perf_counter()
     result = run_scene(scene)
     total = time.perf_counter() - t0

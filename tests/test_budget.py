@@ -130,3 +130,24 @@ def test_a_request_beyond_the_machine_s_memory_exits_2_naming_the_mesh_and_the_e
     text = " ".join(result.output.split())
     assert "mesh.size = 1" in text and "206,763 DOFs" in text and "CG + AMG" in text and "1 GB" in text
     assert not out.exists()
+
+
+def test_every_registered_shape_counts_its_own_mesh_for_the_budget():
+    from vlab.geometry.shapes import SHAPES
+
+    assert [name for name, shape in SHAPES.items() if shape.count is None] == []
+
+
+def test_a_new_shape_gets_a_budget_from_its_registry_entry_alone(monkeypatch):
+    """The budget asks the shape's entry, never its name: a shape it has not heard of is counted."""
+    from dataclasses import replace
+
+    from vlab.geometry import shapes
+    from vlab.geometry.budget import estimate
+    from vlab.geometry.counts import MeshCount
+
+    scene = _block(2.5)
+    monkeypatch.setitem(shapes.SHAPES, "slab", replace(shapes.SHAPES["block"], name="slab",
+                                                       count=lambda spec, mesh: MeshCount(7, 11, 3, "slab rule")))
+    est = estimate(replace(scene, specimen=replace(scene.specimen, shape="slab")))
+    assert (est.elements, est.nodes, est.dofs, est.how) == (7, 11, 33, "slab rule")

@@ -6,6 +6,7 @@ import pytest
 import skfem
 
 from vlab import jit
+from vlab.settings import Settings
 from vlab.fe import assembly, compiled
 from vlab.fe.problem import HyperelasticBody
 from vlab.fe.space import DisplacementSpace
@@ -96,7 +97,7 @@ def test_sparsity_pattern_covers_every_element_coupling():
 
 
 KERNELS = ["numpy", pytest.param("compiled", marks=pytest.mark.skipif(
-    not compiled.available(), reason="numba not installed"))]
+    not compiled.available(Settings()), reason="numba not installed"))]
 
 
 @pytest.mark.parametrize("kernel", KERNELS)
@@ -176,7 +177,7 @@ def test_terms_of_another_form_have_no_isotropic_form():
     assert form.alpha == 1.5 and form.beta == 1.0 and form.X is P
 
 
-@pytest.mark.skipif(not compiled.available(), reason="numba not installed")
+@pytest.mark.skipif(not compiled.available(Settings()), reason="numba not installed")
 def test_compiled_kernel_without_a_writable_cache_compiles_in_memory(monkeypatch):
     """No writable directory for the generated source: the kernel is compiled from memory (no
     on-disk cache) and gives the same K."""
@@ -191,7 +192,7 @@ def test_compiled_kernel_without_a_writable_cache_compiles_in_memory(monkeypatch
     assert abs(K - reference).max() <= 1e-12 * abs(reference).max()
 
 
-needs_numba = pytest.mark.skipif(not compiled.available(), reason="numba not installed")
+needs_numba = pytest.mark.skipif(not compiled.available(Settings()), reason="numba not installed")
 
 
 def _state(space, model="neo-hookean"):
@@ -303,8 +304,9 @@ def test_bad_assembly_thread_count_names_the_variable_and_range(monkeypatch, val
     refused = CliRunner().invoke(app, ["info"])
     assert refused.exit_code == 2 and "invalid environment" in refused.output
     assert "VLAB_ASSEMBLY_THREADS must be an integer from 1 to" in refused.output
-    with settings.using(settings.Settings(assembly_threads=1)):
-        assert compiled.threads() == 1
+    assert jit.threads(settings.Settings(assembly_threads=1)) == 1
+    with settings.using(settings.Settings(assembly_threads=1)):  # a body built under them assembles in one
+        assert HyperelasticBody(_space("hex", 1), make_material("linear", 5.0, 2.0))._compiled.threads == 1
 
 
 def test_vlab_kernel_numpy_keeps_numba_out(tmp_path):
@@ -312,8 +314,8 @@ def test_vlab_kernel_numpy_keeps_numba_out(tmp_path):
     import os
     import subprocess
     import sys
-    code = ("import sys; from vlab.fe import compiled; "
-            "print(compiled.available(), compiled.kernel_in_use(), 'numba' in sys.modules)")
+    code = ("import sys; from vlab import settings; from vlab.fe import compiled; s = settings.current(); "
+            "print(compiled.available(s), compiled.kernel_in_use(s), 'numba' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
                          env=os.environ | {"VLAB_KERNEL": "numpy"}).stdout.split()
     assert out == ["False", "numpy", "False"]
@@ -374,3 +376,24 @@ def test_the_rubber_models_assemble_the_textbook_stiffness_with_either_kernel(mo
                          space.dx)
     K_full = body.pattern.matrix(np.ascontiguousarray(textbook))
     assert abs(body.stiffness(ev) - K_full).max() <= 1e-11 * abs(K_full).max()
+
+
+@needs_numba
+def test_a_body_assembles_under_the_settings_passed_to_it_not_the_installed_ones():
+    from vlab import settings
+
+    space, material = _space("hex", 1), make_material("linear", 5.0, 2.0)
+    with settings.using(settings.Settings(kernel="auto")):
+        assert HyperelasticBody(space, material, settings=Settings(kernel="numpy")).tangent_kernel == "numpy"
+        assert HyperelasticBody(space, material, settings=Settings(assembly_threads=1))._compiled.threads == 1
+    with settings.using(settings.Settings(kernel="numpy")):
+        assert HyperelasticBody(space, material, settings=Settings()).tangent_kernel.startswith("compiled")
+
+
+def test_jit_reads_no_installed_settings_its_callers_pass_them():
+    import ast
+    from pathlib import Path
+
+    tree = ast.parse(Path(jit.__file__).read_text(encoding="utf-8"))
+    calls = [n.func.attr for n in ast.walk(tree) if isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute)]
+    assert "current" not in calls and "from_environment" not in calls

@@ -48,13 +48,7 @@ LAYERS = {
 }
 
 # (importing module, imported module): why a function-level import may reach upward.
-_KIND_HOOK = ("a test kind's instruments and measures (vlab/loading/kinds/: gauges, probes, fits), called by "
-              "the recorder and run only; its grammar is parsed with the scene, which must not load them")
 ALLOWED_UPWARD: dict[tuple[str, str], str] = {
-    **{("vlab.loading.kinds." + kind, "vlab.measure." + module): _KIND_HOOK for kind, module in (
-        ("base", "homogeneity"), ("base", "instruments"), ("base", "reference"), ("uniaxial", "elastic_constants"),
-        ("biaxial", "elastic_constants"), ("planar", "planar"), ("simple_shear", "instruments"),
-        ("simple_shear", "reference"), ("simple_shear", "shear"))},
     ("vlab.effects.gravity", "vlab.fe.external_load"):
         "the effect's build hook, called by run only: its grammar is parsed with the scene, which "
         "must not load the solver",

@@ -57,3 +57,10 @@ def test_a_planar_load_unload_report_adds_the_hysteresis_loop(tmp_path):
     s = parse_scene(raw)
     write_report([outcome_of(run_scene(s))], tmp_path / "r", s, None, OPTIONS)
     assert (tmp_path / "r" / "hysteresis.png").exists() and not (tmp_path / "r" / "lateral_strain.png").exists()
+
+
+def test_a_single_model_report_shows_no_departure_rows_since_nothing_is_compared(tmp_path):
+    test = {"kind": "uniaxial", "stretch": 1.2}
+    write_report([outcome_of(run_scene(scene("neo-hookean", test)))], tmp_path / "r", scene("neo-hookean", test),
+                 None, OPTIONS)
+    assert "s_NH" not in (tmp_path / "r" / "index.html").read_text(encoding="utf-8")

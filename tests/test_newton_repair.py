@@ -13,9 +13,10 @@ from vlab.fe.problem import Evaluation
 from vlab.report.results import result_to_dict
 from vlab.run import run_scene
 from vlab.scene import parse_scene
+from vlab.fe.body import BodyDefaults
 
 
-class DoubleWell:
+class DoubleWell(BodyDefaults):  # a body: the optional members at their defaults (vlab.fe.body)
     """W(u) = Σ_i (u_i² − 1)² / 4 + c/2 Σ_i (u_{i+1} − u_i)²: minima near u = ±1, and a tangent
     K = diag(3u² − 1) + c L that is indefinite wherever |u_i| < 1/√3 (a non-convex energy, as a
     softening material beyond its limit point)."""

@@ -102,7 +102,7 @@ def test_the_tangent_has_major_symmetry(name, state):
 @pytest.mark.parametrize("name", NAMES)
 def test_the_tangent_terms_equal_the_full_tangent(name):
     m = law(name)
-    if not hasattr(m, "tangent_terms"):
+    if m.tangent_terms is None:  # a declared capability (vlab.materials.capabilities)
         pytest.skip(f"{name} has no outer-product form (principal stretches: numpy kernel)")
     F = np.stack([states(np.random.default_rng(s))["random"] for s in range(4)], axis=-1)
     np.testing.assert_allclose(m.tangent_terms(F).full(), m.tangent(F), atol=1e-13)

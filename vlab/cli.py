@@ -24,6 +24,12 @@ app = typer.Typer(add_completion=False, no_args_is_help=True, context_settings={
                   help="vlab — a virtual material-testing lab.")
 FORCE_HELP = ("Replace a non-empty folder vlab did not make (never one holding the scene file, the cache, "
               "the current or the home folder).")
+# the options several commands share, spelled once
+FORCE = typer.Option(False, "--force", help=FORCE_HELP)
+QUIET = typer.Option(False, "--quiet", "-q", help="No progress output.")
+TRUE_MEASURES = typer.Option(False, "--true", help="Plot true instead of engineering stress and strain.")
+FIELD = typer.Option("von-mises", "--field", help="Render colouring: von-mises, max-stretch or J.")
+SINGLE_FILE = typer.Option(False, "--single-file", help="Inline the images in index.html.")
 
 
 def _print_version(value: bool) -> None:
@@ -88,40 +94,24 @@ def _write(writer, *args):
 @app.command()
 def run(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (default: built-in block test)."),
         out: Optional[Path] = typer.Option(None, "--out", "-o", help="Output folder (default reports/<scene name>)."),
-        quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress output."),
-        true: bool = typer.Option(False, "--true", help="Plot true instead of engineering stress and strain."),
-        field: str = typer.Option("von-mises", "--field", help="Render colouring: von-mises, max-stretch or J."),
-        single_file: bool = typer.Option(False, "--single-file", help="Inline the images in index.html."),
+        quiet: bool = QUIET,
+        true: bool = TRUE_MEASURES, field: str = FIELD, single_file: bool = SINGLE_FILE,
         gif: bool = typer.Option(False, "--gif", help="Also write an animated GIF of the test."),
         render: bool = typer.Option(True, "--render/--no-render", help="3D renders of the deformed specimen."),
         estimate: bool = typer.Option(True, "--estimate/--no-estimate",
                                       help="Accuracy estimate from one coarser companion solve (mesh.size × 2)."),
-        force: bool = typer.Option(False, "--force", help=FORCE_HELP)):
+        force: bool = FORCE):
     """Run one test and write its report: results.json, curve.csv, PNGs, renders, VTU/PVD, index.html."""
     from vlab.cli_progress import RunProgress, scheduled_levels
     from vlab.report.writer import write_run
-    from vlab.run import run_scene
 
     parsed, text = _load(scene)
     options = _report_options(true, field, single_file, parsed.material.model if gif else None, render)
     dest = report_destination(out or Path("reports") / parsed.name, force, scene or None)
     if not quiet:
-        from vlab.loading.kinds import kind_of
-
-        kind = kind_of(parsed.test)
-        say((parsed.name, "bold"), f": {parsed.material.model}, {parsed.test.kind} "
-            f"to {kind.load_key} {list(parsed.test.targets)}")
+        _announce(parsed)
     with RunProgress(console, scheduled_levels(parsed), quiet) as progress:
-        try:
-            result = run_scene(parsed, on_level=progress.level)
-        except SceneError as exc:  # e.g. a mesh below mesh.min_quality: nothing is written
-            progress.bar.stop()
-            fail("invalid scene", exc)
-        if estimate:
-            from vlab.study.estimate import accuracy_estimate
-
-            progress.phase("accuracy estimate (mesh × 2)")
-            result.diagnostics.accuracy_estimate = accuracy_estimate(result)
+        result = _solved(parsed, progress, estimate)
         progress.phase("report: plots, renders, 3-D")
         data = _write(write_run, result, dest, text, options)
         progress.phase("done")
@@ -131,12 +121,38 @@ def run(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (defa
     raise typer.Exit(EXIT_OK if data["converged"] else EXIT_FAILED)
 
 
+def _announce(parsed) -> None:
+    from vlab.loading.kinds import kind_of
+
+    kind = kind_of(parsed.test)
+    say((parsed.name, "bold"), f": {parsed.material.model}, {parsed.test.kind} "
+        f"to {kind.load_key} {list(parsed.test.targets)}")
+
+
+def _solved(parsed, progress, estimate: bool):
+    """The run (levels shown on ``progress``) and, if asked, its accuracy estimate; a scene the run
+    refuses (e.g. a mesh below mesh.min_quality) is exit 2 with nothing written."""
+    from vlab.run import run_scene
+
+    try:
+        result = run_scene(parsed, on_level=progress.level)
+    except SceneError as exc:
+        progress.bar.stop()
+        fail("invalid scene", exc)
+    if estimate:
+        from vlab.study.estimate import accuracy_estimate
+
+        progress.phase("accuracy estimate (mesh × 2)")
+        result.diagnostics.accuracy_estimate = accuracy_estimate(result)
+    return result
+
+
 @app.command()
 def fit(fitfile: Path = typer.Argument(..., help="Fit file (TOML): data sets, model, options."),
         out: Optional[Path] = typer.Option(None, "--out", "-o", help="Output folder (default reports/<name>-fit)."),
         models: Optional[str] = typer.Option(None, "--models",
                                              help="Fit and rank several models, e.g. mooney-rivlin,yeoh,ogden-3."),
-        force: bool = typer.Option(False, "--force", help=FORCE_HELP),
+        force: bool = FORCE,
         workers: Optional[int] = typer.Option(None, "--workers", "-j", min=1,
                                               help="FE-in-the-loop solves on a local Dask cluster of N processes."),
         scheduler: Optional[str] = typer.Option(None, "--scheduler",
@@ -227,9 +243,10 @@ def info():
 
     found_gmsh = gmsh_version() or 'not installed (pip install "vlab[cad]")'
     Console().print(f"  CAD meshing   gmsh     {found_gmsh} (specimen.shape = 'cad')", highlight=False)
-    from vlab import jit
-    threads = f", {jit.threads()} threads for the tangent" if jit.available() else ""
-    Console().print(f"assembly kernels: {jit.in_use()}{threads} (VLAB_KERNEL=numpy: numpy only; "
+    from vlab import jit, settings
+    config = settings.current()  # what the CLI installed from the flags and the environment
+    threads = f", {jit.threads(config)} threads for the tangent" if jit.available(config) else ""
+    Console().print(f"assembly kernels: {jit.in_use(config)}{threads} (VLAB_KERNEL=numpy: numpy only; "
                     f"VLAB_ASSEMBLY_THREADS=n: n threads)", highlight=False)
     if amg:
         Console(markup=False).print(f"  [solver] linear = 'auto': CG + AMG for Newton corrections from "
@@ -277,20 +294,32 @@ def compare(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (
             out: Optional[Path] = typer.Option(None, "--out", "-o", help="Output folder (default reports/<scene name>-compare)."),
             workers: Optional[int] = typer.Option(None, "--workers", "-j", min=1,
                                                   help="Parallel processes (default: one per core)."),
-            quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress output."),
-            true: bool = typer.Option(False, "--true", help="Plot true instead of engineering stress and strain."),
-            field: str = typer.Option("von-mises", "--field", help="Render colouring: von-mises, max-stretch or J."),
-            single_file: bool = typer.Option(False, "--single-file", help="Inline the images in index.html."),
+            quiet: bool = QUIET,
+            true: bool = TRUE_MEASURES, field: str = FIELD, single_file: bool = SINGLE_FILE,
             gif: Optional[str] = typer.Option(None, "--gif", help="Animate this model's test as a GIF."),
             render: bool = typer.Option(True, "--render/--no-render", help="3D renders of the deformed specimens."),
-            force: bool = typer.Option(False, "--force", help=FORCE_HELP)):
+            force: bool = FORCE):
     """Run one scene with several material models side by side and write a comparison report."""
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
-
-    from vlab.compare import compare_models, scene_for_model
     from vlab.report.writer import write_report
 
     parsed, text = _load(scene)
+    chosen = _checked_models(models, parsed, gif)
+    options = _report_options(true, field, single_file, gif, render)
+    dest = report_destination(out or Path("reports") / f"{parsed.name}-compare", force, scene or None)  # not the run's
+    outcomes = _compared(parsed, chosen, workers, quiet)
+    _write(write_report, outcomes, dest, parsed, text, options)
+    for outcome in outcomes:
+        if not quiet:
+            say((outcome.model, "bold"))
+            _print_summary(outcome.data)
+    say(f"report: {dest.path / 'index.html'}")
+    raise typer.Exit(EXIT_OK if all(o.data["converged"] for o in outcomes) else EXIT_FAILED)
+
+
+def _checked_models(models: Optional[str], parsed, gif: Optional[str]) -> list[str]:
+    """The --models to run, each a valid scene with the scene's constants (exit 2 otherwise)."""
+    from vlab.compare import scene_for_model
+
     chosen = _parse_models(models, parsed)
     if gif is not None and gif not in chosen:
         fail("invalid option", f"--gif {gif!r} is not among --models {', '.join(chosen)}")
@@ -299,20 +328,20 @@ def compare(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (
             scene_for_model(parsed, model)
     except SceneError as exc:
         fail("invalid scene", exc)
-    options = _report_options(true, field, single_file, gif, render)
-    dest = report_destination(out or Path("reports") / f"{parsed.name}-compare", force, scene or None)  # not the run's
+    return chosen
+
+
+def _compared(parsed, chosen: list[str], workers: Optional[int], quiet: bool) -> list:
+    """Every model's outcome, run in worker processes, with a progress bar per model."""
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+    from vlab.compare import compare_models
+
     with Progress(TextColumn("{task.description:>16}"), BarColumn(), MofNCompleteColumn(),
                   TextColumn("load levels"), TimeElapsedColumn(), console=console, disable=quiet) as bar:
         tasks = {m: bar.add_task(m, total=None) for m in chosen}
-        outcomes = compare_models(parsed, chosen, workers,
-                                  lambda m, done, total: bar.update(tasks[m], completed=done, total=total))
-    _write(write_report, outcomes, dest, parsed, text, options)
-    for outcome in outcomes:
-        if not quiet:
-            say((outcome.model, "bold"))
-            _print_summary(outcome.data)
-    say(f"report: {dest.path / 'index.html'}")
-    raise typer.Exit(EXIT_OK if all(o.data["converged"] for o in outcomes) else EXIT_FAILED)
+        return compare_models(parsed, chosen, workers,
+                              lambda m, done, total: bar.update(tasks[m], completed=done, total=total))
 
 
 # --- studies over many runs: sweep (parameter grid) and cost (accuracy against time) -----------
@@ -366,8 +395,8 @@ def sweep(scene: Path = typer.Argument(..., help="Scene TOML file."),
           workers: int = typer.Option(2, "--workers", "-j", min=1, help="Worker processes of the local Dask cluster."),
           scheduler: Optional[str] = typer.Option(None, "--scheduler",
                                                   help="Use an existing Dask cluster, e.g. tcp://HOST:8786."),
-          quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress output."),
-          force: bool = typer.Option(False, "--force", help=FORCE_HELP)):
+          quiet: bool = QUIET,
+          force: bool = FORCE):
     """Run a scene over a parameter grid on Dask; cached runs are not recomputed. Writes a table."""
     from vlab.study.grid import expand_grid, parse_axis
     from vlab.study.summary import RunKnobs
@@ -426,20 +455,15 @@ def cost(scene: Path = typer.Argument(..., help="Scene TOML file."),
          workers: int = typer.Option(2, "--workers", "-j", min=1, help="Worker processes of the local Dask cluster."),
          scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Existing Dask cluster tcp://HOST:PORT."),
          render: bool = typer.Option(False, "--render/--no-render", help="Time the 3D renders in each run's report."),
-         quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress output."),
-         force: bool = typer.Option(False, "--force", help=FORCE_HELP)):
+         quiet: bool = QUIET,
+         force: bool = FORCE):
     """Error against time for mesh size, order, cell, load steps, Newton tolerance and model."""
-    from vlab.study.cost import CostOptions, analyse, fixed_mesh_note, knob_points
+    from vlab.study.cost import analyse, fixed_mesh_note, knob_points
     from vlab.study.cost_report import write_cost_report
     from vlab.study.summary import RunKnobs
 
     parsed, _ = _load(scene)
-    options = CostOptions(levels=levels, ratio=ratio, target=_fraction(target),
-                          orders=_choices("--orders", orders, (1, 2), int),
-                          cells=_choices("--cells", cells, ("tet", "hex", "gmsh-tet")))
-    if "gmsh-tet" in options.cells and parsed.specimen.shape != "dogbone":
-        fail("invalid option", f"--cells gmsh-tet meshes a dogbone; {scene} has specimen.shape = "
-                               f"{parsed.specimen.shape!r}")
+    options = _cost_options(scene, parsed, levels, ratio, target, orders, cells)
     points = knob_points(parsed, options)
     if fixed_mesh_note(parsed) is not None and not quiet:
         say(fixed_mesh_note(parsed))
@@ -455,12 +479,30 @@ def cost(scene: Path = typer.Argument(..., help="Scene TOML file."),
             "fixed_mesh": fixed_mesh_note(parsed)}
     index = _write(write_cost_report, dest, f"{parsed.name}: what accuracy costs", outcome.summaries, analysis,
                    options.target, meta)
+    _print_cost(analysis, len(points), outcome, index)
+    raise typer.Exit(_study_exit(outcome, all_failed_only=True))
+
+
+def _print_cost(analysis, runs: int, outcome, index) -> None:
+    """The recommendation, the note of each quantity and how many runs were cached or computed."""
     say(analysis.recommendation)
     for q, note in analysis.notes.items():
         say(f"  {q}: {note}")
-    say(f"{len(points)} runs ({outcome.cache_hits} cached, {outcome.computed} computed, "
+    say(f"{runs} runs ({outcome.cache_hits} cached, {outcome.computed} computed, "
         f"{outcome.failed} failed or invalid); report: {index}")
-    raise typer.Exit(_study_exit(outcome, all_failed_only=True))
+
+
+def _cost_options(scene: Path, parsed, levels: int, ratio: float, target: str, orders: str, cells: str):
+    """The study's CostOptions from the flags (exit 2 naming a bad one)."""
+    from vlab.study.cost import CostOptions
+
+    options = CostOptions(levels=levels, ratio=ratio, target=_fraction(target),
+                          orders=_choices("--orders", orders, (1, 2), int),
+                          cells=_choices("--cells", cells, ("tet", "hex", "gmsh-tet")))
+    if "gmsh-tet" in options.cells and parsed.specimen.shape != "dogbone":
+        fail("invalid option", f"--cells gmsh-tet meshes a dogbone; {scene} has specimen.shape = "
+                               f"{parsed.specimen.shape!r}")
+    return options
 
 
 @app.command()
@@ -470,7 +512,7 @@ def stability(fast: bool = typer.Option(False, "--fast", help="Only the fast sub
               out: Path = typer.Option(Path("reports") / "stability", "--out", "-o", help="Report folder."),
               render: bool = typer.Option(True, "--render/--no-render", help="Render the critical modes."),
               quiet: bool = typer.Option(False, "--quiet", "-q", help="No per-case progress lines."),
-              force: bool = typer.Option(False, "--force", help=FORCE_HELP)):
+              force: bool = FORCE):
     """Run the stability suite (limit points, refusals, inversion, meshes, buckling vs Euler, dogbone
     extremes); print the table and write reports/stability/ (index.html, results.json, mode renders)."""
     import tempfile
@@ -498,6 +540,12 @@ def stability(fast: bool = typer.Option(False, "--fast", help="Only the fast sub
         results = run_suite(cases, CaseContext(Path(figures), render), progress)
         total = time.perf_counter() - start
         data = _write(write_stability_report, results, dest, mode, total, Path(figures))
+    Console(width=200, markup=False).print(_stability_table(results, data, mode, total))
+    say(f"report: {dest.path / 'index.html'}")
+    raise typer.Exit(EXIT_OK if data["failed"] == 0 else EXIT_FAILED)
+
+
+def _stability_table(results, data: dict, mode: str, total: float) -> Table:
     table = Table("case", "expected", "got", "converged", "iterations", "cutbacks", "neg. eig.", "time", "result",
                   title=f"vlab stability ({mode}): {data['passed']} passed, {data['failed']} failed, {total:.1f} s")
     for r in results:
@@ -506,6 +554,4 @@ def stability(fast: bool = typer.Option(False, "--fast", help="Only the fast sub
                                   str(o.cutbacks), "–" if o.negative_eigenvalues is None else
                                   str(o.negative_eigenvalues), f"{r.seconds:.1f} s")),
                       Text("pass", "green") if r.passed else Text("FAIL", "red"))
-    Console(width=200, markup=False).print(table)
-    say(f"report: {dest.path / 'index.html'}")
-    raise typer.Exit(EXIT_OK if data["failed"] == 0 else EXIT_FAILED)
+    return table

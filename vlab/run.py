@@ -30,7 +30,7 @@ from vlab.pipeline.result import Diagnostics, RunResult, SolverObjects
 from vlab.pipeline.solve import Observer, Solved, solve, stability_monitor
 from vlab.report.results import failure_dict, observed_order  # noqa: F401  (moved there; kept importable here)
 from vlab.scene import Scene
-from vlab.settings import Settings, using
+from vlab.settings import Settings, current, using
 
 __all__ = ["RunResult", "Diagnostics", "SolverObjects", "MeshQualityError", "run_scene", "build_specimen",
            "checked_quality", "make_body", "specimen_thickness"]
@@ -56,7 +56,7 @@ def run_scene(scene: Scene, on_level=None, specimen: Specimen | None = None,
 
 
 def _timed_run(scene: Scene, on_level, specimen: Specimen | None, observe=None) -> RunResult:
-    jit.available()  # numba's one-time start-up (~0.3 s), before the clocks: no import starts it
+    jit.available(current())  # numba's one-time start-up (~0.3 s), before the clocks: no import starts it
     with phase_clock() as phases:
         result = _run_scene(scene, on_level, specimen, observe)
     result.timing |= {"assembly_s": 0.0, "linear_solve_s": 0.0} | phases.as_timing()
@@ -75,7 +75,7 @@ def _run_scene(scene: Scene, on_level, specimen: Specimen | None, observe=None) 
             return seeded.first_pass
         specimen = seeded.specimen
     with memory_phase("mesh"):
-        prepared = prepare(scene, specimen)
+        prepared = prepare(scene, specimen, current())  # the run's settings, passed down to the body
     timing = {"mesh_s": clock() - t0}
     monitor, instruments, deflection = stability_monitor(prepared), Instruments(prepared), _Deflection(prepared)
     observers: list[Observer] = [monitor, deflection, instruments] + ([on_level] if on_level else [])

@@ -166,9 +166,11 @@ def inv_transpose(F, G, J):
 def _compiled_inverse():
     """The compiled inv_transpose kernel, or None (numba missing or VLAB_KERNEL=numpy)."""
     if not _INVERSE:
-        from vlab import jit  # numba is imported on the first large batch, not with this module
+        from vlab import jit, settings  # numba is imported on the first large batch, not with this module
+        # decided once a process, on its first large batch, by the installed settings: every material
+        # calls this without settings in hand (vlab.settings.current, the one read outside the solver)
         _INVERSE.append(jit.load("inverse", _INVERSE_SOURCE).inv_transpose
-                        if jit.available() else None)
+                        if jit.available(settings.current()) else None)
     return _INVERSE[0]
 
 

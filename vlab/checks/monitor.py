@@ -290,7 +290,7 @@ class StabilityMonitor:
 def _plastic_strain(body, ev: Evaluation) -> float | None:
     """Largest accumulated plastic strain α of the (uncommitted) trial state ``ev``, or None."""
     history, material = body.history, body.material
-    if history is None or not hasattr(material, "history_fields"):
+    if history is None or material.history_fields is None:
         return None
     trial = material.update(ev.F, history.state, history.dt)
     alpha = material.history_fields(trial, ev.F).get("plastic_strain")

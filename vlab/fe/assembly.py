@@ -224,18 +224,7 @@ def element_stiffness(space: DisplacementSpace, A: np.ndarray) -> np.ndarray:
     if space.reference_dN is None:
         return _element_stiffness_generic(space, A if isinstance(A, np.ndarray) else A.full())
     if not isinstance(A, np.ndarray):
-        n_loc = space.dN.shape[2]
-        diagonal, off = split_upper(upper_element_stiffness(space, A), n_loc, space.dN.shape[0])
-        a, b = np.triu_indices(n_loc)
-        Ke = np.empty((3, 3) + off.shape[1:])
-        for p, (i, k) in enumerate(UPPER_PAIRS):
-            if i == k:
-                Ke[i, i][a, b] = diagonal[p]
-                Ke[i, i][b, a] = diagonal[p]
-            else:
-                Ke[i, k] = off[p - 3]
-                Ke[k, i] = off[p - 3].transpose(1, 0, 2)
-        return Ke.transpose(0, 1, 4, 2, 3)
+        return _blocks_from_upper(space, A)
     R = space.inverse_jacobian                     # (m, J, e, q)
     Rw = R * space.dx                              # dx folded into the first pull-back
     X = np.empty_like(A)                           # X_imkL = Σ_J Rw_mJ A_iJkL
@@ -249,6 +238,23 @@ def element_stiffness(space: DisplacementSpace, A: np.ndarray) -> np.ndarray:
         Z[:, :, :, n] += X[:, :, :, 1] * R[n, 1]
         Z[:, :, :, n] += X[:, :, :, 2] * R[n, 2]
     return _reference_gemm(space, np.ascontiguousarray(Z.transpose(0, 2, 4, 5, 1, 3)))
+
+
+def _blocks_from_upper(space: DisplacementSpace, terms) -> np.ndarray:
+    """The full block layout (i, k, e, a, b) of a TangentTerms' stiffness from its upper blocks
+    (upper_element_stiffness): K_ik = K_kiᵀ by the major symmetry, each diagonal block symmetric."""
+    n_loc = space.dN.shape[2]
+    diagonal, off = split_upper(upper_element_stiffness(space, terms), n_loc, space.dN.shape[0])
+    a, b = np.triu_indices(n_loc)
+    Ke = np.empty((3, 3) + off.shape[1:])
+    for p, (i, k) in enumerate(UPPER_PAIRS):
+        if i == k:
+            Ke[i, i][a, b] = diagonal[p]
+            Ke[i, i][b, a] = diagonal[p]
+        else:
+            Ke[i, k] = off[p - 3]
+            Ke[k, i] = off[p - 3].transpose(1, 0, 2)
+    return Ke.transpose(0, 1, 4, 2, 3)
 
 
 def _reference_gemm(space: DisplacementSpace, Y: np.ndarray) -> np.ndarray:

@@ -9,8 +9,14 @@ HyperelasticBody, MixedHyperelasticBody, SpringNetwork, HistoryBody, LoadedBody.
 Optional members have the defaults of :class:`BodyDefaults`, which every body inherits:
 ``material`` (the law at the quadrature points; None for the spring network, which has none),
 ``f_ext`` (a dead load in N; None), ``history`` (the :class:`HistoryCapability` of a body whose
-material remembers; None), ``tangent_kernel`` ("numpy", or the compiled kernel's description)
-and ``cell_cauchy`` (a body's own cell-averaged Cauchy stress, None: computed from ``material``).
+material remembers; None), ``tangent_kernel`` ("numpy", or the compiled kernel's description),
+``cell_cauchy`` (a body's own cell-averaged Cauchy stress, None: computed from ``material``) and
+``advance`` (None; a body with element unknowns of its own, the mixed body's θ, defines
+``advance(evaluation, du, alpha) -> Evaluation``, their Newton update along u + α du, which the
+line search calls instead of ``evaluate`` on states that carry them: ``volume_change`` not None).
+
+An :class:`~vlab.fe.problem.Evaluation` declares the same way what a mixed state adds:
+``constraint`` (max |Π v(F) − θ|; 0) and ``volume_change`` (θ − 1; None).
 """
 
 from __future__ import annotations
@@ -66,6 +72,7 @@ class BodyDefaults:
     f_ext: np.ndarray | None = None
     history: HistoryCapability | None = None
     tangent_kernel: str = "numpy"
+    advance = None  # (evaluation, du, alpha) -> Evaluation for a body with element unknowns
 
     def cell_cauchy(self, evaluation: "Evaluation") -> np.ndarray | None:
         return None

@@ -43,19 +43,20 @@ import numpy as np
 import scipy.sparse as sp
 
 from vlab import jit
+from vlab.settings import Settings
 
 _KERNELS: dict[int, "Kernel"] = {}
 
 
 
-def available() -> bool:
-    """True if the compiled kernels can be used (numba importable, not disabled)."""
-    return jit.available()
+def available(config: Settings) -> bool:
+    """True if the compiled kernels can be used under ``config`` (numba importable, not disabled)."""
+    return jit.available(config)
 
 
-def kernel_in_use() -> str:
+def kernel_in_use(config: Settings) -> str:
     """'numba <version>' or 'numpy', for ``vlab info`` and results.json."""
-    return jit.in_use()
+    return jit.in_use(config)
 
 
 def source(n_local: int) -> str:
@@ -257,8 +258,6 @@ _call = jit.call
 _NONE = np.empty((0, 0, 0, 0))
 
 
-threads = jit.threads
-
 
 def slabs(element_nodes: np.ndarray, n_threads: int, min_elements: int = 64) -> np.ndarray:
     """Bounds of 2 t slabs of consecutive elements (t ≤ n_threads) such that no node lies in
@@ -299,6 +298,7 @@ class CompiledKernels:
 
     space: object      # DisplacementSpace (3D)
     pattern: object    # SparsityPattern of the space
+    n_threads: int = 1  # threads the assembly may use (jit.threads of the run's settings)
 
     @cached_property
     def reference_gradients(self) -> np.ndarray:
@@ -329,7 +329,7 @@ class CompiledKernels:
     @cached_property
     def bounds(self) -> np.ndarray:
         """Element slab bounds for the threads (``slabs``; [0, n]: serial)."""
-        return slabs(self.space.element_nodes, threads())
+        return slabs(self.space.element_nodes, self.n_threads)
 
     @property
     def threads(self) -> int:

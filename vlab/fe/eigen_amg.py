@@ -102,10 +102,10 @@ def _start_block(n: int, hierarchy) -> np.ndarray:
     compression, 4³ hexes, stretch 0.6 → 0.7); caught by CG's witness, but not to be relied on."""
     block = min(BLOCK, max(n - 1, 1))
     X = np.random.default_rng(0).standard_normal((n, block))
-    warm = getattr(hierarchy, "eigenvectors", None)
+    warm = hierarchy.eigenvectors
     if warm is not None and warm.shape[0] == n and block > 1:
         X[:, 0] = warm[:, 0]
-    witness = getattr(hierarchy, "witness", None)
+    witness = hierarchy.witness
     if witness is not None and len(witness) == n:
         X = np.column_stack([X, witness]) if X.shape[1] < n - 1 else X
         hierarchy.witness = None  # used: it certified this K (or a nearby one) only

@@ -51,7 +51,7 @@ class LoadedBody(BodyDefaults):
         """The inner body's Newton update of its own element unknowns (the mixed body's θ),
         with the load: None if the inner body has none (``__getattr__`` would hand out the
         inner update without the load)."""
-        inner = getattr(self.inner, "advance", None)
+        inner = self.inner.advance
         if inner is None:
             return None
         return lambda ev, du, alpha: self._loaded(inner(ev, du, alpha), ev.u + alpha * du)

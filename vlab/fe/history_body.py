@@ -74,7 +74,7 @@ class HistoryBody(BodyDefaults):
         P = self.material.respond(evaluation.F, self.state, self.dt, with_tangent=False).stress
         self.state = self.material.update(evaluation.F, self.state, self.dt)
         fields = {"cauchy": cell_average(cauchy(P, evaluation.F), self.space.dx)}
-        if hasattr(self.material, "history_fields"):
+        if self.material.history_fields is not None:
             for name, values in self.material.history_fields(self.state, evaluation.F).items():
                 fields[name] = cell_average(values, self.space.dx)
         self._last = (id(evaluation), fields)
@@ -99,7 +99,7 @@ class HistoryBody(BodyDefaults):
     def cell_history(self, evaluation: Evaluation) -> dict[str, np.ndarray]:
         """History fields per cell of a recorded level (zeros for the unloaded state)."""
         kept = self.cell_fields_of(evaluation) or {}
-        names = self.material.history_fields(self.material.initial_state((1, 1))) if hasattr(
-            self.material, "history_fields") else {}
+        names = (self.material.history_fields(self.material.initial_state((1, 1)))
+                 if self.material.history_fields is not None else {})
         n = self.space.dx.shape[0]
         return {name: kept.get(name, np.zeros(n)) for name in names}

@@ -98,9 +98,8 @@ def _trial(body, free: np.ndarray, ev: Evaluation, du: np.ndarray, alpha: float)
     them with their Newton update (``body.advance``) where the state carries them."""
     step = np.zeros_like(ev.u)
     step[free] = du
-    advance = getattr(body, "advance", None)
-    if advance is not None and getattr(ev, "volume_change", None) is not None:
-        return advance(ev, step, alpha)
+    if body.advance is not None and ev.volume_change is not None:  # declared: vlab.fe.body
+        return body.advance(ev, step, alpha)
     return body.evaluate(ev.u + alpha * step)
 
 

@@ -194,7 +194,7 @@ class _Iteration:
     def converged(self, ev: Evaluation, k: int) -> bool:
         rec, o = self.record, self.options
         return (rec.residuals[-1] <= o.rtol and (k == 0 or rec.updates[-1] <= o.utol)
-                and getattr(ev, "constraint", 0.0) <= o.rtol)
+                and ev.constraint <= o.rtol)
 
     def step(self, k: int, ev: Evaluation, r: np.ndarray) -> Evaluation:
         """One correction and its line search; the new state."""

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
+from vlab import jit, settings as installed
 from vlab.fe import compiled
 from vlab.fe.assembly import (SparsityPattern, element_forces, element_stiffness, scatter_vector,
                               upper_element_stiffness)
@@ -42,6 +43,9 @@ class Evaluation:
     min_J: float
     worst: tuple[int, int]
 
+    constraint = 0.0  # a mixed state's max |Π v(F) − θ| (vlab.fe.mixed.MixedEvaluation); 0: none
+    volume_change = None  # a mixed state's θ − 1 (element unknowns the body's ``advance`` moves)
+
     @property
     def admissible(self) -> bool:
         return self.f_int is not None
@@ -50,10 +54,11 @@ class Evaluation:
 class HyperelasticBody(BodyDefaults):
     """Couples a material model to a displacement space through vectorized kernels."""
 
-    def __init__(self, space: DisplacementSpace, material, kernel: str = "auto"):
+    def __init__(self, space: DisplacementSpace, material, kernel: str = "auto", settings=None):
         """``kernel``: "auto" (the compiled kernels of vlab.fe.compiled for F, the internal force
         and the tangent where they apply and numba is installed), "numpy" (the vectorized numpy
-        kernels only) or "compiled" (required)."""
+        kernels only) or "compiled" (required). ``settings`` (vlab.settings.Settings: the kernel
+        switch and the assembly threads), passed down by the run; None: the installed ones."""
         if kernel not in ("auto", "numpy", "compiled"):
             raise ValueError(f"kernel must be 'auto', 'numpy' or 'compiled'; got {kernel!r}")
         self.space = space
@@ -61,12 +66,15 @@ class HyperelasticBody(BodyDefaults):
         self.pattern = SparsityPattern.build(space.element_nodes, space.dim)
         self._compiled = None
         applies = (space.dim == 3 and space.reference_dN is not None
-                   and (hasattr(material, "tangent_terms") or hasattr(material, "tangent_forms")))
-        if kernel == "compiled" and not (applies and compiled.available()):
+                   and (material.tangent_terms is not None or material.tangent_forms is not None))
+        config = settings if settings is not None else installed.current()
+        usable = applies and compiled.available(config)
+        if kernel == "compiled" and not usable:
             raise ValueError("the compiled tangent kernel needs numba, a 3D isoparametric "
                              "space and a material with tangent_terms or tangent_forms")
-        if kernel != "numpy" and applies and compiled.available():
-            self._compiled = compiled.CompiledKernels(space, self.pattern)
+        if kernel != "numpy" and usable:
+            self._compiled = compiled.CompiledKernels(space, self.pattern, jit.threads(config))
+            self._kernel_version = compiled.kernel_in_use(config)
             self._compiled.prepare()   # set-up once per mesh, like the pattern
 
     @property
@@ -75,7 +83,7 @@ class HyperelasticBody(BodyDefaults):
         if self._compiled is None:
             return "numpy"
         t = self._compiled.threads
-        return f"compiled ({compiled.kernel_in_use()}, {t} thread{'s' if t > 1 else ''})"
+        return f"compiled ({self._kernel_version}, {t} thread{'s' if t > 1 else ''})"
 
     @timed(ASSEMBLY)
     def evaluate(self, u: np.ndarray) -> Evaluation:
@@ -103,10 +111,10 @@ class HyperelasticBody(BodyDefaults):
         the full (3,3,3,3,e,q) tangent: in the isotropic form of the three hyperelastic models
         the compiled kernel (vlab.fe.compiled) assembles it, otherwise it is pulled back term by
         term (vlab.fe.assembly)."""
-        forms = getattr(self.material, "tangent_forms", None)
+        forms = self.material.tangent_forms  # capabilities: vlab.materials.capabilities
         if self._compiled is not None and forms is not None:  # a sum of isotropic forms (rubber models)
             return self._compiled.matrix(forms(evaluation.F))
-        terms = getattr(self.material, "tangent_terms", None)
+        terms = self.material.tangent_terms
         A = terms(evaluation.F) if terms is not None else self.material.tangent(evaluation.F)
         if self._compiled is not None and (form := A.isotropic()) is not None:
             return self._compiled.matrix(form)

@@ -19,6 +19,7 @@ import skfem
 
 from vlab import fields
 from vlab.geometry.lattice import Lattice, divisions, swept_mesh, symmetric_mesh
+from vlab.geometry.counts import CUT, MeshCount, div, lattice_count
 from vlab.geometry.shape import Shape
 from vlab.geometry.specimen import GaugeMarks, Grip, SizedSpec, Specimen
 from vlab.geometry.symmetry import cut_axes, mirrored_planes
@@ -82,10 +83,19 @@ def parse_block(t: fields.Table) -> BlockSpecimen:
     return BlockSpecimen(shape="block", size=size)  # type: ignore[arg-type]
 
 
+def count_block(spec, mesh) -> MeshCount:
+    """n_i = ceil(side_i / h) divisions per side (vlab.geometry.lattice.divisions), per half side and
+    mirrored for a symmetry-reduced block, which meshes 1/2, 1/4, 1/8 of it."""
+    cut = CUT.get(mesh.symmetry, 0)
+    n = tuple(div(s / 2, mesh.size) * (1 if a < cut else 2) if cut else div(s, mesh.size)
+              for a, s in enumerate(spec.size))
+    return lattice_count(n, mesh, "block divisions")
+
+
 SHAPE = Shape(
     "block", ("size",), parse_block,
     lambda spec, mesh, gauge: block_specimen(spec.size, mesh.size, mesh.cell, gauge, mesh.symmetry),
     tests={"uniaxial": ("roller", "clamped"), "biaxial": ("roller", "clamped"), "planar": ("roller",),
            "simple-shear": ("kinematic",)},
-    symmetric=True, thickness=lambda spec: float(min(spec.size[1], spec.size[2])),
+    symmetric=True, thickness=lambda spec: float(min(spec.size[1], spec.size[2])), count=count_block,
     doc="rectangular block; the roller block is every stretch kind's oracle, the kinematic block simple shear's")

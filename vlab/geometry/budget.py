@@ -1,20 +1,11 @@
 """The size budget: nodes, DOFs and memory of a scene's mesh estimated from its geometry, before
 any mesh is built, so that a request the machine cannot hold fails at once with the numbers.
 
-Counts (no array is allocated; every count is arithmetic on the dimensions):
-- block: n_i = ceil(side_i / h) divisions per side (vlab.geometry.lattice.divisions), per half
-  side and mirrored for a symmetry-reduced block, which meshes 1/2, 1/4, 1/8 of it;
-- dogbone: the structured mapper's divisions: along x ceil(l_fine / h_g) + ceil(l_tabs / h) with
-  l_fine = parallel length + 2 × transition, across 2 ceil(w / 2 h_g), through 2 ceil(t / 2 min(h, h_g));
-- cruciform: the mapper's octant (central square and two arms, breakpoints at slits, fillets and
-  ramps counted as extra divisions), mirrored;
-- sheet: n_x n_y quadrilaterals (two triangles each); planar-tension strip, shear layer(s): as a
-  block of their dimensions (a double lap: two layers, as one of twice the gap);
-- imported mesh: its own nodes and cells (order 2 adds one node per edge, and per face and cell
-  for hexahedra).
-Structured hexahedra: elements E = Π n_i; vertices Π(n_i + 1); order 2 (Q2, and P2 on the Kuhn
-split, which adds the same face and body diagonals' midpoints) Π(2 n_i + 1) nodes. Tetrahedra: 6E
-(Kuhn split). DOFs = nodes × dimension.
+Counts: each shape's registry entry counts its own mesh (``Shape.count(spec, mesh)``, next to its
+geometry: vlab/geometry/shapes.py), by arithmetic on the dimensions and no array (the shared rules of
+structured lattices in vlab/geometry/counts.py): the block and the strip and shear layers by their
+divisions per side, the dogbone and the cruciform by their mappers' divisions, the sheet in 2D, an
+imported or CAD mesh by its own nodes and cells. DOFs = nodes × dimension.
 
 Memory (bytes), on the direct path ≈ BASE_BYTES + A[(cell, order)] × DOFs^(4/3): the sparse direct
 factorization (every converged state is factorized for Newton and the stability check) fills in
@@ -80,92 +71,19 @@ def _count(n: int) -> str:
     return f"{float(n):.3g}" if n < 10**300 else f"10^{len(str(n)) - 1}"
 
 
-_CUT = {"none": 0, "half": 1, "quarter": 2, "eighth": 3}  # mesh.symmetry: planes cut (x, y, z in turn)
-
-
-def _div(length: float, size: float) -> int:
-    """lattice.divisions without numpy (and without overflow: a huge count stays a Python int)."""
-    return max(1, math.ceil(length / size - 1e-9))
-
-
-def _structured(n: tuple[int, ...], cell: str, order: int) -> tuple[int, int]:
-    elements = math.prod(n) * (6 if cell == "tet" else 2 if cell == "tri" else 1)
-    nodes = math.prod((2 if order == 2 else 1) * k + 1 for k in n)
-    return elements, nodes
-
-
-def _divisions(scene) -> tuple[tuple[int, ...], str]:
-    spec, mesh = scene.specimen, scene.mesh
-    h, hg = mesh.size, mesh.gauge_size or mesh.size
-    cut = _CUT.get(mesh.symmetry, 0)
-    if spec.shape == "block":
-        n = tuple(_div(s / 2, h) * (1 if a < cut else 2) if cut else _div(s, h) for a, s in enumerate(spec.size))
-        return n, "block divisions"
-    if spec.shape == "dogbone":
-        d = spec.dimensions
-        fine = min(d.overall_length, d.parallel_length + 2 * d.transition_length)
-        n = (_div(fine, hg) + _div(max(d.overall_length - fine, 0.0), h) if d.overall_length > fine else _div(fine, hg),
-             2 * _div(d.width / 2, hg), 2 * _div(d.thickness / 2, min(h, hg)))
-        return tuple(-(-k // 2) if a < cut else k for a, k in enumerate(n)), "dogbone mapper divisions"
-    if spec.shape == "sheet":
-        return (_div(spec.size[0], h), _div(spec.size[1], h)), "sheet divisions"
-    if spec.shape == "planar-tension":
-        return (_div(spec.height, h), _div(spec.width, h), _div(spec.thickness, h)), "strip divisions"
-    if spec.shape in ("shear", "double-lap"):  # a double lap: two layers, counted as one of twice the gap
-        layers = 2 if spec.shape == "double-lap" else 1
-        return (_div(spec.length, h), layers * _div(spec.gap, h), _div(spec.depth, h)), "layer divisions"
-    raise ValueError(spec.shape)
-
-
-def _cruciform(scene) -> tuple[int, int]:
-    """The mapper's octant: a central square of n_e × n_e cells and two arms of n_x × n_e, n_z
-    layers, mirrored 8 times (module docstring)."""
-    d, mesh = scene.specimen.dimensions, scene.mesh
-    h, hg, k = mesh.size, mesh.gauge_size or mesh.size, 2 if mesh.order == 2 else 1
-    a, r = d.arm_width / 2, d.fillet_radius
-    n_e = _div(a, hg) + 2 * d.slit_count + 2  # breakpoints: gauge region, slit edges, thinning ramp
-    n_x = _div(max(r, 1e-300), hg) + _div(max(d.arm_end - a - r, 1e-300), h) + 3
-    n_z = _div(d.centre_thickness / 2, min(h, hg))
-    cut = _CUT.get(mesh.symmetry, 0)  # planes cut (x, then y, then z): the octant is mirrored across the rest
-    copies_plane, copies_z = 4 // (2 ** min(cut, 2)), 1 if cut == 3 else 2
-    cells = copies_plane * copies_z * (n_e * n_e + 2 * n_x * n_e) * n_z * (6 if mesh.cell == "tet" else 1)
-    plane = copies_plane * ((k * n_e + 1) ** 2 + 2 * k * n_x * (k * n_e + 1))
-    return cells, plane * (copies_z * k * n_z + 1)
-
-
-def _imported(scene) -> tuple[int, int]:
-    import numpy as np
-
-    data, order = scene.specimen.data, scene.mesh.order
-    nodes, cells = len(data.points), len(data.cells)
-    if order == 1:
-        return cells, nodes
-    pairs = (0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)
-    if data.cell == "hex":  # edges ≈ 3 per vertex, faces ≈ 3 per cell in the interior, one node per cell
-        return cells, nodes + 3 * nodes + 3 * cells + cells
-    edges = np.unique(np.sort(np.concatenate([data.cells[:, list(p)] for p in pairs]), axis=1), axis=0)
-    return cells, nodes + len(edges)
-
-
 def estimate(scene, linear_path=None) -> SizeEstimate:
-    """The scene's mesh size, counted from its geometry, and its memory (module docstring).
+    """The scene's mesh size, counted by its shape's registry entry, and its memory (module
+    docstring). ``linear_path(dofs)`` -> "direct" | "cg-amg" says which solver path the run would
+    take (vlab.fe.iterative.choose, handed in by the pipeline); None: the direct path."""
+    from vlab.geometry.shapes import SHAPES
 
-    ``linear_path(dofs)`` -> "direct" | "cg-amg" says which solver path the run would take
-    (vlab.fe.iterative.choose, handed in by the pipeline); None: the direct path."""
     mesh = scene.mesh
-    if scene.specimen.shape in ("mesh", "cad"):  # a CAD file is meshed by Gmsh when the scene is read
-        elements, nodes = _imported(scene)
-        how, dim = "the file's own cells", 3
-    elif scene.specimen.shape == "cruciform":
-        elements, nodes = _cruciform(scene)
-        how, dim = "cruciform mapper divisions", 3
-    else:
-        n, how = _divisions(scene)
-        elements, nodes = _structured(n, mesh.cell, mesh.order)
-        dim = len(n)
-    dofs = dim * nodes
-    iterative = linear_path is not None and dim == 3 and dofs < 10**15 and linear_path(dofs) == "cg-amg"
-    return SizeEstimate(elements, nodes, dofs, _memory(dofs, mesh.cell, mesh.order, iterative), how, iterative)
+    count = SHAPES[scene.specimen.shape].count(scene.specimen, mesh)
+    dofs = count.dim * count.nodes
+    iterative = (linear_path is not None and count.dim == 3 and dofs < 10**15
+                 and linear_path(dofs) == "cg-amg")
+    return SizeEstimate(count.elements, count.nodes, dofs, _memory(dofs, mesh.cell, mesh.order, iterative),
+                        count.how, iterative)
 
 
 def _memory(dofs: int, cell: str, order: int, iterative: bool) -> float:

@@ -105,5 +105,11 @@ def _build(spec, mesh, gauge_length):
     return imported_specimen(spec.spec, spec.data)  # meshed by Gmsh when the scene was read (meshed)
 
 
-SHAPE = Shape("cad", CAD_KEYS, _parse, _build, tests={"uniaxial": ("clamped",)},
+def _count(spec, mesh):
+    from vlab.geometry.imported import count_imported
+
+    return count_imported(spec, mesh)  # meshed by Gmsh when the scene was read: the file's own cells
+
+
+SHAPE = Shape("cad", CAD_KEYS, _parse, _build, tests={"uniaxial": ("clamped",)}, count=_count,
               doc="a specimen drawn in CAD (Gmsh .geo, STEP, BREP), meshed by Gmsh (the cad extra)")

@@ -40,6 +40,7 @@ from vlab import fields
 from vlab.fields import SceneError
 
 from vlab.geometry.dogbone import GeometryError
+from vlab.geometry.counts import CUT, MeshCount, div
 from vlab.geometry.shape import Shape
 from vlab.geometry.lattice import Lattice, divisions, symmetric_mesh
 from vlab.geometry.specimen import GaugeMarks, Grip, Specimen
@@ -284,9 +285,24 @@ def parse_cruciform(t: fields.Table) -> CruciformSpecimen:
     return CruciformSpecimen(shape="cruciform", dimensions=dims)
 
 
+def count_cruciform(spec, mesh) -> MeshCount:
+    """The mapper's octant: a central square of n_e × n_e cells and two arms of n_x × n_e, n_z layers
+    (breakpoints at slits, fillets and ramps counted as extra divisions), mirrored 8 times."""
+    d, h, hg, k = spec.dimensions, mesh.size, mesh.gauge_size or mesh.size, 2 if mesh.order == 2 else 1
+    a, r = d.arm_width / 2, d.fillet_radius
+    n_e = div(a, hg) + 2 * d.slit_count + 2  # breakpoints: gauge region, slit edges, thinning ramp
+    n_x = div(max(r, 1e-300), hg) + div(max(d.arm_end - a - r, 1e-300), h) + 3
+    n_z = div(d.centre_thickness / 2, min(h, hg))
+    cut = CUT.get(mesh.symmetry, 0)  # planes cut (x, then y, then z): the octant is mirrored across the rest
+    copies_plane, copies_z = 4 // (2 ** min(cut, 2)), 1 if cut == 3 else 2
+    cells = copies_plane * copies_z * (n_e * n_e + 2 * n_x * n_e) * n_z * (6 if mesh.cell == "tet" else 1)
+    plane = copies_plane * ((k * n_e + 1) ** 2 + 2 * k * n_x * (k * n_e + 1))
+    return MeshCount(cells, plane * (copies_z * k * n_z + 1), 3, "cruciform mapper divisions")
+
+
 SHAPE = Shape(
     "cruciform", CRUCIFORM_KEYS, parse_cruciform,
     lambda spec, mesh, gauge: cruciform_specimen(spec.dimensions, mesh.size, mesh.cell, mesh.gauge_size,
                                                  mesh.symmetry, gauge),
-    tests={"biaxial": ("clamped",)}, symmetric=True, gauge_size=True,
+    tests={"biaxial": ("clamped",)}, symmetric=True, gauge_size=True, count=count_cruciform,
     doc="cruciform with optional slits and thinned centre, four clamped grips")

@@ -35,6 +35,7 @@ import skfem
 
 from vlab import fields
 from vlab.fields import SceneError
+from vlab.geometry.counts import CUT, MeshCount, div, lattice_count
 from vlab.geometry.shape import Shape
 
 from vlab.geometry.lattice import Lattice, divisions, symmetric_mesh
@@ -262,10 +263,22 @@ def parse_dogbone(t: fields.Table) -> DogboneSpecimen:
     return DogboneSpecimen(shape="dogbone", dimensions=dims)
 
 
+def count_dogbone(spec, mesh) -> MeshCount:
+    """The structured mapper's divisions: along x ceil(l_fine / h_g) + ceil(l_tabs / h) with l_fine =
+    parallel length + 2 × transition, across 2 ceil(w / 2 h_g), through 2 ceil(t / 2 min(h, h_g))."""
+    d, h, hg = spec.dimensions, mesh.size, mesh.gauge_size or mesh.size
+    fine = min(d.overall_length, d.parallel_length + 2 * d.transition_length)
+    n = (div(fine, hg) + div(max(d.overall_length - fine, 0.0), h) if d.overall_length > fine else div(fine, hg),
+         2 * div(d.width / 2, hg), 2 * div(d.thickness / 2, min(h, hg)))
+    cut = CUT.get(mesh.symmetry, 0)
+    return lattice_count(tuple(-(-k // 2) if a < cut else k for a, k in enumerate(n)), mesh,
+                         "dogbone mapper divisions")
+
+
 SHAPE = Shape(
     "dogbone", ("standard",) + DIMENSION_KEYS, parse_dogbone,
     lambda spec, mesh, gauge: dogbone_specimen(spec.dimensions, mesh.size, mesh.cell, mesh.gauge_size, mesh.symmetry,
                                                       mesh.mesher),
     tests={"uniaxial": ("clamped",)}, symmetric=True, gauge_size=True,
-    thickness=lambda spec: float(min(spec.dimensions.thickness, spec.dimensions.width)),
+    thickness=lambda spec: float(min(spec.dimensions.thickness, spec.dimensions.width)), count=count_dogbone,
     doc="standard or custom dumb-bell between clamped grips")

@@ -26,7 +26,7 @@ import numpy as np
 from vlab import fields
 from vlab.geometry.block import block_mesh
 from vlab.geometry.shape import Shape
-from vlab.geometry.shear import parse_shear
+from vlab.geometry.shear import count_layers, parse_shear
 from vlab.geometry.specimen import GaugeMarks, Grip, Specimen
 
 
@@ -77,4 +77,5 @@ SHAPE = Shape(
     "double-lap", ("length", "gap", "depth", "plate_thickness"), parse_double_lap,
     lambda spec, mesh, gauge: double_lap_specimen(spec, mesh.size, mesh.cell),
     tests={"simple-shear": ("plates",)},
+    count=lambda spec, mesh: count_layers(spec, mesh, layers=2),  # two layers, as one of twice the gap
     doc="double-lap shear sandwich: two layers, outer plates held, the central plate moved")

@@ -61,46 +61,63 @@ def gmsh_dogbone_mesh(d: DogboneDimensions, size: float, gauge_size: float | Non
 
 
 def _gmsh_tets(d: DogboneDimensions, size: float, gauge_size: float) -> tuple[np.ndarray, np.ndarray]:
-    L, h, b2 = d.overall_length, d.thickness, d.end_width / 2
     with _session() as gmsh:
-        occ = gmsh.model.occ
-        points: dict[tuple, int] = {}
-
-        def point(xy):
-            key = (round(xy[0], 9), round(xy[1], 9))
-            if key not in points:
-                points[key] = occ.addPoint(xy[0], xy[1], 0.0)
-            return points[key]
-
-        curves = [occ.addLine(point(s[1]), point(s[2])) if s[0] == "line" else
-                  occ.addCircleArc(point(s[1]), point(s[2]), point(s[3])) for s in _outline(d)]
-        face = occ.addPlaneSurface([occ.addCurveLoop(curves)])
-        g = d.grip_length
-        cuts = [occ.addLine(occ.addPoint(x, -2 * b2, 0), occ.addPoint(x, 2 * b2, 0)) for x in (g, L - g)]
-        pieces, _ = occ.fragment([(2, face)], [(1, c) for c in cuts])
-        faces = [t for t in pieces if t[0] == 2]
-        occ.synchronize()
-        loose = [(1, c) for _, c in gmsh.model.getEntities(1) if len(gmsh.model.getAdjacencies(1, c)[0]) == 0]
-        occ.remove(loose, recursive=True)
-        occ.extrude(faces, 0, 0, h)
-        occ.removeAllDuplicates()
-        occ.synchronize()
-        field = gmsh.model.mesh.field.add("Box")
-        reach = d.parallel_length / 2 + d.transition_length
-        for key, value in (("VIn", gauge_size), ("VOut", size), ("XMin", L / 2 - reach), ("XMax", L / 2 + reach),
-                           ("YMin", -2 * b2), ("YMax", 2 * b2), ("ZMin", -h), ("ZMax", 2 * h)):
-            gmsh.model.mesh.field.setNumber(field, key, value)
-        gmsh.model.mesh.field.setAsBackgroundMesh(field)
-        gmsh.option.setNumber("Mesh.MeshSizeMax", float(size))
-        gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
-        gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
+        _solid(gmsh, d)
+        _size_field(gmsh, d, size, gauge_size)
         # Netgen's optimiser after Gmsh's: Gmsh alone left slivers (scaled Jacobian 0.03) that vlab's
         # mesh check refuses, on the ISO 527-2 1A dogbone at mesh.size 2.83
         gmsh.option.setNumber("Mesh.OptimizeNetgen", 1)
         gmsh.model.mesh.generate(3)
         tags, coords, _ = gmsh.model.mesh.getNodes()
         _, nodes = gmsh.model.mesh.getElementsByType(4)
-    X = coords.reshape(-1, 3)
+    return _positive_tets(coords.reshape(-1, 3), tags, nodes)
+
+
+def _solid(gmsh, d: DogboneDimensions) -> None:
+    """The outline (exact arcs) as a face cut at the grip edges x = g and L − g, extruded through
+    the thickness, duplicates merged."""
+    L, h, b2 = d.overall_length, d.thickness, d.end_width / 2
+    occ = gmsh.model.occ
+    points: dict[tuple, int] = {}
+
+    def point(xy):
+        key = (round(xy[0], 9), round(xy[1], 9))
+        if key not in points:
+            points[key] = occ.addPoint(xy[0], xy[1], 0.0)
+        return points[key]
+
+    curves = [occ.addLine(point(s[1]), point(s[2])) if s[0] == "line" else
+              occ.addCircleArc(point(s[1]), point(s[2]), point(s[3])) for s in _outline(d)]
+    face = occ.addPlaneSurface([occ.addCurveLoop(curves)])
+    g = d.grip_length
+    cuts = [occ.addLine(occ.addPoint(x, -2 * b2, 0), occ.addPoint(x, 2 * b2, 0)) for x in (g, L - g)]
+    pieces, _ = occ.fragment([(2, face)], [(1, c) for c in cuts])
+    faces = [t for t in pieces if t[0] == 2]
+    occ.synchronize()
+    loose = [(1, c) for _, c in gmsh.model.getEntities(1) if len(gmsh.model.getAdjacencies(1, c)[0]) == 0]
+    occ.remove(loose, recursive=True)
+    occ.extrude(faces, 0, 0, h)
+    occ.removeAllDuplicates()
+    occ.synchronize()
+
+
+def _size_field(gmsh, d: DogboneDimensions, size: float, gauge_size: float) -> None:
+    """Element size gauge_size over the parallel section and fillets (a box field), size elsewhere."""
+    L, h, b2 = d.overall_length, d.thickness, d.end_width / 2
+    field = gmsh.model.mesh.field.add("Box")
+    reach = d.parallel_length / 2 + d.transition_length
+    for key, value in (("VIn", gauge_size), ("VOut", size), ("XMin", L / 2 - reach), ("XMax", L / 2 + reach),
+                       ("YMin", -2 * b2), ("YMax", 2 * b2), ("ZMin", -h), ("ZMax", 2 * h)):
+        gmsh.model.mesh.field.setNumber(field, key, value)
+    gmsh.model.mesh.field.setAsBackgroundMesh(field)
+    gmsh.option.setNumber("Mesh.MeshSizeMax", float(size))
+    gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
+    gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
+
+
+def _positive_tets(X: np.ndarray, tags, nodes) -> tuple[np.ndarray, np.ndarray]:
+    """(points, tets) of Gmsh's nodes and 4-node tetrahedra: unused nodes dropped, every
+    tetrahedron ordered to a positive volume (scikit-fem's convention)."""
     index = np.empty(int(tags.max()) + 1, dtype=np.int64)
     index[tags.astype(np.int64)] = np.arange(len(tags))
     tets = index[nodes.astype(np.int64)].reshape(-1, 4)
@@ -108,6 +125,6 @@ def _gmsh_tets(d: DogboneDimensions, size: float, gauge_size: float) -> tuple[np
     tets = tets.reshape(-1, 4)
     P = X[used]
     a, b, c, e = (P[tets[:, k]] for k in range(4))
-    flip = np.einsum("ij,ij->i", np.cross(b - a, c - a), e - a) < 0  # scikit-fem wants positive volumes
+    flip = np.einsum("ij,ij->i", np.cross(b - a, c - a), e - a) < 0
     tets[flip, 0], tets[flip, 1] = tets[flip, 1], tets[flip, 0].copy()
     return P, tets

@@ -29,6 +29,7 @@ from scipy.spatial import cKDTree
 
 from vlab import fields
 from vlab.fields import SceneError
+from vlab.geometry.counts import MeshCount
 from vlab.geometry.shape import Shape
 from vlab.geometry.specimen import GaugeMarks, Grip, Specimen
 
@@ -282,5 +283,20 @@ def _check_marks_inside(t: fields.Table, spec: MeshImport, data: ImportedMesh) -
 
 MESH_FILE_KEYS = ("file", "grips", "axis", "gauge_marks", "transverse_marks", "thickness_marks", "area")
 
+def count_imported(spec, mesh) -> MeshCount:
+    """The file's own nodes and cells; order 2 adds one node per edge (tetrahedra: the unique edges
+    counted; hexahedra: ≈ 3 edges per vertex) and, for hexahedra, per face (≈ 3 per cell) and cell."""
+    data, order = spec.data, mesh.order
+    nodes, cells = len(data.points), len(data.cells)
+    if order == 1:
+        return MeshCount(cells, nodes, 3, "the file's own cells")
+    if data.cell == "hex":
+        return MeshCount(cells, nodes + 3 * nodes + 3 * cells + cells, 3, "the file's own cells")
+    pairs = (0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)
+    edges = np.unique(np.sort(np.concatenate([data.cells[:, list(p)] for p in pairs]), axis=1), axis=0)
+    return MeshCount(cells, nodes + len(edges), 3, "the file's own cells")
+
+
 SHAPE = Shape("mesh", MESH_FILE_KEYS, _parse_mesh_file, lambda spec, mesh, gauge: imported_specimen(spec.spec, spec.data),
-              tests={"uniaxial": ("clamped",)}, doc="a user's mesh file (Gmsh .msh or .vtu) with named grips")
+              tests={"uniaxial": ("clamped",)}, count=count_imported,
+              doc="a user's mesh file (Gmsh .msh or .vtu) with named grips")

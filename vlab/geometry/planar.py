@@ -24,6 +24,7 @@ import numpy as np
 from vlab import fields
 from vlab.fields import SceneError
 from vlab.geometry.block import block_mesh
+from vlab.geometry.counts import div, lattice_count
 from vlab.geometry.shape import Shape
 from vlab.geometry.specimen import GaugeMarks, Grip, Specimen
 
@@ -85,4 +86,7 @@ SHAPE = Shape(
     "planar-tension", ("height", "width", "thickness"), parse_planar,
     lambda spec, mesh, gauge: planar_specimen(spec, mesh.size, mesh.cell, gauge),
     tests={"planar": ("clamped",)},
+    count=lambda spec, mesh: lattice_count(  # as a block of its dimensions
+        (div(spec.height, mesh.size), div(spec.width, mesh.size), div(spec.thickness, mesh.size)), mesh,
+        "strip divisions"),
     doc="planar-tension strip, width/height >= 10, clamped along its long edges")

@@ -18,4 +18,5 @@ class Shape:
     symmetric: bool = False
     gauge_size: bool = False
     thickness: Callable[[Any], float] | None = None
+    count: Callable[[Any, Any], Any] | None = None  # (spec, mesh) -> counts.MeshCount, for the size budget
     doc: str = ""

@@ -14,7 +14,11 @@ about the shape, next to its geometry (the module that meshes it):
 - ``symmetric``: its mesh is built mirror-symmetric, so [mesh] symmetry may reduce it;
   ``gauge_size``: it takes a finer [mesh] gauge_size over its gauge section;
 - ``thickness(spec) -> mm``: the smallest cross-section dimension, the scale of a buckling
-  imperfection (None: test.imperfection does not apply).
+  imperfection (None: test.imperfection does not apply);
+- ``count(spec, mesh) -> MeshCount``: elements, nodes and dimension of the mesh ``build`` would
+  make, by arithmetic on the dimensions before anything is meshed (vlab.geometry.counts has the
+  structured-lattice rules): the size budget (vlab/geometry/budget.py) reads it, and every shape
+  must have one (tests/test_budget.py checks the registry).
 
 Adding a shape is one module (its spec dataclass, parser, mesh and the ``SHAPE`` entry) and one
 line in ``_BUILTIN`` below.

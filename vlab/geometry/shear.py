@@ -22,6 +22,7 @@ import numpy as np
 from vlab import fields
 from vlab.fields import SceneError
 from vlab.geometry.block import block_mesh
+from vlab.geometry.counts import MeshCount, div, lattice_count
 from vlab.geometry.shape import Shape
 from vlab.geometry.specimen import GaugeMarks, Grip, Specimen
 
@@ -70,8 +71,14 @@ def shear_specimen(spec: ShearSpecimen, element_size: float, cell: str) -> Speci
     )
 
 
+def count_layers(spec, mesh, layers: int = 1) -> MeshCount:
+    """As a block of the layer's dimensions; ``layers`` layers counted as one of that many gaps."""
+    n = (div(spec.length, mesh.size), layers * div(spec.gap, mesh.size), div(spec.depth, mesh.size))
+    return lattice_count(n, mesh, "layer divisions")
+
+
 SHAPE = Shape(
     "shear", ("length", "gap", "depth"), parse_shear,
     lambda spec, mesh, gauge: shear_specimen(spec, mesh.size, mesh.cell),
-    tests={"simple-shear": ("plates",)},
+    tests={"simple-shear": ("plates",)}, count=count_layers,
     doc="rubber layer bonded between rigid shear plates, one held, one moved tangentially")

@@ -17,6 +17,7 @@ import numpy as np
 import skfem
 
 from vlab import fields
+from vlab.geometry.counts import div, lattice_count
 from vlab.geometry.shape import Shape
 
 from vlab.geometry.specimen import GaugeMarks, Grip, SizedSpec, Specimen
@@ -88,4 +89,6 @@ SHAPE = Shape(
     "sheet", ("size", "thickness", "plane"), parse_sheet,
     lambda spec, mesh, gauge: sheet_specimen(spec.size, spec.thickness, mesh.size, mesh.cell, gauge),
     tests={"uniaxial": ("roller", "clamped"), "biaxial": ("roller", "clamped"), "planar": ("roller",)},
+    count=lambda spec, mesh: lattice_count((div(spec.size[0], mesh.size), div(spec.size[1], mesh.size)), mesh,
+                                           "sheet divisions"),  # n_x n_y quadrilaterals (two triangles each)
     doc="thin sheet in plane stress or plane strain (2D)")

@@ -9,6 +9,11 @@ The derivatives are complex steps in ε (exact). Per kind the stretch is scanned
 stretch is refined by bisection to 1e-6. Paths (incompressible principal stretches):
 uniaxial (λ, λ^-½, λ^-½), equibiaxial (λ, λ, λ^-2), planar (λ, 1, λ^-1), simple shear (λ+, 1, λ−)
 with γ = λ+ − 1/λ+ (tension only: γ and −γ are the same state).
+
+A law defined only below a limit (Gent: Ī1 − 3 < Jm) is not unstable where its chains lock: the
+scan stops there and reports ``locks_at`` (refined like an instability), so the locking stretch
+is never mistaken for a loss of Drucker stability. States outside the domain have no D (NaN in
+the stability map).
 """
 
 from __future__ import annotations
@@ -18,7 +23,7 @@ import numpy as np
 from vlab.identify.jacobian import H
 from vlab.identify.states import Constitutive, principal_tau
 
-__all__ = ["min_eigenvalue", "kind_stability", "stability_map", "PATHS"]
+__all__ = ["admissible", "min_eigenvalue", "kind_stability", "stability_map", "PATHS"]
 
 LAM_MAX, LAM_MIN = 10.0, 0.1
 
@@ -38,10 +43,33 @@ def _tau(model, c, K, eps):
     return list(principal_tau(model, c, K, *lam))
 
 
-def min_eigenvalue(model: Constitutive, x, eps: np.ndarray) -> np.ndarray:
-    """Smallest eigenvalue of D (MPa) at log strains eps (k, n): k = 2 (incompressible) or 3."""
-    c, K = _c_K(model, x)
+def admissible(model: Constitutive, x, eps: np.ndarray) -> np.ndarray:
+    """States (columns of eps) inside the law's domain: finite log strains and, for a law with a
+    margin (Gent), a positive margin at the isochoric stretches λ̄_i = exp(ε_i − Σε/3)."""
     eps = np.asarray(eps, float)
+    ok = np.all(np.isfinite(eps), axis=0)
+    if model.law.margin is None:
+        return ok
+    c, _ = model.split(np.asarray(x, float))
+    full = eps if eps.shape[0] == 3 else np.vstack([eps, -eps[0] - eps[1]])
+    with np.errstate(invalid="ignore"):
+        lam_bar = np.exp(full - full.sum(axis=0) / 3.0)
+        return ok & (model.law.margin(c, *lam_bar) > 0)
+
+
+def min_eigenvalue(model: Constitutive, x, eps: np.ndarray) -> np.ndarray:
+    """Smallest eigenvalue of D (MPa) at log strains eps (k, n): k = 2 (incompressible) or 3;
+    NaN at states outside the law's domain (``admissible``)."""
+    eps = np.asarray(eps, float)
+    inside = admissible(model, x, eps)
+    out = np.full(eps.shape[1], np.nan)
+    if inside.any():
+        out[inside] = _min_eigenvalue(model, x, eps[:, inside])
+    return out
+
+
+def _min_eigenvalue(model: Constitutive, x, eps: np.ndarray) -> np.ndarray:
+    c, K = _c_K(model, x)
     k = eps.shape[0]
     D = np.empty((eps.shape[1], k, k))
     for j in range(k):
@@ -70,29 +98,42 @@ def _state_eps(model: Constitutive, x, kind: str, lam: np.ndarray) -> np.ndarray
     if model.bulk == "incompressible":
         return np.log(np.vstack([l1, l2]))
     c, K = model.split(np.asarray(x, float))
-    t = np.real(_solve_free(model, [np.asarray(v) for v in c], K, kind, lam, None))
-    return np.log(np.vstack(_stretches(kind, lam, l2, t)))
+    with np.errstate(divide="ignore", invalid="ignore"):  # past a locking stretch: NaN, judged by admissible
+        t = np.real(_solve_free(model, [np.asarray(v) for v in c], K, kind, lam, None))
+        return np.log(np.vstack(_stretches(kind, lam, l2, t)))
 
 
-def _first_unstable(model, x, kind, lo, hi) -> float | None:
-    """The first stretch from lo towards hi where D loses definiteness, or None."""
+def _first_limit(model, x, kind, lo, hi) -> tuple[str, float] | None:
+    """The first stretch from lo towards hi where D loses definiteness ("unstable") or the law's
+    domain ends ("locks"), or None: scanned on a log grid, refined by bisection to 1e-7."""
     grid = np.geomspace(lo, hi, 400)
-    ok = min_eigenvalue(model, x, _state_eps(model, x, kind, grid)) > 0
-    if ok.all():
+    good = _stable(model, x, kind, grid)
+    if good.all():
         return None
-    i = int(np.argmin(ok))
-    if i == 0:
-        return float(lo)
-    a, b = grid[i - 1], grid[i]
-    for _ in range(60):
+    i = int(np.argmin(good))
+    a, b = (grid[i - 1], grid[i]) if i > 0 else (lo, lo)
+    for _ in range(60 if i > 0 else 0):
         m = np.sqrt(a * b)
-        if min_eigenvalue(model, x, _state_eps(model, x, kind, np.array([m])))[0] > 0:
+        if _stable(model, x, kind, np.array([m]))[0]:
             a = m
         else:
             b = m
         if abs(np.log(b / a)) < 1e-7:  # (the scan may run downwards: b < a)
             break
-    return float(b)
+    inside = admissible(model, x, _state_eps(model, x, kind, np.array([b])))[0]
+    return ("unstable" if inside else "locks"), float(b)
+
+
+def _stable(model, x, kind, lam) -> np.ndarray:
+    """Inside the domain and D positive definite (NaN compares False)."""
+    return min_eigenvalue(model, x, _state_eps(model, x, kind, lam)) > 0
+
+
+def _side(model, x, kind, lo, hi) -> dict:
+    limit = _first_limit(model, x, kind, lo, hi)
+    what, lam = limit if limit else (None, None)
+    return {"unstable_from": lam if what == "unstable" else None,
+            "locks_at": lam if what == "locks" else None, "scanned_to": hi}
 
 
 def kind_stability(model: Constitutive, x, kind: str, fitted: tuple[float, float] | None) -> dict:
@@ -100,16 +141,18 @@ def kind_stability(model: Constitutive, x, kind: str, fitted: tuple[float, float
     stretch range lies inside it. ``fitted``: (min, max) stretch of the data (or shear for
     simple shear)."""
     path = "planar" if kind == "simple-shear" else kind
-    up = _first_unstable(model, x, path, 1.0 + 1e-9, LAM_MAX)
-    down = None if kind == "simple-shear" else _first_unstable(model, x, path, 1.0 - 1e-9, LAM_MIN)
-    out = {"tension": {"unstable_from": up, "scanned_to": LAM_MAX},
-           "compression": None if kind == "simple-shear" else {"unstable_from": down, "scanned_to": LAM_MIN}}
+    out = {"tension": _side(model, x, path, 1.0 + 1e-9, LAM_MAX),
+           "compression": None if kind == "simple-shear" else _side(model, x, path, 1.0 - 1e-9, LAM_MIN)}
+    up = out["tension"]["unstable_from"] or out["tension"]["locks_at"]  # the end of the usable range
+    down = None if kind == "simple-shear" else (out["compression"]["unstable_from"] or out["compression"]["locks_at"])
     if kind == "simple-shear":
-        out["tension"]["unstable_from_shear"] = None if up is None else float(up - 1.0 / up)
+        for key in ("unstable_from", "locks_at"):
+            lam = out["tension"][key]
+            out["tension"][key + "_shear"] = None if lam is None else float(lam - 1.0 / lam)
     if fitted is not None:
         lo, hi = fitted
         if kind == "simple-shear":  # compare in γ
-            g_up = out["tension"]["unstable_from_shear"]
+            g_up = out["tension"]["unstable_from_shear"] or out["tension"]["locks_at_shear"]
             out["stable_over_fitted_range"] = bool(g_up is None or max(abs(lo), abs(hi)) < g_up)
         else:
             out["stable_over_fitted_range"] = bool((up is None or hi < up) and (down is None or lo > down))

@@ -64,6 +64,11 @@ def _gent(c, l1, l2, l3):
     return _invariant_w(0.5 * c[0] / (1.0 - d / c[1]), 0.0, l1, l2, l3)
 
 
+def _gent_margin(c, l1, l2, l3):
+    """1 − (Ī1 − 3)/Jm: positive below the locking stretch, where ψ_gent is defined."""
+    return 1.0 - (_I1(l1, l2, l3) - 3.0) / c[1]
+
+
 def _arruda_boyce(c, l1, l2, l3):
     I1 = _I1(l1, l2, l3)
     lm2 = c[1] * c[1]
@@ -88,6 +93,8 @@ class Law:
     ``w(c, l1, l2, l3)``: c is a sequence of card values (each broadcastable with λ).
     ``transform``: c = T x. ``start(rng, scale, stretch_max)`` → (x0, lower, upper) for one start:
     scale is a modulus estimate from the data (MPa), stretch_max the largest I1 seen (Gent's bound).
+    ``margin``: for a law defined only below a limit (Gent's chains lock at Ī1 − 3 = Jm), a
+    function of (c, λ̄1, λ̄2, λ̄3) that is positive inside the domain; None: defined everywhere.
     """
 
     model: str
@@ -96,6 +103,7 @@ class Law:
     start: Callable
     transform: np.ndarray = field(repr=False, default=None)
     terms: int = 1
+    margin: Callable | None = None  # margin(c, λ̄1, λ̄2, λ̄3) > 0 inside the law's domain (Gent)
 
     def card_values(self, x: np.ndarray) -> np.ndarray:
         """c = T x along the last axis."""
@@ -197,7 +205,7 @@ def law_for(model: str, terms: int = 1) -> Law:
     T = np.eye(len(names))
     if model == "mooney-rivlin":
         T = np.array([[1.0, -1.0], [0.0, 1.0]])  # C10 = s − C01, C01 = C01
-    return Law(model, names, w, start, T)
+    return Law(model, names, w, start, T, margin=_gent_margin if model == "gent" else None)
 
 
 MODEL_NAMES = ("neo-hookean", "mooney-rivlin", "yeoh", "gent", "arruda-boyce", "ogden")

@@ -9,6 +9,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from matplotlib.colors import ListedColormap  # noqa: E402
 
 from vlab.identify.drucker import PATHS, stability_map  # noqa: E402
 
@@ -65,11 +66,10 @@ def _path_segments(ax, outcome, kind: str, lam: np.ndarray, colour: str):
 
     model, x = outcome.spec.model, outcome.x
     l1, l2 = PATHS[kind](lam)
-    ok = min_eigenvalue(model, x, _state_eps(model, x, kind, lam)) > 0
-    for stable, style in ((True, "-"), (False, "--")):
-        y = np.where(ok == stable, l2, np.nan)
-        ax.plot(l1, y, style, color=colour, lw=1.6, label=f"{kind} ({'stable' if stable else 'unstable'})"
-                if (ok == stable).any() else None)
+    m = min_eigenvalue(model, x, _state_eps(model, x, kind, lam))
+    for mask, style, word in ((m > 0, "-", "stable"), (m <= 0, "--", "unstable")):  # NaN (locked): neither
+        y = np.where(mask, l2, np.nan)
+        ax.plot(l1, y, style, color=colour, lw=1.6, label=f"{kind} ({word})" if mask.any() else None)
 
 
 def plot_stability_map(outcome, path: Path) -> None:
@@ -77,7 +77,10 @@ def plot_stability_map(outcome, path: Path) -> None:
     sm = stability_map(outcome.spec.model, outcome.x)
     lam, m = sm["stretch"], sm["min_eigenvalue"]
     fig, ax = plt.subplots(figsize=(6.2, 5.6))
-    ax.contourf(lam, lam, (m > 0).T.astype(float), levels=[-0.5, 0.5, 1.5], colors=["#f4c7c3", "#d9ead3"])
+    region = np.where(np.isnan(m), -1.0, (m > 0).astype(float))  # -1: beyond the law's limit (Gent locking)
+    # cells, not filled contours: interpolating from -1 to 1 would paint a red seam along the locking edge
+    ax.pcolormesh(lam, lam, region.T, shading="nearest", vmin=-1.5, vmax=1.5,
+                  cmap=ListedColormap(["#d9d9d9", "#f4c7c3", "#d9ead3"]))
     ax.contour(lam, lam, m.T, levels=[0.0], colors="firebrick", linewidths=0.8)
     path_lam = np.geomspace(0.1, 10.0, 300)
     # no path in green or red: those are the map's stable and unstable regions
@@ -95,7 +98,8 @@ def plot_stability_map(outcome, path: Path) -> None:
     ax.minorticks_off()
     ax.set_xlabel("principal stretch λ1")
     ax.set_ylabel("principal stretch λ2")
-    ax.set_title("Drucker stability (green: stable, red: unstable; λ3 = 1/(λ1 λ2));\n"
+    locked = "; grey: chains locked" if np.isnan(m).any() else ""
+    ax.set_title(f"Drucker stability (green: stable, red: unstable{locked}; λ3 = 1/(λ1 λ2));\n"
                  "thick: the stretch range of the data", fontsize=9)
     ax.legend(fontsize=7, loc="lower left")
     fig.tight_layout()

@@ -57,15 +57,20 @@ def _parameter_rows(d: dict) -> list:
     return rows
 
 
+def _limit_text(side: dict | None, bound: str, lim: float) -> str:
+    """'stable to 10', 'unstable from λ = …' or 'chains lock at λ = …' for one side of a kind."""
+    if side is None:
+        return "—"
+    if side.get("locks_at") is not None:
+        return f"stable up to the chains' locking at λ = {side['locks_at']:.5g}"
+    if side["unstable_from"] is not None:
+        return f"unstable {bound} λ = {side['unstable_from']:.5g}"
+    return f"stable to {lim:g}"
+
+
 def _stability_rows(st: dict) -> list:
-    rows = []
-    for kind, s in st["kinds"].items():
-        t = s["tension"]["unstable_from"]
-        c = (s["compression"] or {}).get("unstable_from") if s["compression"] else None
-        rows.append([kind, "stable to 10" if t is None else f"unstable from λ = {t:.5g}",
-                     "—" if s["compression"] is None else ("stable to 0.1" if c is None else f"unstable below λ = {c:.5g}"),
-                     _f(s.get("stable_over_fitted_range"))])
-    return rows
+    return [[kind, _limit_text(s["tension"], "from", 10), _limit_text(s["compression"], "below", 0.1),
+             _f(s.get("stable_over_fitted_range"))] for kind, s in st["kinds"].items()]
 
 
 def _fe_section(d: dict) -> str:

@@ -24,11 +24,13 @@ from typing import ClassVar
 
 import numpy as np
 
+from vlab.materials.capabilities import LawCapabilities
+
 __all__ = ["Material"]
 
 
 @dataclass(frozen=True)
-class Material:
+class Material(LawCapabilities):
     """Abstract isotropic hyperelastic material with Lamé constants ``lmbda``, ``mu`` (MPa).
 
     Raises ValueError unless both are finite, μ > 0 and the bulk modulus K = λ + 2μ/3 > 0

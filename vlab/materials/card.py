@@ -192,7 +192,7 @@ def check_path(spec, kind, targets_list) -> None:
     (vlab.loading.kinds: ``at`` maps the load parameter to its control values, ``isochoric`` those
     to the isochoric F); ``targets_list`` the control values at t = 1 of each test."""
     law = build_material(spec)
-    note = getattr(law, "locking_note", None)
+    note = law.locking_note
     if note is None:
         return
     from vlab.materials.homogeneous import isochoric_path_limit

@@ -27,6 +27,7 @@ from typing import ClassVar
 import numpy as np
 
 from vlab.materials.base import Material
+from vlab.materials.capabilities import LawCapabilities
 
 State = dict[str, np.ndarray]
 
@@ -41,7 +42,7 @@ class Response:
 
 
 @dataclass(frozen=True)
-class HistoryMaterial:
+class HistoryMaterial(LawCapabilities):
     """Base of the history-dependent laws; ``elastic`` is the hyperelastic ground law.
 
     At F = I with a virgin state every law must reduce to the ground law's small-strain response

@@ -152,7 +152,7 @@ def _limit_along(admissible: Callable[[float], bool]) -> float:
 def _describe(material) -> str:
     nu = getattr(material, "poisson_ratio", None)
     name = getattr(material, "name", type(material).__name__)
-    note = getattr(material, "locking_note", None)  # e.g. Gent: where the chains lock
+    note = material.locking_note  # e.g. Gent: where the chains lock (vlab.materials.capabilities)
     text = f"{name} with nu={nu:.4g}" if nu is not None else str(name)
     return f"{text}; {note}" if note else text
 
@@ -241,7 +241,7 @@ def plane_strain_biaxial(material, stretch_x: float, stretch_y: float) -> Homoge
 def _plane(material):
     """(3D base law, "stress" | "strain" | "") of a material or of a 2D reduction of one
     (vlab.materials.plane: ``base`` and ``plane``)."""
-    return getattr(material, "base", material), getattr(material, "plane", "")
+    return (material.base if material.plane else material), material.plane
 
 
 def homogeneous_uniaxial(material, stretch: float) -> HomogeneousState:

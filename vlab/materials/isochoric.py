@@ -26,9 +26,9 @@ from typing import ClassVar
 
 import numpy as np
 
-from vlab.materials.split import SplitNeoHookean
+from vlab.materials.capabilities import LawCapabilities
+from vlab.materials.split import OneFieldSplit, SplitNeoHookean
 from vlab.materials.volumetric import VOLUMETRIC
-from vlab.tensor import as_tensor_field, dyad
 
 __all__ = ["IsochoricVolumetric", "NonPositiveShear"]
 
@@ -44,7 +44,7 @@ class NonPositiveShear(ValueError):
 
 
 @dataclass(frozen=True, kw_only=True)
-class IsochoricVolumetric:
+class IsochoricVolumetric(OneFieldSplit, LawCapabilities):
     """ψ_iso(C̄) (the subclass) + U(J) with bulk modulus K (MPa) and ``volumetric`` form."""
 
     K: float
@@ -102,27 +102,8 @@ class IsochoricVolumetric:
         """U''(J) at J = 1 + x, MPa."""
         return self.K * VOLUMETRIC[self.volumetric].d2U(x)
 
-    # --- the one-field law (θ = J pointwise) -----------------------------------------------
-    def energy(self, F) -> np.ndarray:
-        """ψ = ψ_iso(C̄) + U(J), +inf where J <= 0 or past a locking limit, MPa."""
-        F = as_tensor_field(F)
-        return self.isochoric_energy(F) + self.U(self.volume(F))
-
-    def stress(self, F) -> np.ndarray:
-        """P = P_iso + U'(J) J F⁻ᵀ, MPa."""
-        F = as_tensor_field(F)
-        return self.isochoric_stress(F) + self.dU(self.volume(F)) * self.volume_gradient(F)
-
-    def tangent(self, F) -> np.ndarray:
-        """A = A_iso + U'' (J F⁻ᵀ) ⊗ (J F⁻ᵀ) + U' ∂²J/∂F∂F, MPa."""
-        F = as_tensor_field(F)
-        x = self.volume(F)
-        V = self.volume_gradient(F)
-        A = self.isochoric_tangent(F)
-        with np.errstate(all="ignore"):
-            dyad(self.d2U(x) * V, V, out=A)
-            A += self.dU(x) * self.volume_hessian(F)
-        return A
+    # --- the one-field law (θ = J pointwise): OneFieldSplit (vlab.materials.split) ----------
+    _tangent_errstate: ClassVar[dict] = {"all": "ignore"}  # inf/nan past J <= 0 or locking: ψ = +inf there
 
     def describe(self) -> dict:
         """μ0, K and the small-strain E, ν this card implies (results.json → input.small_strain)."""

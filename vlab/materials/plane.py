@@ -31,6 +31,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from vlab.materials.capabilities import LawCapabilities
+
 __all__ = ["PlaneStressError", "PlaneStress", "PlaneStrain", "plane_model", "embed"]
 
 LAMBDA3_MIN, LAMBDA3_MAX = 1e-6, 1e6  # search range of the out-of-plane stretch
@@ -54,7 +56,7 @@ def embed(F2: np.ndarray, lambda3) -> np.ndarray:
     return F3
 
 
-class _PlaneModel:
+class _PlaneModel(LawCapabilities):
     """Shared by both 2D reductions: names and constants are the wrapped 3D model's."""
 
     plane = ""

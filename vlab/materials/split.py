@@ -35,7 +35,7 @@ from vlab.materials.base import Material
 from vlab.materials.linear import LinearElastic
 from vlab.tensor import as_tensor_field, det, dyad, dyad_il, inv_transpose, transpose
 
-__all__ = ["SplitNeoHookean", "SplitLinear"]
+__all__ = ["OneFieldSplit", "SplitNeoHookean", "SplitLinear"]
 
 
 def _add_identity_ik_jl(A: np.ndarray, scale) -> None:
@@ -45,8 +45,46 @@ def _add_identity_ik_jl(A: np.ndarray, scale) -> None:
             A[i, j, i, j] += scale
 
 
+class OneFieldSplit:
+    """The one-field law of a split law (θ = v(F) pointwise), for any class that supplies the split
+    pieces ``volume`` v, ``volume_gradient`` ∂v/∂F, ``volume_hessian`` ∂²v/∂F∂F, ``U``, ``dU``,
+    ``d2U`` (of the volume change x = v) and ``isochoric_energy/stress/tangent``:
+
+        ψ = ψ_iso(F) + U(v),    P = P_iso + U'(v) ∂v/∂F,
+        A = A_iso + U''(v) (∂v/∂F ⊗ ∂v/∂F) + U'(v) ∂²v/∂F∂F        (MPa).
+
+    Shared by :class:`SplitNeoHookean` and the rubber models' frame
+    (vlab.materials.isochoric.IsochoricVolumetric). ``_tangent_errstate``: numpy's error handling
+    while the volumetric terms are added to A (the rubber frame ignores them: past J <= 0 or a
+    locking limit the terms are inf/nan by design, and ψ = +inf there makes the line search reject
+    the step)."""
+
+    _tangent_errstate: ClassVar[dict] = {}
+
+    def energy(self, F) -> np.ndarray:
+        """ψ = ψ_iso(F) + U(v(F)), +inf where J <= 0 (or past a locking limit), MPa."""
+        F = as_tensor_field(F)
+        return self.isochoric_energy(F) + self.U(self.volume(F))
+
+    def stress(self, F) -> np.ndarray:
+        """P = P_iso + U'(v) ∂v/∂F (∂J/∂F = J F⁻ᵀ), MPa."""
+        F = as_tensor_field(F)
+        return self.isochoric_stress(F) + self.dU(self.volume(F)) * self.volume_gradient(F)
+
+    def tangent(self, F) -> np.ndarray:
+        """A = A_iso + U''(v) (∂v/∂F ⊗ ∂v/∂F) + U'(v) ∂²v/∂F∂F, MPa."""
+        F = as_tensor_field(F)
+        x = self.volume(F)
+        V = self.volume_gradient(F)
+        A = self.isochoric_tangent(F)
+        with np.errstate(**self._tangent_errstate):
+            dyad(self.d2U(x) * V, V, out=A)
+            A += self.dU(x) * self.volume_hessian(F)
+        return A
+
+
 @dataclass(frozen=True)
-class SplitNeoHookean(Material):
+class SplitNeoHookean(OneFieldSplit, Material):
     """Neo-Hookean with a volumetric–isochoric split (Simo–Taylor–Pister type, as in Holzapfel
     §6.5 and deal.II step-44 / the Cook's membrane code gallery).
 
@@ -148,26 +186,7 @@ class SplitNeoHookean(Material):
             _add_identity_ik_jl(A, a)
         return A
 
-    # --- the one-field law (θ = J pointwise) -------------------------------------------------
-    def energy(self, F) -> np.ndarray:
-        """ψ = ψ_iso(F) + U(J), +inf where J <= 0, MPa."""
-        F = as_tensor_field(F)
-        return self.isochoric_energy(F) + self.U(self.volume(F))
-
-    def stress(self, F) -> np.ndarray:
-        """P = P_iso + U'(J) J F⁻ᵀ, MPa."""
-        F = as_tensor_field(F)
-        return self.isochoric_stress(F) + self.dU(self.volume(F)) * self.volume_gradient(F)
-
-    def tangent(self, F) -> np.ndarray:
-        """A = A_iso + U''(J) (∂J/∂F ⊗ ∂J/∂F) + U'(J) ∂²J/∂F∂F, MPa."""
-        F = as_tensor_field(F)
-        x = self.volume(F)
-        V = self.volume_gradient(F)
-        A = self.isochoric_tangent(F)
-        dyad(self.d2U(x) * V, V, out=A)
-        A += self.dU(x) * self.volume_hessian(F)
-        return A
+    # the one-field law (θ = J pointwise): OneFieldSplit
 
 
 @dataclass(frozen=True)

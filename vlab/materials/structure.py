@@ -76,6 +76,26 @@ class TangentTerms:
         second derivative of ψ), so they are never formed. Each output slice (p, m, n) is
         written once while its inputs are in cache."""
         n_qp, n_el = dx.shape
+        dyads, crosses, krons, deltas = self._pulled_terms(R, dx)
+        Y = np.empty((len(UPPER_PAIRS), n_qp, 3, 3, n_el)) if out is None else out
+        scratch = np.empty((n_qp, n_el))
+        for p, (i, k) in enumerate(UPPER_PAIRS):
+            for m in range(3):
+                for n in range(3):
+                    if i == k and n < m:                    # Â_imin = Â_inim
+                        np.copyto(Y[p, :, m, n], Y[p, :, n, m])
+                        continue
+                    parts = ([(H[i, :, m], H2[k, :, n]) for H, H2 in dyads]      # H_im H'_kn
+                             + [(H[i, :, n], H2[k, :, m]) for H, H2 in crosses]  # H_in H'_km
+                             + [(B[i, k], RCR[:, m, n]) for B, RCR in krons])   # B_ik (RCRᵀ)_mn
+                    scaled = [RCR[:, m, n] for RCR in deltas] if i == k else []
+                    _sum_products(Y[p, :, m, n], parts, scaled, scratch)
+        return Y
+
+    def _pulled_terms(self, R: np.ndarray, dx: np.ndarray) -> tuple[list, list, list, list]:
+        """The terms pulled back to reference-cell gradients, element index last: (P Rᵀ dx, Q Rᵀ)
+        pairs of the dyads and crosses (i, q, m, e), (B, R C Rᵀ dx) of the full krons (q, m, n, e)
+        and B R C Rᵀ dx of the scalar ones (B δ_ik); a factor shared by several terms is pulled once."""
         pulls: dict[int, np.ndarray] = {}                                  # id(X) -> X Rᵀ
 
         def pull(X: np.ndarray) -> np.ndarray:
@@ -93,28 +113,7 @@ class TangentTerms:
         krons = [(_batch_last(B), _pull_both(C, R, dx))                    # (q, m, n, e)
                  for B, C in self.kron if not np.isscalar(B)]
         deltas = [B * _pull_both(C, R, dx) for B, C in self.kron if np.isscalar(B)]  # B δ_ik
-        Y = np.empty((len(UPPER_PAIRS), n_qp, 3, 3, n_el)) if out is None else out
-        scratch = np.empty((n_qp, n_el))
-        for p, (i, k) in enumerate(UPPER_PAIRS):
-            for m in range(3):
-                for n in range(3):
-                    y = Y[p, :, m, n]
-                    if i == k and n < m:                    # Â_imin = Â_inim
-                        np.copyto(y, Y[p, :, n, m])
-                        continue
-                    parts = ([(H[i, :, m], H2[k, :, n]) for H, H2 in dyads]      # H_im H'_kn
-                             + [(H[i, :, n], H2[k, :, m]) for H, H2 in crosses]  # H_in H'_km
-                             + [(B[i, k], RCR[:, m, n]) for B, RCR in krons])   # B_ik (RCRᵀ)_mn
-                    scaled = [RCR[:, m, n] for RCR in deltas] if i == k else []
-                    if parts:
-                        np.multiply(*parts[0], out=y)
-                        for a, b in parts[1:]:
-                            y += np.multiply(a, b, out=scratch)
-                    else:
-                        y.fill(0.0)
-                    for term in scaled:
-                        y += term
-        return Y
+        return dyads, crosses, krons, deltas
 
     def isotropic(self) -> "IsotropicTangent | None":
         """These terms as one ``IsotropicTangent`` (what the compiled kernel takes), or None if
@@ -178,6 +177,18 @@ def _scaled(P) -> np.ndarray:
 def _batch_last(P: np.ndarray) -> np.ndarray:
     """(3,3,e,q) -> (3,3,q,e) contiguous."""
     return np.ascontiguousarray(np.swapaxes(P, 2, 3))
+
+
+def _sum_products(y: np.ndarray, parts: list, scaled: list, scratch: np.ndarray) -> None:
+    """y = Σ a b over the (a, b) in ``parts`` + Σ ``scaled``, in place (``scratch`` holds each product)."""
+    if parts:
+        np.multiply(*parts[0], out=y)
+        for a, b in parts[1:]:
+            y += np.multiply(a, b, out=scratch)
+    else:
+        y.fill(0.0)
+    for term in scaled:
+        y += term
 
 
 def _pull(P: np.ndarray, R: np.ndarray) -> np.ndarray:

@@ -64,12 +64,13 @@ def first_loading(curve: Curve) -> Curve:
 
 
 def elastic_constants(curve: Curve, window: tuple[float, float], method: str) -> ElasticConstants:
-    """What the curve's test kind measures (vlab.loading.kinds: ``measure``) over the window."""
+    """What the curve's test kind measures (its ``fit``: vlab/measure/kinds.py) over the window."""
     from vlab.loading.kinds import kind_of
+    from vlab.measure.kinds import measure  # the table of fits imports this module
 
     if not curve.t:
         return ElasticConstants(None, None, None, None, [], "not measured: no level was recorded")
-    return kind_of(curve.kind).measure(curve, window, method)
+    return measure(kind_of(curve.kind), curve, window, method)
 
 
 def uniaxial_constants(curve: Curve, window, method) -> ElasticConstants:

@@ -72,9 +72,11 @@ class Recorder:
         self.kind, self.targets = kind, targets
         self.axes = list(kind.axes)
         self.load_cells = {a: LoadCell(loading.moving_dofs[a], specimen.force_factor(a)) for a in self.axes}
-        self.extensometers, self.width, thickness = kind.gauges(space, specimen)
+        from vlab.measure import kinds as provided  # what the kind declares (not at import: kinds -> fits -> Curve)
+
+        self.extensometers, self.width, thickness = provided.gauges(kind, space, specimen)
         self.thickness = ThicknessGauge(space, material, specimen.thickness) if thickness is None else thickness
-        self.readers = kind.extra_readers(space, specimen, loading, material)
+        self.readers = provided.extra_readers(kind, space, specimen, loading, material)
         self.curve = Curve(area0=kind.areas(specimen), kind=kind.name, extra={k: [] for k in self.readers})
         for a in self.axes:
             self.curve.stretch[a], self.curve.force[a], self.curve.strain[a] = [], [], []

@@ -13,6 +13,7 @@ import numpy as np
 from vlab.fe.stepping import Level
 from vlab.measure.centre_stress import CentreStressProbe, centre_report
 from vlab.loading.kinds import kind_of
+from vlab.measure import kinds as provided
 from vlab.measure.elastic_constants import ElasticConstants, elastic_constants, first_loading
 from vlab.measure.recorder import Curve, Recorder
 from vlab.pipeline.prepare import Prepared
@@ -31,7 +32,7 @@ class Instruments:
         kind = kind_of(test)
         self.recorder = Recorder(space, specimen, kind, test.targets, prepared.loading, oracle,
                                  CentreStressProbe.build(space, specimen, oracle))
-        self.probe = kind.probe(space, specimen, oracle) if oracle is not None else None
+        self.probe = provided.probe(kind, space, specimen, oracle) if oracle is not None else None
         self.homogeneity: list[dict] = []
         self.seconds = 0.0
 
@@ -69,7 +70,8 @@ def measure(prepared: Prepared, instruments: Instruments) -> Measured:
                                                            scene.measure)
     rows = instruments.homogeneity
     return Measured(curve, constants, _reference(prepared, curve),
-                    crosshead=kind_of(scene.test).crosshead(fitted_part(curve, scene), window, fit), uncertainty=uncertainty,
+                    crosshead=provided.crosshead(kind_of(scene.test), fitted_part(curve, scene), window, fit),
+                    uncertainty=uncertainty,
                     cruciform=centre_report(curve, window, fit),
                     homogeneity=_homogeneity_report(curve, rows, window) if rows else None)
 

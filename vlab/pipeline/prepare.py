@@ -21,6 +21,7 @@ from vlab.materials.base import Material
 from vlab.materials.history import HistoryMaterial
 from vlab.materials.plane import plane_model
 from vlab.scene import Scene, SceneError
+from vlab.settings import Settings
 
 __all__ = ["Prepared", "MeshQualityError", "prepare", "build_specimen", "checked_quality", "make_body"]
 
@@ -48,12 +49,13 @@ class Prepared:
     oracle: Material | None
 
 
-def prepare(scene: Scene, specimen: Specimen | None = None) -> Prepared:
-    """Mesh (or take ``specimen``), check, build the space, body, grips and partition."""
+def prepare(scene: Scene, specimen: Specimen | None = None, settings: Settings | None = None) -> Prepared:
+    """Mesh (or take ``specimen``), check, build the space, body, grips and partition; ``settings``
+    (vlab.settings: the kernel and assembly threads) go to the body (None: the installed ones)."""
     specimen = specimen or build_specimen(scene)
     quality = checked_quality(scene, specimen)
     space = DisplacementSpace.build(specimen.mesh, scene.mesh.order, specimen.sheet_thickness or 1.0)
-    body = make_body(scene, space)
+    body = make_body(scene, space, settings)
     material = body.material  # None for the spring network: no analytic oracle
     ground = material.elastic if isinstance(material, HistoryMaterial) else material  # its ground law
     oracle = material
@@ -85,14 +87,20 @@ def checked_quality(scene: Scene, specimen: Specimen) -> MeshQuality:
     quality = mesh_quality(specimen.mesh)
     if quality.min_quality < scene.mesh.min_quality:
         raise MeshQualityError(
-            f"mesh.min_quality: the {specimen.shape} mesh's worst element (#{quality.worst_element}) has "
+            f"mesh.min_quality: {_mesh_name(specimen.shape)}'s worst element (#{quality.worst_element}) has "
             f"{quality.measure} quality {quality.min_quality:.3g} < mesh.min_quality = "
             f"{scene.mesh.min_quality:g} (1 is ideal; max aspect ratio {quality.max_aspect_ratio:.3g}); "
             f"change mesh.size / mesh.cell, or lower mesh.min_quality")
     return quality
 
 
-def make_body(scene: Scene, space: DisplacementSpace):
+def _mesh_name(shape: str) -> str:
+    """How a message names a specimen's mesh: "the dogbone mesh", but "the imported mesh" for
+    shape = "mesh" (not "the mesh mesh")."""
+    return "the imported mesh" if shape == "mesh" else f"the {shape} mesh"
+
+
+def make_body(scene: Scene, space: DisplacementSpace, settings: Settings | None = None):
     """The body a scene's material.model and mesh.formulation ask for: a continuum material
     (displacement-only or mixed θ/p condensed per element), on a 2D space (a sheet) the
     material's plane-stress or plane-strain reduction, or the spring network."""
@@ -105,11 +113,11 @@ def make_body(scene: Scene, space: DisplacementSpace):
     if space.dim == 2:
         elastic = plane_model(elastic, scene.specimen.plane)
     if not scene.effects:  # the elastic path: nothing else is built or assembled
-        return HyperelasticBody(space, elastic)
+        return HyperelasticBody(space, elastic, settings=settings)
     from vlab.effects.build import external_load, history_law
     from vlab.fe.external_load import LoadedBody
     from vlab.fe.history_body import HistoryBody
     law = history_law(scene, elastic)
-    body = HistoryBody(space, law) if law is not None else HyperelasticBody(space, elastic)
+    body = HistoryBody(space, law) if law is not None else HyperelasticBody(space, elastic, settings=settings)
     f_ext = external_load(scene, space)
     return body if f_ext is None else LoadedBody(body, f_ext)

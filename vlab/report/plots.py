@@ -7,12 +7,10 @@ from pathlib import Path
 from vlab.report import figures as plt  # pyplot-free Agg figures
 
 
-def plot_stress_strain(data: dict, path: Path) -> None:
-    """Engineering stress against extensometer strain, the analytic curve dashed if known,
-    the modulus window shaded and the fitted line drawn; beside it the same stress against the
-    crosshead (grip-to-grip) strain, which is what a test without an extensometer would plot."""
+def _draw_curves(ax, data: dict) -> None:
+    """The FE curve of each loaded axis (load cell over extensometer), its analytic homogeneous
+    curve dashed where known, and the crosshead-strain curve where there is one."""
     curve, measured = data["curve"], data["measured"]
-    fig, ax = plt.subplots(figsize=(6.4, 4.4), dpi=120)
     for sfx, label in (("", "x"), ("_y", "y")):
         if "strain" + sfx not in curve:
             continue
@@ -26,6 +24,15 @@ def plot_stress_strain(data: dict, path: Path) -> None:
     if "crosshead_strain" in curve and measured.get("E_crosshead") is not None:
         ax.plot([0.0] + curve["crosshead_strain"], [0.0] + curve["stress"], "s:", ms=2, color="tab:gray",
                 label=f"FE, load cell / crosshead strain (E would read {measured['E_crosshead']:.4g})")
+
+
+def plot_stress_strain(data: dict, path: Path) -> None:
+    """Engineering stress against extensometer strain, the analytic curve dashed if known,
+    the modulus window shaded and the fitted line drawn; beside it the same stress against the
+    crosshead (grip-to-grip) strain, which is what a test without an extensometer would plot."""
+    curve, measured = data["curve"], data["measured"]
+    fig, ax = plt.subplots(figsize=(6.4, 4.4), dpi=120)
+    _draw_curves(ax, data)
     fit = measured.get("E_fit")
     if fit:
         lo, hi = fit["window"]

@@ -70,6 +70,35 @@ class Scene:
 
 
 def _parse(data: Mapping[str, Any]) -> Scene:
+    """The Scene of a scene file's tables, each section parsed by its module (vlab/scene/) and then
+    the checks across sections; the first error is a SceneError naming the field."""
+    name, description = _header(data)
+    specimen = parse_specimen(data["specimen"])
+    mesh, material = parse_mesh(data["mesh"], specimen), parse_material(data["material"])
+    if specimen.shape == "cad":  # meshed by Gmsh now that mesh.size is known
+        from vlab.geometry.cad_specimen import meshed
+
+        specimen = meshed(specimen, mesh.size)
+    check_formulation(mesh, material.model)
+    parse_compare(data.get("compare", {}))  # every [compare.<label>] card, validated now
+    _check_network(material.model, mesh, specimen)
+    test = parse_test(data["test"], specimen.shape)
+    _check_test(test, specimen, data.get("effects", {}))
+    if continuum(material.model):  # a locking limit on the test's path (Gent)
+        check_path(material, kind_of(test), [test.targets])
+    check_symmetry(mesh, test, specimen)
+    check_effects_scope(data.get("effects", {}), specimen.shape, mesh, material.model)
+    return Scene(name=name, description=description, specimen=specimen,
+                 mesh=mesh, material=material, test=test,
+                 measure=parse_measure(data.get("measure", {}), specimen),
+                 solver=parse_solver(data.get("solver", {})),
+                 source=copy.deepcopy(dict(data)), base_dir=str(SCENE_DIR.get()),
+                 effects=parse_effects(data.get("effects", {}), material, test))
+
+
+def _header(data: Any) -> tuple[str, str]:
+    """(name, description) once the top level holds only known sections and keys and every
+    required section."""
     if not isinstance(data, Mapping):
         raise SceneError(f"a scene must be a table of sections, got {fields.show(data)}")
     for key, val in data.items():
@@ -89,33 +118,17 @@ def _parse(data: Mapping[str, Any]) -> Scene:
     description = data.get("description", "")
     if not isinstance(description, str):
         raise SceneError(f"description must be a string, got {fields.show(description)}")
-    specimen = parse_specimen(data["specimen"])
-    mesh, material = parse_mesh(data["mesh"], specimen), parse_material(data["material"])
-    if specimen.shape == "cad":  # meshed by Gmsh now that mesh.size is known
-        from vlab.geometry.cad_specimen import meshed
+    return name, description
 
-        specimen = meshed(specimen, mesh.size)
-    check_formulation(mesh, material.model)
-    parse_compare(data.get("compare", {}))  # every [compare.<label>] card, validated now
-    model = material.model
+
+def _check_network(model: str, mesh, specimen) -> None:
+    """A spring network (not a continuum) joins mesh vertices in 3D: order 1, no sheet."""
     if not continuum(model) and mesh.order != 1:
         raise SceneError(f"material.model {model!r} joins mesh vertices by springs and needs "
                          f"mesh.order = 1, got {mesh.order}")
     if not continuum(model) and specimen.shape == "sheet":
         raise SceneError(f"material.model {model!r} is a 3D network of mesh edges; "
                          f"specimen.shape = 'sheet' needs a continuum model (not {model!r})")
-    test = parse_test(data["test"], specimen.shape)
-    _check_test(test, specimen, data.get("effects", {}))
-    if continuum(model):  # a locking limit on the test's path (Gent)
-        check_path(material, kind_of(test), [test.targets])
-    check_symmetry(mesh, test, specimen)
-    check_effects_scope(data.get("effects", {}), specimen.shape, mesh, material.model)
-    return Scene(name=name, description=description, specimen=specimen,
-                 mesh=mesh, material=material, test=test,
-                 measure=parse_measure(data.get("measure", {}), specimen),
-                 solver=parse_solver(data.get("solver", {})),
-                 source=copy.deepcopy(dict(data)), base_dir=str(SCENE_DIR.get()),
-                 effects=parse_effects(data.get("effects", {}), material, test))
 
 
 def _check_test(test: TestSpec, specimen: Specimen, effects: Any) -> None:

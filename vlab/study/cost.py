@@ -10,7 +10,7 @@ element order and cell type the shape allows):
 
 Reference (error = |q − q_ref| / |q_ref| for q = E, ν, final force, final stress):
     analytic     uniaxial block with roller grips: the homogeneous solution of the scene's model
-                 at the recorded stretches, fitted over the same window (vlab.measure.reference);
+                 at the recorded stretches, fitted over the same window (the test kind's reference, vlab.loading.kinds);
     Richardson   otherwise: each mesh family (order, cell) extrapolated on its effective element
                  size h_eff from its three finest levels; the reference of a quantity is the family
                  closest to its own limit (vlab.study.reference), the observed order of every

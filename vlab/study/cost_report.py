@@ -62,7 +62,7 @@ def write_cost_report(folder: Path, title: str, summaries: list[dict], analysis:
         f"<tr><th>{html.escape(q)}</th><td class=num>{_num(analysis.reference.get(q))}</td>"
         f"<td>{_num(analysis.orders.get(q), 3)}</td><td>{html.escape(analysis.notes.get(q, ''))}</td></tr>"
         for q in analysis.reference)
-    kind = ("the analytic homogeneous solution of the scene's model (vlab.measure.reference)"
+    kind = ("the analytic homogeneous solution of the scene's model (the test kind's reference, vlab.loading.kinds)"
             if analysis.reference_kind == "analytic" else
             "per quantity, the Richardson extrapolation of the mesh family (order, cell) closest to its own "
             "limit, each family fitted on the effective element size h_eff = (volume / elements)^(1/3) "

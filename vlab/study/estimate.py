@@ -47,6 +47,23 @@ def _values(result) -> dict:
     return {"E": result.constants.E, "nu": result.constants.nu, "final_stress": float(stress[peak])}
 
 
+def _estimates(fine: dict, rough: dict, ratio: float, order: int) -> tuple[dict, bool]:
+    """Per quantity the fine and companion values and err = |q_h − q_rh| / (r^p − 1), absolute
+    and relative; and whether every pair agrees to round-off (the estimate is then zero by
+    construction, not a measured convergence)."""
+    quantities, exact = {}, True
+    for q in QUANTITIES:
+        a, b = fine[q], rough[q]
+        if a is None or b is None:
+            quantities[q] = {"value": a, "companion": b, "error": None, "relative": None}
+            continue
+        diff = abs(a - b)
+        exact &= diff <= ROUND_OFF * max(abs(a), 1e-300)
+        err = diff / (ratio**order - 1.0)
+        quantities[q] = {"value": a, "companion": b, "error": err, "relative": err / abs(a) if a else None}
+    return quantities, exact
+
+
 def accuracy_estimate(result) -> dict:
     """The estimate for a finished RunResult (a JSON-safe dict; ``available`` False with a reason)."""
     from vlab.run import run_scene
@@ -72,17 +89,7 @@ def accuracy_estimate(result) -> dict:
     if not coarse.converged:
         return out | {"reason": f"the companion solve stopped: {coarse.history.failure.reason}", "cost_s": cost}
     ratio = coarse_scene.mesh.size / scene.mesh.size
-    fine, rough = _values(result), _values(coarse)
-    quantities, exact = {}, True
-    for q in QUANTITIES:
-        a, b = fine[q], rough[q]
-        if a is None or b is None:
-            quantities[q] = {"value": a, "companion": b, "error": None, "relative": None}
-            continue
-        diff = abs(a - b)
-        exact &= diff <= ROUND_OFF * max(abs(a), 1e-300)
-        err = diff / (ratio**scene.mesh.order - 1.0)
-        quantities[q] = {"value": a, "companion": b, "error": err, "relative": err / abs(a) if a else None}
+    quantities, exact = _estimates(_values(result), _values(coarse), ratio, scene.mesh.order)
     note = ("both solves agree to round-off: the estimate is zero by construction (the test's state is "
             "represented exactly by every mesh, e.g. the homogeneous roller block), not a measured "
             "convergence" if exact else "")

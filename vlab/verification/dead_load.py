@@ -26,7 +26,7 @@ class DeadLoad:
     def __init__(self, body, f_ext: np.ndarray):
         self.body, self.f_ext = body, f_ext
         self.space, self.pattern, self.material = body.space, body.pattern, body.material
-        if getattr(body, "advance", None) is None:
+        if body.advance is None:
             self.advance = None  # no element unknowns: Newton evaluates u + αΔu directly
 
     def evaluate(self, u: np.ndarray):

@@ -18,23 +18,26 @@ name:
   homogeneous state on the kind's oracle set-up, ``oracle_setups`` = {shape: grips}; raises
   InadmissibleState when none exists), and ``reference(material, curve)`` (its curve at the
   recorded rows);
-- **instruments**: ``axes`` (the load cells recorded, by axis), ``areas(specimen)`` (each load
-  cell's reference area), ``gauges(space, specimen)`` (the strain instrument of each axis, the
-  width and thickness gauges), ``extra_readers(space, specimen, loading, material)`` (other
-  readings, e.g. the normal force on a shear plate, the FE centre stress) and ``probe(...)`` (the
-  field statistics of results.json → homogeneity: a dogbone's gauge section, the distance from
-  pure shear or from simple shear);
-- **measures**: ``measure(curve, window, method) -> ElasticConstants`` (E, ν uniaxially; the
-  biaxial constants; the planar modulus E/(1 − ν²); the shear modulus G and the normal-stress
-  difference, in ``extra``), each over the stated window with its fit quality; ``crosshead``
-  (uniaxial: the modulus from grip strain), ``measured_units``;
+- **instruments**, declared by name and provided by the measure layer (vlab/measure/kinds.py:
+  a kind never imports it): ``axes`` (the load cells recorded, by axis), ``areas(specimen)``
+  (each load cell's reference area), ``gauge`` (the strain instruments: "extensometers" along
+  each loaded axis with width and thickness, or "shear-gauge"), ``readers`` (other readings, e.g.
+  "normal-force" on a shear plate, "centre-cauchy": the FE centre stress) and ``field_probe``
+  (the field statistics of results.json → homogeneity: "gauge-section" of a dogbone,
+  "pure-shear", "simple-shear");
+- **measures**, by name likewise: ``fit`` ("uniaxial": E, ν; "biaxial": the biaxial constants;
+  "planar": the planar modulus E/(1 − ν²); "shear": the shear modulus G and the normal-stress
+  difference, in ``extra``), each over the stated window with its fit quality; ``crosshead_fit``
+  ("crosshead", uniaxial: the modulus from grip strain), ``measured_units``;
 - **results and report**: ``columns(curve)`` and ``units`` (results.json → curve),
   ``force_column`` / ``control_column``, ``plot`` (the report's axes and labels),
   ``measures_E`` and ``lateral_ratio`` (whether E, ν and the apparent Poisson's ratio mean
   something), ``cyclic``, ``effects`` and ``symmetric`` (what the scene may combine it with).
 
 Adding a kind is one module here defining its TestKind and one ``register`` call below; the
-specimen shapes that can run it say so in their registry entry (vlab/geometry/shapes.py).
+specimen shapes that can run it say so in their registry entry (vlab/geometry/shapes.py). A kind
+that measures with the existing instruments and fits names them; a new instrument or fit is one
+function in vlab/measure/ and one entry in the tables of vlab/measure/kinds.py.
 """
 
 from __future__ import annotations

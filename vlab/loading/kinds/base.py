@@ -13,7 +13,7 @@ from typing import Any
 from vlab import fields
 from vlab.fields import SceneError
 
-__all__ = ["TestKind", "stretch_value", "PlotSpec"]
+__all__ = ["TestKind", "stretch_value", "PlotSpec", "relative_error"]
 
 STRETCH_RANGE = (0.2, 10.0)  # grip stretches a scene may ask for
 
@@ -26,6 +26,20 @@ def stretch_value(field: str, v: Any) -> float:
     if not STRETCH_RANGE[0] <= v <= STRETCH_RANGE[1]:
         raise SceneError(f"{field} must be in the allowed range 0.2..10, got {v:g}")
     return v
+
+
+def relative_error(measured, reference, scale: float | None = None) -> float:
+    """max |measured − reference| / max |reference| over the common rows, or / ``scale`` when
+    given (the largest reference stress of any axis: an axis whose stress passes through zero,
+    or stays there, σ_y ≡ 0 when ε_y = −ν ε_x, has no scale of its own)."""
+    import numpy as np
+
+    n = min(len(measured), len(reference))
+    if n == 0:
+        return float("nan")
+    m, r = np.asarray(measured[:n]), np.asarray(reference[:n])
+    denominator = np.max(np.abs(r)) if scale is None else scale
+    return float(np.max(np.abs(m - r)) / max(denominator, 1e-300))
 
 
 class PlotSpec:
@@ -104,7 +118,6 @@ class TestKind:
         """The oracle's nominal stress per loaded axis and lateral stretch at the recorded rows,
         with the largest relative error of the load-cell stress against it."""
         from vlab.materials.homogeneous import InadmissibleState
-        from vlab.measure.reference import relative_error
 
         out: dict = {f"stress_{'xy'[a]}": [] for a in self.axes} | {"lateral_stretch": []}
         try:
@@ -124,24 +137,12 @@ class TestKind:
                                                               scale)
         return out
 
-    # --- instruments ---------------------------------------------------------------------------
-    def gauges(self, space, specimen) -> tuple[dict, object, object]:
-        """(axis -> extensometer, width extensometer, thickness extensometer or None on a sheet)."""
-        from vlab.measure.instruments import extensometers
-
-        marks = [specimen.extensometers[a] for a in self.axes] + [specimen.transverse[0]]
-        if space.dim == 3:
-            marks.append(specimen.thickness)
-        found = extensometers(space, marks, specimen.symmetry)
-        return dict(zip(self.axes, found)), found[len(self.axes)], (found[-1] if space.dim == 3 else None)
-
-    def extra_readers(self, space, specimen, loading, material) -> dict:
-        """Readings beyond load cells and extensometers: name -> reader(level) -> float."""
-        return {}
-
-    # --- measures ------------------------------------------------------------------------------
-    def measure(self, curve, window, method):
-        raise NotImplementedError
+    # --- instruments and measures: declared by name, provided by vlab/measure/kinds.py -----------
+    gauge = "extensometers"  # strain instruments: "extensometers" (per loaded axis) | "shear-gauge"
+    readers: tuple[str, ...] = ()  # other readings: "normal-force", "centre-cauchy"
+    field_probe = "gauge-section"  # results.json → homogeneity: "gauge-section" | "pure-shear" | "simple-shear"
+    fit = ""  # the constants measured: "uniaxial" | "biaxial" | "planar" | "shear"
+    crosshead_fit: str | None = None  # "crosshead": the modulus from grip strain (uniaxial)
 
     def columns(self, curve) -> dict[str, list[float]]:
         """results.json → curve: axis 0 unsuffixed, axis 1 suffixed ``_y``."""
@@ -161,16 +162,6 @@ class TestKind:
              "stress": "MPa (engineering)", "force": "N", "true_stress": "MPa",
              "crosshead_strain": "1 (grip separation change / initial grip separation)", "time": "s"}
 
-    def probe(self, space, specimen, material):
-        """The field probe read at every level (results.json → homogeneity), or None."""
-        from vlab.measure.homogeneity import HomogeneityProbe
-
-        return HomogeneityProbe.build(space, specimen, material)
-
     def areas(self, specimen) -> dict[int, float]:
         """Reference area (mm²) each load cell's force is divided by."""
         return {a: specimen.area0[a] for a in self.axes}
-
-    def crosshead(self, curve, window, method) -> dict | None:
-        """The modulus from grip (crosshead) strain, where the kind has one (uniaxial)."""
-        return None

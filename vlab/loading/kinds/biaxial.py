@@ -23,6 +23,7 @@ class Biaxial(TestKind):
     plot = PlotSpec("strain", "stress", "engineering strain [–] (extensometer)", "engineering stress [MPa]",
                     (("strain", "stress", "stress_x"), ("strain_y", "stress_y", "stress_y")))
     doc = "biaxial tension or compression along x and y, any ratio"
+    fit = "biaxial"  # E and ν from both axes (vlab/measure/kinds.py)
 
     def parse_load(self, t: fields.Table, protocol: str) -> tuple[float, ...]:
         v = t.get("stretch")
@@ -40,11 +41,6 @@ class Biaxial(TestKind):
         import numpy as np
 
         return np.diag([values[0], values[1], 1.0 / (values[0] * values[1])])  # diag(λx, λy, 1/(λx λy))
-
-    def measure(self, curve, window, method):
-        from vlab.measure.elastic_constants import biaxial_constants
-
-        return biaxial_constants(curve, window, method)
 
 
 BIAXIAL = Biaxial()

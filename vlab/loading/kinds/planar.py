@@ -33,6 +33,7 @@ class Planar(TestKind):
                     (("stretch", "stress", "stress_x"),))
     measured_units = {"planar_modulus": "MPa"}
     doc = "planar tension (pure shear): lateral stretch held at 1, thickness free"
+    fit, field_probe = "planar", "pure-shear"  # vlab/measure/kinds.py
 
     def parse_load(self, t: fields.Table, protocol: str) -> tuple[float, ...]:
         v = t.get("stretch")
@@ -60,16 +61,6 @@ class Planar(TestKind):
         import numpy as np
 
         return np.diag([values[0], 1.0, 1.0 / values[0]])  # diag(λ, 1, 1/λ)
-
-    def measure(self, curve, window, method):
-        from vlab.measure.planar import planar_constants
-
-        return planar_constants(curve, window, method)
-
-    def probe(self, space, specimen, material):
-        from vlab.measure.planar import PureShearProbe
-
-        return PureShearProbe.build(space, specimen, material)
 
     def columns(self, curve) -> dict[str, list[float]]:
         return super().columns(curve) | {"crosshead_strain": [s - 1.0 for s in curve.stretch[0]]}

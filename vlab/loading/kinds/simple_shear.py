@@ -26,7 +26,7 @@ import numpy as np
 
 from vlab import fields
 from vlab.fields import SceneError
-from vlab.loading.kinds.base import PlotSpec, TestKind
+from vlab.loading.kinds.base import PlotSpec, TestKind, relative_error
 
 SHEAR_LIMIT = 5.0  # largest |γ| a scene may ask for
 
@@ -47,6 +47,8 @@ class SimpleShear(TestKind):
     measured_units = {"G": "MPa", "G_plate": "MPa", "normal_stress_at_peak": "MPa",
                       "normal_stress_difference": "MPa"}
     doc = "simple shear x = X + γ Y e1 (kinematic block) or between rigid plates"
+    gauge, readers = "shear-gauge", ("normal-force", "centre-cauchy")  # vlab/measure/kinds.py
+    field_probe, fit = "simple-shear", "shear"
     units = {"shear": "1 (plate travel / gap)", "shear_gauge": "1 (gauge marks)", "shear_force": "N",
              "normal_force": "N (tension > 0)", "shear_stress": "MPa (F_s / plate area)",
              "normal_stress": "MPa (F_n / plate area)", "centre_cauchy": "MPa (FE centre average)", "time": "s"}
@@ -109,8 +111,6 @@ class SimpleShear(TestKind):
         return simple_shear(material, values[0])
 
     def reference(self, material, curve) -> dict:
-        from vlab.measure.reference import relative_error
-
         states = [self.state(material, g) for g in zip(curve.stretch[0])]
         sigma = [s.cauchy for s in states]
         out = {"shear_stress": [float(s.P[0, 1]) for s in states],
@@ -125,30 +125,6 @@ class SimpleShear(TestKind):
         out["max_error_normal_over_shear"] = (float(np.max(np.abs(normal - out["normal_stress"][:len(normal)])))
                                               / scale if len(normal) else None)
         return out
-
-    def gauges(self, space, specimen):
-        from vlab.measure.instruments import ShearGauge, extensometers
-
-        width, thickness = extensometers(space, [specimen.transverse[0], specimen.thickness])
-        return {0: ShearGauge(space, specimen.extensometers[1])}, width, thickness  # marks across the gap (y)
-
-    def extra_readers(self, space, specimen, loading, material) -> dict:
-        from vlab.measure.instruments import LoadCell
-        from vlab.measure.shear import centre_cauchy_readers
-
-        cell = LoadCell(loading.moving_dofs[1])
-        readers = {"normal_force": lambda level: cell.read(level.evaluation.f_int)}
-        return readers | centre_cauchy_readers(space, specimen, material)
-
-    def probe(self, space, specimen, material):
-        from vlab.measure.shear import ShearFieldProbe
-
-        return ShearFieldProbe.build(space, specimen, material)
-
-    def measure(self, curve, window, method):
-        from vlab.measure.shear import shear_constants
-
-        return shear_constants(curve, window, method)
 
     def columns(self, curve) -> dict[str, list[float]]:
         area = curve.area0[0]

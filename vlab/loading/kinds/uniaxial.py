@@ -24,6 +24,7 @@ class Uniaxial(TestKind):
     plot = PlotSpec("strain", "stress", "engineering strain [–] (extensometer)", "engineering stress [MPa]",
                     (("strain", "stress", "stress_x"),))
     doc = "uniaxial tension or compression along x"
+    fit, crosshead_fit = "uniaxial", "crosshead"  # E and ν; the crosshead modulus (vlab/measure/kinds.py)
 
     def parse_load(self, t: fields.Table, protocol: str) -> tuple[float, ...]:
         v = t.get("stretch")
@@ -43,18 +44,8 @@ class Uniaxial(TestKind):
         lam = values[0]
         return np.diag([lam, lam**-0.5, lam**-0.5])  # F = diag(λ, λ^(−1/2), λ^(−1/2))
 
-    def measure(self, curve, window, method):
-        from vlab.measure.elastic_constants import uniaxial_constants
-
-        return uniaxial_constants(curve, window, method)
-
     def columns(self, curve) -> dict[str, list[float]]:
         return super().columns(curve) | {"crosshead_strain": [s - 1.0 for s in curve.stretch[0]]}
-
-    def crosshead(self, curve, window, method) -> dict | None:
-        from vlab.measure.elastic_constants import crosshead_modulus
-
-        return crosshead_modulus(curve, window, method)
 
 
 UNIAXIAL = Uniaxial()
