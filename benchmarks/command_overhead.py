@@ -2,11 +2,21 @@
 
     python benchmarks/command_overhead.py [SCENE] [--repeat 3]
 
-Each repeat runs the command in a fresh process (``python -m vlab run ... -q``) and, separately,
-the same phases in a fresh process with a clock around each: interpreter + ``import vlab.cli``,
-``run_scene`` (the results.json ``timing.total_s`` is inside it), ``write_run`` without renders
-(results.json, CSV, PNGs, VTU/PVD, HTML). Wall and CPU (user + system of all threads) seconds; on
-a loaded machine the CPU figures are the steadier ones. Best of the repeats.
+Each repeat runs the real command (``python -m vlab run SCENE --no-render --no-estimate -q``) in
+a fresh process, with clocks put around its phases from outside the package (vlab.run.run_scene,
+vlab.report.writer.write_run and the final ``os._exit`` are wrapped by the launcher below, so the
+command runs its own code): the interpreter's start-up, ``import vlab.cli`` (typer, rich, the
+scene grammar and the registries it loads), the CLI until the solve, numba's start-up (inside
+run_scene, before its clocks), the solve itself (results.json ``timing.total_s``: mesh, solve,
+measure), the report without renders (results.json, CSV, PNGs, VTU/PVD, HTML) and the process
+exit. Wall seconds and CPU seconds (user + system of all threads of the process). Three variants
+run interleaved, so that they meet the same load: the command as shipped (the report's imports
+made by a thread while the solver works, vlab.report.prefetch; the fast exit of vlab/__main__.py),
+without the prefetch thread, and with Python's normal exit (interpreter finalization). Medians
+over the repeats; the load average is printed (the machine is shared: wall times under load
+are noisy, the CPU figures are the steadier ones). ``--baseline TREE`` also times the plain
+command (``python -m vlab run ...``, no launcher) with PYTHONPATH = TREE (e.g. a checkout of main)
+and with this tree, interleaved: whole-command wall and CPU and wall − timing.total_s.
 """
 
 from __future__ import annotations
@@ -15,6 +25,7 @@ import argparse
 import json
 import os
 import resource
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -22,63 +33,142 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-PHASES = r"""
+VARIANTS = ("shipped", "no-prefetch", "normal-exit")
+LAUNCHER = r"""
 import json, os, sys, time
-from pathlib import Path
-def cpu():
+def stamp():
     t = os.times()
-    return t.user + t.system
-w0, c0 = time.perf_counter(), cpu()
-import vlab.cli  # noqa: F401  what the command imports before it runs
-from vlab.report.writer import ReportOptions, write_run
-from vlab.run import run_scene
-from vlab.scene import load_scene
-w1, c1 = time.perf_counter(), cpu()
-scene = load_scene(Path(sys.argv[1]))
-result = run_scene(scene)
-w2, c2 = time.perf_counter(), cpu()
-write_run(result, Path(sys.argv[2]), None, ReportOptions(render=False))
-w3, c3 = time.perf_counter(), cpu()
-print("RESULT " + json.dumps({"import": [w1 - w0, c1 - c0], "run_scene": [w2 - w1, c2 - c1],
-                              "write_run": [w3 - w2, c3 - c2], "solve_total_s": result.timing["total_s"]}))
+    return [time.perf_counter(), t.user + t.system]
+marks = {"start": stamp()}
+variant, record, args = sys.argv[1], sys.argv[2], sys.argv[3:]
+import vlab.cli
+marks["import_cli"] = stamp()
+import vlab.report.prefetch, vlab.report.writer, vlab.run
+if variant == "no-prefetch":
+    vlab.report.prefetch.ReportPrefetch.__init__.__defaults__ = ((),)
+def wrapped(module, name, before, after):
+    inner = getattr(module, name)
+    def call(*a, **k):
+        marks[before] = stamp()
+        out = inner(*a, **k)
+        marks[after] = stamp()
+        if name == "run_scene":
+            marks["solve_total_s"] = out.timing["total_s"]
+        return out
+    setattr(module, name, call)
+wrapped(vlab.run, "run_scene", "run_start", "run_end")
+wrapped(vlab.report.writer, "write_run", "write_start", "write_end")
+def dump():
+    marks["end"] = stamp()
+    with open(record, "w") as f:
+        json.dump(marks, f)
+if variant == "normal-exit":
+    try:
+        vlab.cli.app(args=args, prog_name="vlab")
+    except SystemExit as exc:
+        dump()
+        raise
+else:
+    real_exit = os._exit
+    def fast_exit(code):
+        dump()
+        real_exit(code)
+    os._exit = fast_exit
+    sys.argv = ["vlab"] + args
+    import vlab.__main__
+    vlab.__main__.main()
 """
 
 
-def command(scene: Path, out: Path) -> tuple[float, float]:
+def one(variant: str, scene: Path, out: Path, record: Path) -> dict:
+    """Marks of one command (perf_counter is the system's monotonic clock, shared by processes)."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
-    subprocess.run([sys.executable, "-m", "vlab", "run", str(scene), "--no-render", "--no-estimate",
-                    "--out", str(out), "-q"], check=True, cwd=ROOT, capture_output=True)
+    subprocess.run([sys.executable, "-c", LAUNCHER, variant, str(record), "run", str(scene), "--no-render",
+                    "--no-estimate", "--out", str(out), "-q", "--force"], check=True, cwd=ROOT,
+                   capture_output=True)
+    t1 = time.perf_counter()
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return time.perf_counter() - t0, (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    m = json.loads(record.read_text())
+    total = m["solve_total_s"]
+
+    def span(a, b):
+        return [m[b][0] - m[a][0], m[b][1] - m[a][1]]
+
+    run = span("run_start", "run_end")
+    return {
+        "interpreter start-up": [m["start"][0] - t0, m["start"][1]],
+        "import vlab.cli (typer, rich, scene grammar, registries)": span("start", "import_cli"),
+        "CLI until the solve (scene read, folder checks, vlab.run imports)": span("import_cli", "run_start"),
+        "numba start-up (run_scene before its clocks)": [run[0] - total, None],
+        "solve: results.json timing.total_s (mesh, solve, measure)": [total, None],
+        "run_scene (numba start-up + solve), CPU of all threads": [run[0], run[1]],
+        "report without renders (write_run)": span("write_start", "write_end"),
+        "CLI after the report (summary)": span("write_end", "end"),
+        "process exit": [t1 - m["end"][0], cpu - m["end"][1]],
+        "whole command": [t1 - t0, cpu],
+        "overhead = whole command - timing.total_s": [t1 - t0 - total, None],
+    }
 
 
-def phases(scene: Path, out: Path) -> dict:
-    proc = subprocess.run([sys.executable, "-c", PHASES, str(scene), str(out)], capture_output=True,
-                          text=True, cwd=ROOT, check=True)
-    return json.loads([x for x in proc.stdout.splitlines() if x.startswith("RESULT ")][0][7:])
+def plain(tree: Path, scene: Path, out: Path) -> list[float]:
+    """[wall, CPU, wall − timing.total_s] of the command run from ``tree``'s package."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    t0 = time.perf_counter()
+    subprocess.run([sys.executable, "-m", "vlab", "run", str(scene), "--no-render", "--no-estimate", "--out",
+                    str(out), "-q", "--force"], check=True, cwd=ROOT, capture_output=True,
+                   env=os.environ | {"PYTHONPATH": str(tree)})
+    wall = time.perf_counter() - t0
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    total = json.loads((out / "results.json").read_text())["timing"]["total_s"]
+    return [wall, cpu, wall - total]
+
+
+def compare_trees(baseline: Path, scene: Path, repeat: int, scratch: Path) -> None:
+    trees = {"baseline " + str(baseline): baseline, "this tree": ROOT}
+    rows = {name: [] for name in trees}
+    for i in range(repeat):
+        for name, tree in trees.items():
+            rows[name].append(plain(tree, scene, scratch / f"plain-{i}-{len(rows[name])}-{tree.name}"))
+    print(f"\nplain command, median of {repeat} interleaved repeats; load average now {os.getloadavg()[0]:.1f}")
+    print("| tree | whole command wall s | CPU s | wall − timing.total_s |\n|---|---|---|---|")
+    for name, values in rows.items():
+        print(f"| {name} | " + " | ".join(f"{statistics.median(v[j] for v in values):.2f}" for j in range(3)) + " |")
+
+
+def median(rows: list[dict], key: str, i: int):
+    values = [r[key][i] for r in rows if r[key][i] is not None]
+    return statistics.median(values) if values else None
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("scene", nargs="?", default=str(ROOT / "benchmarks" / "block16.toml"))
     parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--baseline", type=Path, default=None, help="another source tree to compare with")
     args = parser.parse_args()
-    runs, parts = [], []
+    rows: dict[str, list[dict]] = {v: [] for v in VARIANTS}
+    load0 = os.getloadavg()[0]
     with tempfile.TemporaryDirectory() as scratch:
         for i in range(args.repeat):
-            runs.append(command(Path(args.scene), Path(scratch) / f"cmd{i}"))
-            parts.append(phases(Path(args.scene), Path(scratch) / f"ph{i}"))
-    wall, cpu = min(r[0] for r in runs), min(r[1] for r in runs)
-    best = {k: [min(p[k][0] for p in parts), min(p[k][1] for p in parts)] for k in ("import", "run_scene", "write_run")}
-    solve = min(p["solve_total_s"] for p in parts)
-    print(f"load average at the end: {os.getloadavg()[0]:.1f}")
-    print("| phase | wall s | CPU s |\n|---|---|---|")
-    print(f"| `vlab run --no-render --no-estimate` (whole command) | {wall:.2f} | {cpu:.2f} |")
-    for name, (w, c) in best.items():
-        print(f"| {name} | {w:.2f} | {c:.2f} |")
-    print(f"| of run_scene: results.json timing.total_s | {solve:.2f} | — |")
-    print(f"| overhead = command − timing.total_s | {wall - solve:.2f} | — |")
+            for v in VARIANTS:
+                rows[v].append(one(v, Path(args.scene), Path(scratch) / f"{v}{i}", Path(scratch) / f"{v}{i}.json"))
+    print(f"load average (1 min) at the start {load0:.1f}, at the end {os.getloadavg()[0]:.1f}; "
+          f"median of {args.repeat} interleaved repeats")
+    print("| phase | " + " | ".join(f"{v} wall s | {v} CPU s" for v in VARIANTS) + " |")
+    print("|---|" + "---|---|" * len(VARIANTS))
+    for key in rows[VARIANTS[0]][0]:
+        cells = []
+        for v in VARIANTS:
+            for i in (0, 1):
+                x = median(rows[v], key, i)
+                cells.append("—" if x is None else f"{x:.2f}")
+        print(f"| {key} | " + " | ".join(cells) + " |")
+    if args.baseline is not None:
+        with tempfile.TemporaryDirectory() as scratch:
+            compare_trees(args.baseline.resolve(), Path(args.scene), args.repeat, Path(scratch))
 
 
 if __name__ == "__main__":

@@ -15,7 +15,6 @@ ALLOWED = {
     "fe/compiled.py:source": "the generated kernel's source, one template of lines (169)",
     "moduli.py:from_pair": "the formula table of every pair of elastic constants (140)",
     # owned by other helpers this session (issue 20; issue 19; issue 21): split by them
-    "fe/force_control.py:solve_force_controlled": "force control, owned by the mixed/force-control work (46)",
     "identify/fitting.py:fit_homogeneous": "vlab fit's homogeneous fit, owned by the fitting work (56)",
     "identify/fe_loop.py:_fit_specimen": "vlab fit's FE-in-the-loop fit, owned by the fitting work (48)",
     "geometry/dogbone.py:dogbone_specimen": "the dogbone mesher, being given a Gmsh branch by the reports work (41)",

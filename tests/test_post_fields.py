@@ -42,3 +42,15 @@ def test_snapshot_fields_match_the_homogeneous_block(comparison):
     assert np.allclose(out.snapshot.fields["von-mises"][-1], ref["stress_x"][-1] * lam / J, rtol=1e-6)
     assert np.allclose(out.snapshot.fields["max-stretch"][-1], lam, rtol=1e-6)
     assert np.allclose(out.snapshot.fields["von-mises"][0], 0.0, atol=1e-12)  # frame 0: unloaded
+
+
+def test_the_closed_form_largest_eigenvalue_is_lapacks_to_round_off():
+    from vlab.post.fields import largest_eigenvalue
+    rng = np.random.default_rng(4)
+    F = np.eye(3)[:, :, None] + 0.3 * rng.standard_normal((3, 3, 20000))
+    Q, _ = np.linalg.qr(rng.standard_normal((3, 3)))
+    special = [np.eye(3), np.diag([2.0, 2.0, 0.5]), np.diag([0.5, 2.0, 2.0]), Q @ np.diag([1.5, 1.5, 1.5 + 1e-9]) @ Q.T,
+               np.diag([1.0, 1.0, 1.0 + 1e-14]), np.zeros((3, 3))]
+    C = np.concatenate([np.einsum("kI...,kJ...->IJ...", F, F), np.stack(special, axis=-1)], axis=-1)
+    reference = np.linalg.eigvalsh(np.moveaxis(C, -1, 0))[:, -1]
+    assert np.allclose(largest_eigenvalue(C), reference, rtol=1e-12, atol=1e-15)

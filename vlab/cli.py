@@ -103,6 +103,7 @@ def run(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (defa
         force: bool = FORCE):
     """Run one test and write its report: results.json, curve.csv, PNGs, renders, VTU/PVD, index.html."""
     from vlab.cli_progress import RunProgress, scheduled_levels
+    from vlab.report.prefetch import ReportPrefetch
     from vlab.report.writer import write_run
 
     parsed, text = _load(scene)
@@ -110,9 +111,11 @@ def run(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (defa
     dest = report_destination(out or Path("reports") / parsed.name, force, scene or None)
     if not quiet:
         _announce(parsed)
+    prefetch = ReportPrefetch()  # the report's imports made while the solver works
     with RunProgress(console, scheduled_levels(parsed), quiet) as progress:
-        result = _solved(parsed, progress, estimate)
+        result = _solved(parsed, progress, estimate, prefetch.on_level(progress.level))
         progress.phase("report: plots, renders, 3-D")
+        prefetch.wait()
         data = _write(write_run, result, dest, text, options)
         progress.phase("done")
     _print_summary(data)
@@ -129,13 +132,14 @@ def _announce(parsed) -> None:
         f"to {kind.load_key} {list(parsed.test.targets)}")
 
 
-def _solved(parsed, progress, estimate: bool):
-    """The run (levels shown on ``progress``) and, if asked, its accuracy estimate; a scene the run
-    refuses (e.g. a mesh below mesh.min_quality) is exit 2 with nothing written."""
+def _solved(parsed, progress, estimate: bool, on_level=None):
+    """The run (levels shown on ``progress``, or handed to ``on_level``) and, if asked, its accuracy
+    estimate; a scene the run refuses (e.g. a mesh below mesh.min_quality) is exit 2 with nothing
+    written."""
     from vlab.run import run_scene
 
     try:
-        result = run_scene(parsed, on_level=progress.level)
+        result = run_scene(parsed, on_level=on_level or progress.level)
     except SceneError as exc:
         progress.bar.stop()
         fail("invalid scene", exc)

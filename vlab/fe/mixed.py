@@ -41,7 +41,10 @@ import numpy as np
 import scipy.sparse as sp
 import skfem
 
+from vlab import jit, settings as installed
+from vlab.fe import compiled
 from vlab.fe.assembly import SparsityPattern, element_forces, element_stiffness, scatter_vector
+from vlab.fe.compiled_mixed import CompiledMixedTangent
 from vlab.fe.problem import J_COLLAPSE, Evaluation
 from vlab.fe.body import BodyDefaults
 from vlab.fe.space import DisplacementSpace
@@ -116,10 +119,17 @@ class MixedHyperelasticBody(BodyDefaults):
     """Same interface as :class:`vlab.fe.problem.HyperelasticBody` (evaluate, stiffness,
     space, material, pattern); ``material`` is the split law (also a full one-field Material)."""
 
-    def __init__(self, space: DisplacementSpace, law, three_field: bool = True):
+    def __init__(self, space: DisplacementSpace, law, three_field: bool = True, kernel: str = "auto",
+                 settings=None):
         """``three_field``: Newton carries θ with its linearised update (:meth:`advance`); False:
         θ = Π_e v(F) recomputed at every iterate (Newton on W(u) alone: the same solution,
-        4-10× the iterations near ν = ½, kept for comparison)."""
+        4-10× the iterations near ν = ½, kept for comparison). ``kernel``: "auto" (F, the
+        internal force and the condensed tangent by the compiled kernels of vlab.fe.compiled and
+        vlab.fe.compiled_mixed where numba is available) or "numpy" (the numpy kernels only).
+        ``settings`` (vlab.settings.Settings: the kernel switch and the assembly threads), passed
+        down by the run; None: the installed ones."""
+        if kernel not in ("auto", "numpy"):
+            raise ValueError(f"kernel must be 'auto' or 'numpy'; got {kernel!r}")
         if not three_field:
             self.advance = None
         self.space = space
@@ -127,6 +137,30 @@ class MixedHyperelasticBody(BodyDefaults):
         self.degree = theta_degree(space)
         self.projection = VolumeProjection.build(space, self.degree)
         self.pattern = SparsityPattern.build(space.element_nodes)
+        self._compiled = self._tangent = None
+        config = settings if settings is not None else installed.current()
+        if kernel == "auto" and space.reference_dN is not None and compiled.available(config):
+            self._compiled = compiled.CompiledKernels(space, self.pattern, jit.threads(config))
+            self._kernel_version = compiled.kernel_in_use(config)
+            self._compiled.prepare()  # set-up once per mesh, like the pattern
+            self._tangent = CompiledMixedTangent(self._compiled, self.projection)
+            self._tangent.prepare()
+
+    @property
+    def tangent_kernel(self) -> str:
+        """'compiled (numba x.y, t threads)' or 'numpy'."""
+        if self._compiled is None:
+            return "numpy"
+        t = self._compiled.threads
+        return f"compiled ({self._kernel_version}, {t} thread{'s' if t > 1 else ''})"
+
+    def _gradient(self, u: np.ndarray) -> np.ndarray:
+        fast = self._compiled
+        return fast.deformation_gradient(u) if fast is not None else self.space.deformation_gradient(u)
+
+    def _forces(self, P: np.ndarray) -> np.ndarray:
+        fast = self._compiled
+        return fast.internal_force(P) if fast is not None else scatter_vector(self.space, element_forces(self.space, P))
 
     def evaluate(self, u: np.ndarray, volume_change: np.ndarray | None = None) -> MixedEvaluation:
         """The state (u, θ) with θ − 1 = Π_e v(F) (projected, the default) or a given volume
@@ -139,7 +173,7 @@ class MixedHyperelasticBody(BodyDefaults):
         i.e. P_eff = P_iso + p̃ ∂v/∂F with p̃ = Π_e [U'(θ) + U''(θ)(Π_e v − θ)]; at θ = Π_e v it is
         ∂W/∂u."""
         law, dx = self.material, self.space.dx
-        F = self.space.deformation_gradient(u)
+        F = self._gradient(u)
         J = det(F)
         projected = self.projection(law.volume(F))                # Π_e v, the volume change of u
         x = projected if volume_change is None else volume_change
@@ -155,7 +189,7 @@ class MixedHyperelasticBody(BodyDefaults):
         pressure = self.projection(law.dU(x))
         effective = pressure if volume_change is None else pressure + self.projection(law.d2U(x) * (projected - x))
         P = law.isochoric_stress(F) + effective * law.volume_gradient(F)
-        f_int = scatter_vector(self.space, element_forces(self.space, P))
+        f_int = self._forces(P)
         return MixedEvaluation(u, F, W, f_int, min_J, worst, 1.0 + x, pressure,
                                float(np.max(np.abs(projected - x), initial=0.0)), x)
 
@@ -168,7 +202,7 @@ class MixedHyperelasticBody(BodyDefaults):
         recomputing p from Π_e v would put it in the pressure and the geometric stiffness."""
         law = self.material
         F = evaluation.F
-        grad = self.space.deformation_gradient(du)
+        grad = self._gradient(du)
         for i in range(3):
             grad[i, i] -= 1.0                                     # ∇Δu (3, 3, e, q)
         rate = np.einsum("iJeq,iJeq->eq", law.volume_gradient(F), grad)
@@ -184,18 +218,25 @@ class MixedHyperelasticBody(BodyDefaults):
         F, x, p = evaluation.F, evaluation.volume_change, evaluation.pressure
         A = law.isochoric_tangent(F)
         hessian = law.volume_hessian(F)
+        V, C = law.volume_gradient(F), self._condensed(law.d2U(x))
+        if self._tangent is not None:  # the same sums, compiled (vlab.fe.compiled_mixed)
+            return self._tangent.matrix(A, hessian, p, V, C)
         if hessian is not None:
             A += p * hessian
         Ke = element_stiffness(space, A)                          # (i, k, e, a, b)
-        Ke += self._volumetric_block(law.volume_gradient(F), law.d2U(x))
+        Ke += self._volumetric_block(V, C)
         return self.pattern.matrix(Ke)
 
-    def _volumetric_block(self, V: np.ndarray, d2U: np.ndarray) -> np.ndarray:
-        """gᵀ M⁻¹ H M⁻¹ g per element in the (i, k, e, a, b) layout of element_stiffness."""
+    def _condensed(self, d2U: np.ndarray) -> np.ndarray:
+        """C = M⁻¹ H M⁻¹ per element (e, m, n), H = Σ_q U''(θ_q) φ φᵀ dx_q."""
         phi, Minv, dx = self.projection.phi, self.projection.Minv, self.space.dx
-        g = np.einsum("eqm,iJeq,eqaJ,eq->emai", phi, V, self.space.dN, dx, optimize=True)
         H = np.einsum("eq,eqm,eqn,eq->emn", d2U, phi, phi, dx)
-        C = Minv @ H @ Minv                                       # (e, m, n)
+        return Minv @ H @ Minv
+
+    def _volumetric_block(self, V: np.ndarray, C: np.ndarray) -> np.ndarray:
+        """gᵀ C g per element in the (i, k, e, a, b) layout of element_stiffness."""
+        phi, dx = self.projection.phi, self.space.dx
+        g = np.einsum("eqm,iJeq,eqaJ,eq->emai", phi, V, self.space.dN, dx, optimize=True)
         n_el, m, n_loc, _ = g.shape
         G = g.reshape(n_el, m, 3 * n_loc)
         Kv = np.einsum("emx,emn,eny->exy", G, C, G, optimize=True).reshape(n_el, n_loc, 3, n_loc, 3)

@@ -108,7 +108,7 @@ def make_body(scene: Scene, space: DisplacementSpace, settings: Settings | None 
     if not MODELS[scene.material.model].continuum:
         return SpringNetwork(space, moduli.E)
     if scene.mesh.formulation == "mixed":
-        return MixedHyperelasticBody(space, build_split_law(scene.material))
+        return MixedHyperelasticBody(space, build_split_law(scene.material), settings=settings)
     elastic = build_material(scene.material)
     if space.dim == 2:
         elastic = plane_model(elastic, scene.specimen.plane)

@@ -109,6 +109,7 @@ class CookCase:
     mu: float = MU               # MPa
     traction: float = TRACTION   # N/mm² on the right edge
     three_field: bool = True     # mixed: Newton carries θ (False: θ projected at every iterate)
+    kernel: str = "auto"         # mixed: "auto" (compiled where numba is available) | "numpy"
 
 
 # de Souza Neto, Perić & Owen, Computational Methods for Plasticity (2008), Cook's membrane: G = 80.194 MPa,
@@ -124,7 +125,7 @@ def solve_cook(case: CookCase, options: NewtonOptions = NewtonOptions(rtol=1e-9,
     moduli = from_pair({"mu": case.mu, "nu": nu})
     law = SplitNeoHookean(moduli.lmbda, moduli.mu)
     space = DisplacementSpace.build(membrane_mesh(divisions), order)
-    body = (MixedHyperelasticBody(space, law, case.three_field) if formulation == "mixed"
+    body = (MixedHyperelasticBody(space, law, case.three_field, case.kernel) if formulation == "mixed"
             else HyperelasticBody(space, law))
     X = space.node_coordinates
     clamped = np.flatnonzero(np.isclose(X[:, 0], 0.0))
