@@ -122,12 +122,13 @@ class _Clock:
 
 def run_vlab(problem: str) -> dict:
     from vlab import jit, settings
-    from vlab.fe import linsolve, newton, problem as fe_problem
+    from vlab.fe import linsolve, newton, problem as fe_problem, tangents
     from vlab.run import run_scene
 
     clock = _Clock()
     clock.wrap(fe_problem.HyperelasticBody, "stiffness", "assembly")
     clock.wrap(newton, "factorize", "factorization")
+    clock.wrap(tangents, "factorize", "factorization")  # the converged states' (tangent cache)
     for cls in (linsolve.PardisoFactorization, linsolve.SuperLUFactorization):
         clock.wrap(cls, "solve", "solve")
     scene = _scene(problem)

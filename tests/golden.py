@@ -29,7 +29,8 @@ def golden_view(data: dict) -> dict:
     view = {key: data.get(key) for key in KEPT}
     view["mesh"] = {key: data["mesh"].get(key) for key in MESH_KEPT}
     # the inertia's back end (PARDISO or SuperLU) depends on what is installed, not on the physics
-    view["stability"] = [{k: v for k, v in r.items() if k != "inertia_method"} for r in data["stability"]]
+    method = ("inertia_method", "stability_method", "eigenpair_residual")  # how, not what
+    view["stability"] = [{k: v for k, v in r.items() if k not in method} for r in data["stability"]]
     return json.loads(json.dumps(view))  # tuples -> lists, as read back from the file
 
 

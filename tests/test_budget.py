@@ -98,6 +98,40 @@ def test_a_huge_mesh_size_ratio_does_not_overflow_the_message():
         build_specimen(scene)
 
 
+def test_above_the_crossover_the_memory_estimate_is_the_linear_iterative_one_and_fits_a_64_cube():
+    from vlab.fe.iterative import choose
+    from vlab.geometry.budget import BASE_BYTES, estimate
+
+    cube = _block(1.0, dims=(64.0, 64.0, 64.0))
+    path = lambda dofs: choose("auto", dofs, "pardiso")  # noqa: E731
+    direct, iterative = estimate(cube), estimate(cube, path)
+    assert iterative.dofs == direct.dofs == 3 * 65**3 and iterative.iterative and not direct.iterative
+    assert iterative.memory_bytes < 10e9 < direct.memory_bytes  # 830k DOFs: ~6 GB without a factor
+    half = estimate(_block(1.0, dims=(32.0, 64.0, 64.0)), path)
+    slope = (iterative.memory_bytes - BASE_BYTES) / (half.memory_bytes - BASE_BYTES)
+    assert slope == pytest.approx(iterative.dofs / half.dofs)  # linear in the DOFs
+    assert "CG + AMG, no factorization" in iterative.describe()
+
+
+def test_a_request_beyond_the_machine_s_memory_exits_2_naming_the_mesh_and_the_estimate(tmp_path, monkeypatch):
+    from typer.testing import CliRunner
+
+    import vlab.geometry.budget as budget
+    from vlab.cli import app
+
+    scene = tmp_path / "cube.toml"
+    scene.write_text('name = "cube"\n[specimen]\nshape = "block"\nsize = [40.0, 40.0, 40.0]\n'
+                     '[mesh]\nsize = 1.0\n[material]\nmodel = "neo-hookean"\nE = 10.0\nnu = 0.3\n'
+                     '[test]\nkind = "uniaxial"\nstretch = 1.5\nsteps = 10\n')
+    monkeypatch.setattr(budget, "available_memory", lambda: 1e9)  # 1 GB free
+    out = tmp_path / "out"
+    result = CliRunner().invoke(app, ["run", str(scene), "--out", str(out), "--no-render"])
+    assert result.exit_code == 2, result.output
+    text = " ".join(result.output.split())
+    assert "mesh.size = 1" in text and "206,763 DOFs" in text and "CG + AMG" in text and "1 GB" in text
+    assert not out.exists()
+
+
 def test_every_registered_shape_counts_its_own_mesh_for_the_budget():
     from vlab.geometry.shapes import SHAPES
 

@@ -14,8 +14,6 @@ ALLOWED = {
     # generated and tabulated: one template, one table
     "fe/compiled.py:source": "the generated kernel's source, one template of lines (169)",
     "moduli.py:from_pair": "the formula table of every pair of elastic constants (140)",
-    # owned by other helpers this session (issue 20; issue 19; issue 21): split by them
-    "fe/newton.py:solve_equilibrium": "Newton's loop, owned by the solver-scale work (66)",
 }
 
 

@@ -13,7 +13,10 @@ def test_linear_model_factorizes_once(monkeypatch):
         calls.append(K.shape)
         return real(K)
 
+    from vlab.fe import tangents
+
     monkeypatch.setattr(newton, "factorize", counting)
+    monkeypatch.setattr(tangents, "factorize", counting)  # the tangent cache's factorizations
     scene = parse_scene({
         "name": "lin", "specimen": {"shape": "block", "size": [2.0, 2.0, 2.0]},
         "mesh": {"size": 1.0, "cell": "hex"}, "material": {"model": "linear", "E": 10.0, "nu": 0.3},

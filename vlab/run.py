@@ -19,7 +19,7 @@ from vlab.checks.imperfection import imperfect_specimen
 from vlab.checks.monitor import StabilityMonitor
 from vlab.fe.linsolve import solver_in_use
 from vlab.fe.stepping import Level
-from vlab.fe.timers import phase_clock
+from vlab.fe.timers import memory_phase, phase_clock
 from vlab.geometry.shapes import SHAPES
 from vlab.geometry.specimen import Specimen
 from vlab.materials import MODELS
@@ -60,6 +60,7 @@ def _timed_run(scene: Scene, on_level, specimen: Specimen | None, observe=None) 
     with phase_clock() as phases:
         result = _run_scene(scene, on_level, specimen, observe)
     result.timing |= {"assembly_s": 0.0, "linear_solve_s": 0.0} | phases.as_timing()
+    result.timing["peak_memory_mb"] = phases.peak_memory_mb  # per phase (vlab.fe.timers)
     return result
 
 
@@ -73,7 +74,8 @@ def _run_scene(scene: Scene, on_level, specimen: Specimen | None, observe=None) 
             seeded.first_pass.diagnostics.warnings.append(seeded.note)
             return seeded.first_pass
         specimen = seeded.specimen
-    prepared = prepare(scene, specimen, current())  # the run's settings, passed down to the body
+    with memory_phase("mesh"):
+        prepared = prepare(scene, specimen, current())  # the run's settings, passed down to the body
     timing = {"mesh_s": clock() - t0}
     monitor, instruments, deflection = stability_monitor(prepared), Instruments(prepared), _Deflection(prepared)
     observers: list[Observer] = [monitor, deflection, instruments] + ([on_level] if on_level else [])
@@ -83,7 +85,8 @@ def _run_scene(scene: Scene, on_level, specimen: Specimen | None, observe=None) 
     solved = solve(prepared, monitor, observers)
     timing["solve_s"] = clock() - t1 - instruments.seconds
     t2 = clock()
-    measured = measure(prepared, instruments)
+    with memory_phase("measurement"):
+        measured = measure(prepared, instruments)
     timing["measure_s"] = instruments.seconds + clock() - t2
     timing["total_s"] = clock() - t0
     diagnostics = _diagnostics(prepared, solved, measured, monitor, deflection.values, seeded)
@@ -109,7 +112,9 @@ def _diagnostics(prepared: Prepared, solved: Solved, measured: Measured, monitor
     out = Diagnostics(
         mesh_quality=prepared.quality.as_dict(),
         linear_solver={"requested": scene.solver.linear, "newton": solved.linear_solver,
-                       "direct": solver_in_use()},
+                       "direct": solver_in_use(), "amg_setups": solved.history.amg_setups,
+                       "factorizations": solved.history.factorizations,
+                       "stability_methods": _method_counts(monitor)},
         tangent_kernel=body.tangent_kernel,
         warnings=_warnings(scene), crosshead=measured.crosshead, uncertainty=measured.uncertainty,
         cruciform=measured.cruciform, homogeneity=measured.homogeneity,
@@ -121,6 +126,14 @@ def _diagnostics(prepared: Prepared, solved: Solved, measured: Measured, monitor
         from vlab.effects.report import effects_summary
         out.effects = effects_summary(scene, body, solved.history.levels)
     return out
+
+
+def _method_counts(monitor: StabilityMonitor) -> dict[str, int]:
+    """How many vetted states (accepted levels and rejected trials) each stability method decided."""
+    counts: dict[str, int] = {}
+    for record in monitor.records:
+        counts[record.stability_method] = counts.get(record.stability_method, 0) + 1
+    return counts
 
 
 def _yield_screened(scene: Scene, measured: Measured, diagnostics: Diagnostics):

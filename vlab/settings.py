@@ -3,6 +3,9 @@
     kernel            "auto" (compiled numba kernels where they apply) | "numpy"   VLAB_KERNEL
     assembly_threads  1..the cores numba may use; None = numba's own count        VLAB_ASSEMBLY_THREADS
     linear_solver     "auto" (PARDISO if installed) | "pardiso" | "superlu"       VLAB_LINEAR_SOLVER
+    iterative_from    free DOFs from which solver.linear = "auto" takes CG + AMG   VLAB_ITERATIVE_FROM
+                      and the LOBPCG stability check (None: the measured crossover of
+                      vlab.fe.iterative; 0 forces the iterative path on any 3D mesh)
 
 :meth:`Settings.from_environment` reads (and validates) the variables; the CLI fills the object
 from them at start-up and installs it with :func:`use`, vlab compare's worker processes install
@@ -29,6 +32,7 @@ class Settings:
     kernel: str = "auto"
     assembly_threads: int | None = None
     linear_solver: str = "auto"
+    iterative_from: int | None = None
 
     def __post_init__(self) -> None:
         if self.kernel not in KERNELS:
@@ -36,6 +40,8 @@ class Settings:
         if self.linear_solver not in LINEAR_SOLVERS:
             raise ValueError(f"VLAB_LINEAR_SOLVER must be one of {', '.join(LINEAR_SOLVERS)}; "
                              f"got {self.linear_solver!r}")
+        if self.iterative_from is not None and not self.iterative_from >= 0:
+            raise ValueError(f"VLAB_ITERATIVE_FROM must be a number of free DOFs ≥ 0; got {self.iterative_from!r}")
         most = usable_cores()
         if self.assembly_threads is not None and not 1 <= self.assembly_threads <= most:
             raise ValueError(f"VLAB_ASSEMBLY_THREADS must be an integer from 1 to {most} (the cores "
@@ -48,8 +54,12 @@ class Settings:
         if threads and not threads.isdigit():
             raise ValueError(f"VLAB_ASSEMBLY_THREADS must be an integer from 1 to {usable_cores()} (the "
                              f"cores numba may use); got {threads!r}")
+        start = environ.get("VLAB_ITERATIVE_FROM", "").strip()
+        if start and not start.isdigit():
+            raise ValueError(f"VLAB_ITERATIVE_FROM must be a number of free DOFs ≥ 0; got {start!r}")
         return cls(kernel=environ.get("VLAB_KERNEL", "auto").strip().lower() or "auto",
                    assembly_threads=int(threads) if threads else None,
+                   iterative_from=int(start) if start else None,
                    linear_solver=environ.get("VLAB_LINEAR_SOLVER", "auto").strip().lower() or "auto")
 
 

@@ -51,6 +51,7 @@ from vlab.fe.linsolve import SingularSystem
 from vlab.fe.newton import TangentCache
 from vlab.fe.problem import Evaluation, HyperelasticBody
 from vlab.fe.stepping import Level
+from vlab.fe.timers import STABILITY, timed
 from vlab.checks.buckling import CriticalState, lateral_fraction
 from vlab.checks.ellipticity import non_elliptic_fraction
 
@@ -72,6 +73,8 @@ class LevelStability:
     lowest_eigenvalue: float | None = None  # N/mm; only when asked for, or near a sign change
     path_load: float | None = None  # Q = ûᵀ f_int, N·mm
     path_stiffness: float | None = None  # dQ/dt = vᵀ K v, N·mm per unit t (None: not computed)
+    stability_method: str = ""  # what vetted it: ldlt-inertia | cholesky | dense-eigenvalues | lobpcg-amg
+    eigenpair_residual: float | None = None  # ‖K x − λ x‖ / max|K_ii| of the LOBPCG pair
 
     def as_dict(self) -> dict:
         return asdict(self)
@@ -117,19 +120,22 @@ class StabilityMonitor:
         if self.options.limit_points:
             try:
                 slope = self._path_stiffness(K, Kfp, found)
-            except SingularSystem:  # a Cholesky that succeeded on a numerically singular K_ff
-                found = inertia(Kff)
+            except SingularSystem:  # a Cholesky that succeeded on a numerically singular K_ff,
+                found = self._recount(Kff, found)  # or CG's negative curvature after LOBPCG
                 slope = self._path_stiffness(K, Kfp, found)
         forces = [float(ev.f_int[self.moving[a]].sum()) for a in range(len(self.direction))]
         load = float(self.u_hat @ ev.f_int)
         limit = self._is_limit(load, slope) if self.options.limit_points else False
         unstable = bool(found.negative) or bool(found.zero)
         solve = found.solve if not found.zero else None  # a singular K_ff: factorize K − σI instead
-        pair = _eigenpair(Kff, found.negative, solve) if unstable or self.options.eigenvalues else None
+        pair = found.lowest  # LOBPCG finds it anyway; a factorization needs a Lanczos solve
+        if pair is None and (unstable or self.options.eigenvalues):
+            pair = _eigenpair(Kff, found.negative, solve)
         record = LevelStability(float(t), self.stretch_at(t), found.negative, found.zero,
                                 found.method, forces, limit, accepted=not unstable and not limit,
                                 lowest_eigenvalue=None if pair is None else pair[0],
-                                path_load=load, path_stiffness=slope)
+                                path_load=load, path_stiffness=slope, stability_method=found.key,
+                                eigenpair_residual=found.residual)
         if record.accepted:
             self._accepted, self._accepted_Kff = record, (Kff, found.solve)
             return None
@@ -145,9 +151,11 @@ class StabilityMonitor:
         if self._accepted is not None and self._accepted.t == level.t:
             self.records.append(self._accepted)
 
+    @timed(STABILITY)
     def _inertia(self, ev: Evaluation):
         """K, K_ff, K_fp and the inertia of K_ff, from the Newton solver's factorization when it
-        is conclusive (a Cholesky, or SuperLU's symmetric LDLᵀ), else from a separate count."""
+        is conclusive (a Cholesky, or SuperLU's symmetric LDLᵀ), from LOBPCG with the AMG
+        hierarchy on the iterative path (no factorization), else from a separate count."""
         try:
             tangent = self.tangents.at(ev)
         except SingularSystem:
@@ -158,6 +166,18 @@ class StabilityMonitor:
         # the stepper verified the unloaded K_ff (no free rigid modes), so a Cholesky here
         # needs no second look for a zero eigenvalue (vlab.fe.stepping._check_restrained)
         return tangent.K, Kff, tangent.Kfp, factorized_inertia(tangent.factor, Kff, verify_zero=False)
+
+    def _recount(self, Kff, found):
+        """The inertia again after the solve with ``found`` failed: on the iterative path LOBPCG
+        with CG's negative-curvature witness in its block (a certificate: λ₁ ≤ pᵀKp/pᵀp ≤ 0),
+        else (or if that still finds K_ff definite) the direct count."""
+        tangent = self.tangents.holds_any()
+        if found.key == "lobpcg-amg" and tangent is not None and tangent.factor.backend == "cg-amg" \
+                and tangent.factor.hierarchy.witness is not None:
+            again = factorized_inertia(tangent.factor, Kff)
+            if again.negative or again.zero:
+                return again
+        return inertia(Kff)
 
     def _critical_state(self, r: LevelStability, pair, ev: Evaluation) -> CriticalState:
         """The bracket [last stable, this unstable state] with both lowest eigenvalues and the
@@ -279,6 +299,7 @@ def _plastic_strain(body, ev: Evaluation) -> float | None:
 
 
 
+@timed(STABILITY)
 def _eigenpair(Kff, negative, solve):
     """The lowest eigenpair, or None when Lanczos fails: the inertia alone still decides stability,
     the report then shows no eigenvalue or mode rather than stopping the run."""

@@ -42,6 +42,18 @@ class Inertia:
     positive: int | None
     method: str
     solve: Callable[[np.ndarray], np.ndarray] | None = None  # K⁻¹ from the same factorization
+    lowest: tuple[float, np.ndarray] | None = None  # (λ₁, x₁) when the method found it (LOBPCG)
+    residual: float | None = None  # ‖K x₁ − λ₁ x₁‖ / max|K_ii| of that pair
+
+    @property
+    def key(self) -> str:
+        """The method as results.json names it: ldlt-inertia | cholesky | dense-eigenvalues |
+        lobpcg-amg | unknown."""
+        for prefix, key in (("LDLt", "ldlt-inertia"), ("Cholesky", "cholesky"),
+                            ("dense", "dense-eigenvalues"), ("lobpcg", "lobpcg-amg")):
+            if self.method.startswith(prefix):
+                return key
+        return "unknown"
 
     @property
     def positive_definite(self) -> bool | None:
@@ -81,12 +93,17 @@ def factorized_inertia(factor, K: sp.spmatrix, zero_tol: float = ZERO_TOL,
       λ_min ≈ 0 the very first step lands on its eigenvector (the gap to λ₂ is ~1e10), so
       a quotient ≤ zero_tol · max|K_ii| means a zero eigenvalue and the count is done anew.
     - SuperLU in symmetric mode without pivoting: the signs of diag U as in ``inertia``.
+    - CG + AMG (no factor at all): LOBPCG preconditioned by the same hierarchy (vlab.fe.eigen_amg).
     Everything else (PARDISO's LDLᵀ with perturbed pivots, pivoted LU) is counted anew.
 
     ``verify_zero=False`` skips the two solves behind a Cholesky: for states along a load path
     whose unloaded K_ff was verified free of zero eigenvalues, where an eigenvalue reaches zero
     only by crossing it (and the crossing shows as a failed Cholesky, i.e. negative pivots)."""
     backend = factor.backend
+    if backend == "cg-amg":  # no factorization on the iterative path: LOBPCG + the same AMG
+        from vlab.fe.eigen_amg import amg_inertia
+
+        return amg_inertia(K, factor, zero_tol)
     if backend == "pardiso" and factor.cholesky:
         n = K.shape[0]
         if n == 0 or not verify_zero or (_rayleigh_after_inverse_iteration(factor.solve, K)

@@ -10,20 +10,30 @@ the nodes, restricted to the free DOFs.
 
 CG needs K_ff symmetric positive definite. It meets a direction p with pᵀK p ≤ 0 on an
 indefinite tangent; that (and non-convergence) raises ``IterativeSolveFailed`` so the caller falls
-back to a direct factorization (which also gives the inertia that stability detection needs;
-CG cannot count negative eigenvalues, so ``negative_pivots`` is None here).
+back to a direct factorization, and p is kept as a witness of indefiniteness. CG cannot count
+negative eigenvalues (``negative_pivots`` is None here): on this path the stability check is
+LOBPCG preconditioned by the same hierarchy (vlab.fe.eigen_amg).
+
+One ``AMGHierarchy`` serves a whole run: its set-up (aggregation, smoothed prolongators, Galerkin
+coarse operators) is reused by later tangents until CG slows down (``REBUILD_FACTOR``).
 
 pyamg is a dependency of vlab; ``available()`` still checks, for installs without it.
 """
 
 from __future__ import annotations
 
+import logging
 import math
 
 import numpy as np
 import scipy.sparse as sp
 
+from vlab import settings
+from vlab.fe.blas import serial_openblas
 from vlab.fe.linsolve import Factorization, SingularSystem
+from vlab.fe.timers import LINEAR_SOLVE, timed
+
+log = logging.getLogger(__name__)
 
 MAX_ITERATIONS = 400
 DIRECT_TOLERANCE = 1e-10  # relative residual when the solver stands in for a factorization
@@ -52,17 +62,30 @@ def available() -> str | None:
 CROSSOVER = {"pardiso": 50_000, "superlu": 5_000}
 
 
-def choose(requested: str, n_free: int, direct_backend: str) -> str:
+def choose(requested: str, n_free: int, direct_backend: str, supported: bool = True) -> str:
     """"direct" or "cg-amg" for ``[solver] linear`` = auto | direct | cg-amg.
 
-    auto: CG + AMG from the measured crossover of the installed direct solver on, if pyamg is
-    installed. An explicit "cg-amg" without pyamg raises ValueError naming the setting."""
+    auto: CG + AMG from the measured crossover of the installed direct solver on (or from the
+    installed settings' ``iterative_from``), if pyamg is installed. An explicit "cg-amg" without
+    pyamg raises ValueError naming the setting. ``supported`` False (a body CG + AMG does not
+    take: see ``supports``) keeps the direct path."""
     if requested == "cg-amg" and available() is None:
         raise ValueError("solver.linear = 'cg-amg' needs pyamg (pip install pyamg)")
+    if not supported:
+        return "direct"
     if requested != "auto":
         return requested
-    threshold = CROSSOVER.get(direct_backend, CROSSOVER["superlu"])
+    start = settings.current().iterative_from
+    threshold = start if start is not None else CROSSOVER.get(direct_backend, CROSSOVER["superlu"])
     return "cg-amg" if n_free >= threshold and available() is not None else "direct"
+
+
+def supports(body) -> bool:
+    """CG + AMG's near-nullspace is the 3D rigid-body modes: a 3D body with three displacement
+    DOFs per node (not a plane sheet, nor a body with extra fields or none)."""
+    space = getattr(body, "space", None)
+    X = getattr(space, "node_coordinates", None)
+    return X is not None and X.ndim == 2 and X.shape[1] == 3 and space.n_dofs == 3 * len(X)
 
 
 def rigid_body_modes(X: np.ndarray) -> np.ndarray:
@@ -84,25 +107,136 @@ def forcing_term(relative_residual: float, rtol: float) -> float:
     return max(min(1e-2, relative_residual), 0.1 * rtol / max(relative_residual, 1e-300), 1e-12)
 
 
+class AMGHierarchy:
+    """One smoothed-aggregation hierarchy, reused for every K_ff of a run while it stays fast.
+
+    The V-cycle M⁻¹ built for one tangent K₀ stays symmetric positive definite, so it remains a
+    valid CG (and LOBPCG) preconditioner for every later tangent of the same mesh; it only gets
+    less effective as K drifts from K₀ (stiffening, softening). ``rate`` = CG iterations per
+    decade of residual reduction, log₁₀(‖b‖ / ‖r‖); the first solve after a set-up fixes the
+    baseline, and a solve slower than REBUILD_FACTOR × baseline marks the hierarchy stale, so the
+    next request rebuilds it on the current K (``setups`` counts the set-ups). A hierarchy is
+    rebuilt as well for a matrix of another size."""
+
+    def __init__(self, near_nullspace: np.ndarray):
+        self.B = near_nullspace
+        self.setups = 0
+        self.witness: np.ndarray | None = None  # CG's last pᵀKp ≤ 0 direction (vlab.fe.eigen_amg)
+        self.eigenvectors: np.ndarray | None = None  # the last stability check's, for a warm start
+        self.stale = True
+        self.baseline: float | None = None
+        self._ml = self._M = None
+        self._n = -1
+
+    def preconditioner(self, K: sp.csr_matrix):
+        """M ≈ K⁻¹ (a pyamg LinearOperator): the current hierarchy, or a new one built on K."""
+        if self.stale or K.shape[0] != self._n:
+            self.rebuild(K)
+        return self._M
+
+    def rebuild(self, K: sp.csr_matrix) -> None:
+        import pyamg
+
+        # CG's dot products and the V-cycle's norms are O(n) BLAS-1 calls: threaded OpenBLAS
+        # busy-waits between them and, on a loaded 2-core machine, took 20 ms per 14k-entry dot
+        # product (3 µs serial; measured), i.e. 90 % of a V-cycle (vlab.fe.blas)
+        serial_openblas()
+
+        self._ml = pyamg.smoothed_aggregation_solver(
+            K, B=self.B, symmetry="symmetric", max_coarse=300, coarse_solver="splu",
+            improve_candidates=None)
+        self._M = self._ml.aspreconditioner(cycle="V")
+        self._n, self.stale, self.baseline = K.shape[0], False, None
+        self.setups += 1
+
+    def record(self, iterations: int, decades: float) -> None:
+        """Book one converged CG solve; mark the hierarchy stale on a measured slowdown."""
+        if decades < 1.0:  # too short a solve to measure a rate
+            return
+        rate = iterations / decades
+        if self.baseline is None:
+            self.baseline = rate
+        elif iterations >= MIN_ITERATIONS_TO_JUDGE and rate > REBUILD_FACTOR * self.baseline:
+            self.stale = True
+
+
+REBUILD_FACTOR = 1.75  # CG iterations per decade, against those right after the set-up
+MIN_ITERATIONS_TO_JUDGE = 8  # below this the count is too coarse to call a slowdown
+
+
 class AMGConjugateGradient(Factorization):
-    """Stands in for a factorization of K_ff: ``solve(b, rtol)`` runs preconditioned CG."""
+    """Stands in for a factorization of K_ff: ``solve(b, rtol)`` runs preconditioned CG.
+
+    ``hierarchy``: a shared AMGHierarchy (reused across Newton iterations, load steps and the
+    stability check); None builds a private one. ``witness`` keeps the last direction p with
+    pᵀK p ≤ 0 that CG met: a certificate that K is not positive definite (its Rayleigh quotient
+    bounds λ_min from above), which the stability check uses as a start vector."""
 
     backend = "cg-amg"
     negative_pivots = None
 
-    def __init__(self, K: sp.spmatrix, near_nullspace: np.ndarray):
-        import pyamg
-
+    def __init__(self, K: sp.spmatrix, near_nullspace: np.ndarray | None = None,
+                 hierarchy: AMGHierarchy | None = None):
         self._K = sp.csr_matrix(K)
         self.shape = self._K.shape
         self.iterations: list[int] = []
-        self._ml = pyamg.smoothed_aggregation_solver(
-            self._K, B=near_nullspace, symmetry="symmetric", max_coarse=300,
-            coarse_solver="splu", improve_candidates=None)
-        self._M = self._ml.aspreconditioner(cycle="V")
+        self.witness: np.ndarray | None = None
+        self.hierarchy = hierarchy or AMGHierarchy(near_nullspace)
+        setups = self.hierarchy.setups
+        self._M = _timed_preconditioner(self.hierarchy, self._K)
+        self.fresh = self.hierarchy.setups > setups  # the hierarchy was built on this very K
+
+    @property
+    def K(self) -> sp.csr_matrix:
+        return self._K
+
+    @property
+    def preconditioner(self):
+        return self._M
 
     def solve(self, b: np.ndarray, rtol: float = DIRECT_TOLERANCE) -> np.ndarray:
-        """x with ‖K x − b‖ ≤ rtol ‖b‖ (preconditioned CG from x = 0)."""
+        """x with ‖K x − b‖ ≤ rtol ‖b‖; a stale shared hierarchy that fails is rebuilt once.
+
+        A right-hand side parallel to the last one (c b, to round-off) costs no solve: x = c x_last.
+        The stability check's path slope vᵀKv and the next load step's predictor both solve
+        K_ff v = K_fp Δu_p at the same converged state, with Δu_p = Δt û_p."""
+        b = np.asarray(b, dtype=float)
+        scaled = self._parallel_to_last(b, rtol)
+        if scaled is not None:
+            return scaled
+        try:
+            x = self._cg(b, rtol)
+        except IterativeSolveFailed as exc:
+            x = self._retry(b, rtol, exc)
+        self._last = (b.copy(), x.copy(), rtol)
+        return x
+
+    _last: tuple | None = None
+
+    def _parallel_to_last(self, b: np.ndarray, rtol: float) -> np.ndarray | None:
+        if self._last is None or self._last[2] > rtol or len(self._last[0]) != len(b):
+            return None
+        b0, x0, _ = self._last
+        bb = float(b0 @ b0)
+        if bb == 0.0:
+            return None
+        c = float(b0 @ b) / bb
+        if np.linalg.norm(b - c * b0) > 1e-14 * np.linalg.norm(b):
+            return None
+        return c * x0
+
+    def _retry(self, b: np.ndarray, rtol: float, exc: IterativeSolveFailed) -> np.ndarray:
+        """After a failed CG: rebuild a reused hierarchy on this K and solve once more; raise
+        ``exc`` on negative curvature or when the hierarchy was built on this K already."""
+        if self.witness is not None or self.fresh:
+            raise exc
+        log.info("CG with the reused AMG hierarchy failed (%s); rebuilding it", exc)
+        self.hierarchy.stale, self.fresh = True, True
+        self._M = _timed_preconditioner(self.hierarchy, self._K)
+        return self._cg(b, rtol)
+
+    @timed(LINEAR_SOLVE)
+    def _cg(self, b: np.ndarray, rtol: float) -> np.ndarray:
         b = np.asarray(b, dtype=float)
         b_norm = math.sqrt(float(b @ b))
         x = np.zeros_like(b)
@@ -116,13 +250,16 @@ class AMGConjugateGradient(Factorization):
             Kp = self._K @ p
             curvature = float(p @ Kp)
             if not curvature > 0.0:
+                self.witness = self.hierarchy.witness = p / max(float(np.linalg.norm(p)), 1e-300)
                 raise IterativeSolveFailed(f"CG met negative curvature pᵀKp = {curvature:.3g} "
                                            f"(indefinite tangent) at iteration {k}")
             alpha = rz / curvature
             x += alpha * p
             r -= alpha * Kp
-            if math.sqrt(float(r @ r)) <= rtol * b_norm:
+            r_norm = math.sqrt(float(r @ r))
+            if r_norm <= rtol * b_norm:
                 self.iterations.append(k)
+                self.hierarchy.record(k, math.log10(b_norm / max(r_norm, 1e-300)))
                 return x
             z = self._M @ r
             rz_new = float(r @ z)
@@ -130,3 +267,9 @@ class AMGConjugateGradient(Factorization):
             p += z
             rz = rz_new
         raise IterativeSolveFailed(f"CG did not reach {rtol:.1e} in {MAX_ITERATIONS} iterations")
+
+
+@timed(LINEAR_SOLVE)
+def _timed_preconditioner(hierarchy: AMGHierarchy, K: sp.csr_matrix):
+    """The hierarchy's preconditioner for K; a (re)build is charged to the linear-solve phase."""
+    return hierarchy.preconditioner(K)

@@ -61,13 +61,13 @@ import numpy as np
 import scipy.sparse as sp
 
 from vlab.fe.assembly import Partition
-from vlab.fe.iterative import (AMGConjugateGradient, IterativeSolveFailed, forcing_term,
-                               rigid_body_modes)
+from vlab.fe.iterative import AMGConjugateGradient, AMGHierarchy, IterativeSolveFailed, forcing_term
 from vlab.fe.line_search import Watchdog, dot as _dot, norm as _norm
 from vlab.fe.roundoff import roundoff_floor, stall_explanation
 from vlab.fe.linsolve import Factorization, SingularSystem, factorize
 from vlab.fe.system import System
-from vlab.fe.problem import Evaluation, HyperelasticBody
+from vlab.fe.problem import Evaluation
+from vlab.fe.tangents import Tangent, TangentCache, amg_modes, tangent_at  # noqa: F401  (re-exported)
 
 log = logging.getLogger(__name__)
 
@@ -104,6 +104,7 @@ class NewtonRecord:
     relaxed: int = 0  # full steps taken without sufficient decrease (watchdog)
     returns: int = 0  # watchdog returns to the reference state (the relaxed steps wasted)
     reused: int = 0  # corrections solved with a tangent factorized before this solve (chord)
+    iterative: int = 0  # exact corrections solved by CG + AMG (no factorization)
     converged: bool = False
     reason: str = ""
 
@@ -116,45 +117,10 @@ class NewtonRecord:
         """Iterations that assembled and factorized a new tangent (the others reused one)."""
         return self.iterations - self.reused
 
-
-@dataclass(frozen=True)
-class Tangent:
-    """A factorized K_ff with its coupling block K_fp (used by the load-step predictor)."""
-
-    factor: Factorization
-    Kfp: sp.csr_matrix
-    K: sp.csr_matrix | None = None  # the full tangent (free and prescribed), if kept
-
-
-class TangentCache:
-    """The tangent of the last state asked for, so that one assembly + factorization at a
-    converged state serves the stability check, the next predictor and the chord steps after it.
-
-    A model whose tangent is constant (``material.is_linear``) is factorized once for the whole
-    test. ``factorizations`` counts the factorizations made here."""
-
-    def __init__(self, body: HyperelasticBody, partition: Partition):
-        self.body, self.partition = body, partition
-        self.factorizations = 0
-        self._state: Evaluation | None = None
-        self._tangent: Tangent | None = None
-        self._constant = body.material is not None and bool(body.material.is_linear)
-
-    def at(self, evaluation: Evaluation) -> Tangent:
-        """K, K_ff factorized and K_fp at ``evaluation`` (raises SingularSystem)."""
-        if self._tangent is None or not (self._constant or evaluation is self._state):
-            K = self.body.stiffness(evaluation)
-            Kff, Kfp = self.partition.blocks(K)
-            self._tangent = Tangent(factorize(Kff), Kfp, K)
-            self._state = evaluation
-            self.factorizations += 1
-        return self._tangent
-
-    def holds(self, evaluation: Evaluation) -> Tangent | None:
-        """The cached tangent if it belongs to ``evaluation`` (no new work), else None."""
-        if self._tangent is not None and (self._constant or evaluation is self._state):
-            return self._tangent
-        return None
+    @property
+    def factorized(self) -> int:
+        """Iterations that factorized a tangent (exact ones not solved by CG + AMG)."""
+        return self.exact - self.iterative
 
 
 class NewtonFailure(RuntimeError):
@@ -163,11 +129,6 @@ class NewtonFailure(RuntimeError):
         self.reason = reason
         self.record = record
         self.evaluation = evaluation
-
-
-def tangent_at(body: HyperelasticBody, partition: Partition, evaluation: Evaluation) -> Tangent:
-    Kff, Kfp = partition.blocks(body.stiffness(evaluation))
-    return Tangent(factorize(Kff), Kfp)
 
 
 @dataclass(frozen=True)
@@ -181,71 +142,104 @@ class Equilibrium:
 
 
 def solve_equilibrium(system: System, start: Evaluation, options: NewtonOptions,
-                      first: Tangent | None = None) -> Equilibrium:
+                      first: Tangent | None = None, hierarchy: AMGHierarchy | None = None) -> Equilibrium:
     """Newton iterations from the evaluated state ``start`` (prescribed DOFs at their targets).
 
     ``system.scales`` = (force scale floor in N, length scale in mm). ``first``: a positive
     definite factorized tangent near ``start`` for the first correction (chord step; see the
-    module docstring), or None. Raises NewtonFailure with the record on divergence,
+    module docstring), or None. ``hierarchy``: the run's shared AMG hierarchy for CG corrections
+    (None: a new one per correction). Raises NewtonFailure with the record on divergence,
     inadmissible states or singular tangents.
     """
-    body, partition = system.body, system.partition
-    record = NewtonRecord()
-    force_floor, length = system.scales
-    free = partition.free
+    it = _Iteration(system, options, first, hierarchy)
     ev = start
     if not ev.admissible:
-        record.reason = (f"moving the grips alone leaves an element inverted or collapsed "
-                         f"(min J = {ev.min_J:.3g} at element {ev.worst[0]})")
-        raise NewtonFailure(record.reason, record, ev)
-    tangent = last = None
-    memory = _SecantMemory(None)
-    watchdog = Watchdog(options.watchdog)
-    chord = False  # was the last correction a chord step
+        it.record.reason = (f"moving the grips alone leaves an element inverted or collapsed "
+                            f"(min J = {ev.min_J:.3g} at element {ev.worst[0]})")
+        raise NewtonFailure(it.record.reason, it.record, ev)
     for k in range(options.max_iterations + 1):
-        r = ev.f_int[free]
-        scale = max(force_floor, _norm(ev.f_int[partition.prescribed]))
-        record.residuals.append(_norm(r) / scale)
-        if (record.residuals[-1] <= options.rtol and (k == 0 or record.updates[-1] <= options.utol)
-                and ev.constraint <= options.rtol):
-            record.converged = True
-            return Equilibrium(ev, record, tangent)
+        r, scale = it.residual(ev)
+        if it.converged(ev, k):
+            it.record.converged = True
+            return Equilibrium(ev, it.record, it.tangent)
         if k == options.max_iterations:
             break
-        reusable = _reusable(k, record, options, first, last, chord)
-        chord = reusable is not None and (reusable.factor.negative_pivots == 0
-                                          or reusable.factor.backend == "cg-amg")
-        eta = forcing_term(record.residuals[-1], options.rtol)
-        try:
-            if chord:
-                if memory.factor is not reusable.factor:
-                    memory = _SecantMemory(reusable.factor)
-                du = memory.direction(r, lambda rhs: _solve(reusable.factor, rhs, eta))
-                record.reused += 1
-            else:
-                Kff, Kfp = partition.blocks(body.stiffness(ev))
-                tangent, du = _exact_correction(body, partition, Kff, Kfp, r, eta, options)
-            last = reusable if chord else tangent
-        except SingularSystem as exc:
-            record.reason = f"singular tangent: {exc}"
-            raise NewtonFailure(record.reason, record, ev) from exc
-        if not chord and not _dot(r, du) < 0.0:
-            du = _repaired_direction(Kff, r)
-            record.repairs += 1
+        ev = it.step(k, ev, r)
+    floor = roundoff_floor(system.body, system.partition, ev, scale)
+    it.record.reason = (f"no convergence in {options.max_iterations} iterations"
+                        + stall_explanation(it.record.residuals, options.rtol, floor))
+    raise NewtonFailure(it.record.reason, it.record, ev)
+
+
+class _Iteration:
+    """The state one Newton solve carries from iteration to iteration."""
+
+    def __init__(self, system: System, options: NewtonOptions, first: Tangent | None,
+                 hierarchy: AMGHierarchy | None):
+        self.system, self.options, self.first, self.hierarchy = system, options, first, hierarchy
+        self.record = NewtonRecord()
+        self.tangent = self.last = None
+        self.memory = _SecantMemory(None)
+        self.watchdog = Watchdog(options.watchdog)
+        self.chord = False  # was the last correction a chord step
+
+    def residual(self, ev: Evaluation) -> tuple[np.ndarray, float]:
+        """r_f, and the force scale its norm is relative to (recorded)."""
+        partition = self.system.partition
+        r = ev.f_int[partition.free]
+        scale = max(self.system.scales[0], _norm(ev.f_int[partition.prescribed]))
+        self.record.residuals.append(_norm(r) / scale)
+        return r, scale
+
+    def converged(self, ev: Evaluation, k: int) -> bool:
+        rec, o = self.record, self.options
+        return (rec.residuals[-1] <= o.rtol and (k == 0 or rec.updates[-1] <= o.utol)
+                and ev.constraint <= o.rtol)
+
+    def step(self, k: int, ev: Evaluation, r: np.ndarray) -> Evaluation:
+        """One correction and its line search; the new state."""
+        record, options, free = self.record, self.options, self.system.partition.free
+        reusable = _reusable(k, record, options, self.first, self.last, self.chord)
+        self.chord = reusable is not None and (reusable.factor.negative_pivots == 0
+                                               or reusable.factor.backend == "cg-amg")
+        du = self._direction(ev, r, reusable)
         returns = record.returns
-        ev, alpha, du = watchdog.advance(body, free, ev, du, options, record)
+        ev, alpha, du = self.watchdog.advance(self.system.body, free, ev, du, options, record)
         if ev is None:
             record.reason = "line search found no admissible decrease along the Newton direction"
             raise NewtonFailure(record.reason, record, alpha)
-        if (chord and options.chord_secant and reusable.factor.backend != "cg-amg"
+        if (self.chord and options.chord_secant and reusable.factor.backend != "cg-amg"
                 and record.returns == returns):
-            memory.add(alpha * du, ev.f_int[free] - r)  # (CG is not a fixed linear K̃⁻¹)
+            self.memory.add(alpha * du, ev.f_int[free] - r)  # (CG is not a fixed linear K̃⁻¹)
         record.step_lengths.append(alpha)
-        record.updates.append(alpha * float(np.max(np.abs(du), initial=0.0)) / length)
-    floor = roundoff_floor(body, partition, ev, scale)
-    record.reason = (f"no convergence in {options.max_iterations} iterations"
-                     + stall_explanation(record.residuals, options.rtol, floor))
-    raise NewtonFailure(record.reason, record, ev)
+        record.updates.append(alpha * float(np.max(np.abs(du), initial=0.0)) / self.system.scales[1])
+        return ev
+
+    def _direction(self, ev: Evaluation, r: np.ndarray, reusable: Tangent | None) -> np.ndarray:
+        """Δu_f: a chord step with ``reusable`` (BFGS-updated), or exact Newton (repaired if it
+        is no descent direction)."""
+        body, partition, record = self.system.body, self.system.partition, self.record
+        eta = forcing_term(record.residuals[-1], self.options.rtol)
+        try:
+            if self.chord:
+                if self.memory.factor is not reusable.factor:
+                    self.memory = _SecantMemory(reusable.factor)
+                du = self.memory.direction(r, lambda rhs: _solve(reusable.factor, rhs, eta))
+                record.reused += 1
+                self.last = reusable
+                return du
+            Kff, Kfp = partition.blocks(body.stiffness(ev))
+            self.tangent, du = _exact_correction(body, partition, Kff, Kfp, r, eta, self.options,
+                                                 self.hierarchy)
+            self.last = self.tangent
+            record.iterative += self.tangent.factor.backend == "cg-amg"
+        except SingularSystem as exc:
+            record.reason = f"singular tangent: {exc}"
+            raise NewtonFailure(record.reason, record, ev) from exc
+        if not _dot(r, du) < 0.0:
+            du = _repaired_direction(Kff, r)
+            record.repairs += 1
+        return du
 
 
 def _reusable(k: int, record: NewtonRecord, options: NewtonOptions, first: Tangent | None,
@@ -310,12 +304,12 @@ def _solve(factor: Factorization, rhs: np.ndarray, eta: float) -> np.ndarray:
 
 
 def _exact_correction(body, partition: Partition, Kff, Kfp, r: np.ndarray, eta: float,
-                      options: NewtonOptions) -> tuple[Tangent, np.ndarray]:
-    """K_ff Δu = -r with the configured solver; CG + AMG falls back to a direct factorization
-    when it meets an indefinite K_ff or does not converge."""
+                      options: NewtonOptions, hierarchy: AMGHierarchy | None = None) -> tuple[Tangent, np.ndarray]:
+    """K_ff Δu = -r with the configured solver; CG + AMG (the shared hierarchy if given) falls
+    back to a direct factorization when it meets an indefinite K_ff or does not converge."""
     if options.linear == "cg-amg":
         try:
-            solver = AMGConjugateGradient(Kff, rigid_body_modes(body.space.node_coordinates)[partition.free])
+            solver = AMGConjugateGradient(Kff, None if hierarchy else amg_modes(body, partition), hierarchy)
             return Tangent(solver, Kfp), solver.solve(-r, eta)
         except IterativeSolveFailed as exc:
             log.info("CG + AMG failed (%s); direct factorization instead", exc)

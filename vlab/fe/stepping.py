@@ -104,6 +104,7 @@ class SolveHistory:
     failure: Failure | None = None
     factorizations: int = 0
     seconds: float = 0.0
+    amg_setups: int = 0  # set-ups of the shared AMG hierarchy (iterative path; 0 on the direct one)
 
 
 # accept(evaluation, t) -> None, or the reason why a converged substep is rejected (e.g. unstable)
@@ -130,6 +131,7 @@ def run_schedule(system: System, stepping: Stepping,
     start = time.perf_counter()
     history = SolveHistory()
     cache = stepping.tangents or TangentCache(system.body, system.partition)
+    cache.use_linear(stepping.newton.linear)  # the iterative path: no factorization at all
     walk = _unloaded(system, stepping, cache, history)
     if walk is None:
         return _finish(history, start, cache, 0)
@@ -209,7 +211,7 @@ def _level(system: System, stepping: Stepping, cache: TangentCache, walk: _Walk,
                             None if q0 is None else q0 + s_try * (walk.held_force - q0))
         except NewtonFailure as failure:
             records.append(failure.record)
-            walk.factorizations += failure.record.exact
+            walk.factorizations += failure.record.factorized
             cutbacks, ds = cutbacks + 1, ds / 2
             if cutbacks > stepping.max_cutbacks or ds < smallest * (1 - 1e-12):
                 return _diagnose(index, target, t_try, walk.t, failure)
@@ -217,7 +219,7 @@ def _level(system: System, stepping: Stepping, cache: TangentCache, walk: _Walk,
         if history is not None:
             history.commit(walk.current)
         records.append(step.record)
-        walk.factorizations += step.record.exact
+        walk.factorizations += step.record.factorized
         walk.tangent = cache.holds(walk.current) or step.tangent or walk.tangent
         walk.t, s = step.t, s_try
         walk.clock = clock0 + s * span
@@ -251,7 +253,7 @@ def _attempt(system: System, stepping: Stepping, cache: TangentCache, walk: _Wal
     else:
         converged_tangent = cache.holds(walk.current)
         step = _substep(system, walk.current, converged_tangent or walk.tangent, walk.t, t_try, stepping,
-                        converged_tangent, walk.previous)
+                        converged_tangent, walk.previous, cache.hierarchy)
     objection = stepping.accept and stepping.accept(step.evaluation, float(step.t))
     if objection:
         raise NewtonFailure(objection, step.record, None)
@@ -273,12 +275,14 @@ def _check_restrained(tangent: Tangent, partition: Partition) -> None:
 
 def _finish(history: SolveHistory, start: float, cache: TangentCache, newton_factorizations: int):
     history.factorizations = cache.factorizations + newton_factorizations
+    history.amg_setups = cache.amg_setups
     history.seconds = time.perf_counter() - start
     return history
 
 
 def _substep(system: System, current: Evaluation, tangent: Tangent, t0, t1, stepping: Stepping,
-             converged_tangent: Tangent | None = None, previous: PathPoint | None = None) -> _Step:
+             converged_tangent: Tangent | None = None, previous: PathPoint | None = None,
+             hierarchy=None) -> _Step:
     """Move the grips from t0 to t1, predict the free DOFs, then iterate to equilibrium.
 
     The predictor starts from the tangent step v₀ Δt, v₀ = du_f/dt = −K_ff⁻¹ K_fp û_p (the
@@ -312,7 +316,7 @@ def _substep(system: System, current: Evaluation, tangent: Tangent, t0, t1, step
         start = system.body.evaluate(u)
         if start.admissible:
             break
-    found = solve_equilibrium(system, start, stepping.newton, converged_tangent)
+    found = solve_equilibrium(system, start, stepping.newton, converged_tangent, hierarchy)
     return _Step(found.evaluation, t1, found.record, found.tangent, here)
 
 

@@ -7,13 +7,21 @@ structured lattices in vlab/geometry/counts.py): the block and the strip and she
 divisions per side, the dogbone and the cruciform by their mappers' divisions, the sheet in 2D, an
 imported or CAD mesh by its own nodes and cells. DOFs = nodes × dimension.
 
-Memory (bytes) ≈ BASE_BYTES + A[(cell, order)] × DOFs^(4/3): the sparse direct factorization (every
-converged state is factorized for the stability check, also when CG + AMG solves the Newton
-corrections) fills in as n^(4/3) for a 3D mesh under nested dissection, and dominates; the
+Memory (bytes), on the direct path ≈ BASE_BYTES + A[(cell, order)] × DOFs^(4/3): the sparse direct
+factorization (every converged state is factorized for Newton and the stability check) fills in
+as n^(4/3) for a 3D mesh under nested dissection, and dominates; the
 coefficients are fitted on the peak RSS (/usr/bin/time) of ``vlab run --no-render --no-estimate``
 on a 40 × 20 × 10 mm block at 28,413 DOFs (PARDISO, numba kernels, 2-core machine): hex order 1
 844 MB, order 2 1,094 MB; tet order 1 729 MB, order 2 866 MB; base 400 MB (4,158 DOFs: 425 MB).
 Checked at 84,960 DOFs (hex order 1): measured 2,180 MB, estimated 2,320 MB (+6 %).
+
+On the iterative path (CG + AMG corrections, LOBPCG stability check: vlab.fe.iterative.choose,
+above the direct solver's crossover) nothing is factorized and memory grows linearly:
+≈ BASE_BYTES + ITERATIVE_BYTES × r[(cell, order)] × DOFs, r = the tangent's nonzeros per row
+relative to Q1 hexahedra (counted on an 8 mm block: Q1 hex 64.3, Q2 hex 147.9, P1 tet 37.4,
+P2 tet 70.1; 2D from the stencil sizes), since what is held (the tangents, the AMG hierarchy,
+Newton's vectors) is a few copies of the matrix. ITERATIVE_BYTES is fitted on the peak RSS of
+the cube benchmark (benchmarks/cube_scaling.py): 1,464 MB at 107,811 DOFs (32³ Q1 hexahedra).
 
 Limits: DOFs ≤ mesh.max_dofs (default DEFAULT_MAX_DOFS) and estimated memory ≤ the memory
 available now (psutil), with the numbers in the message.
@@ -33,6 +41,10 @@ DEFAULT_MAX_DOFS = 2_000_000
 BASE_BYTES = 400e6  # python, numpy/scipy, numba, VTK loaded
 FILL_EXPONENT = 4.0 / 3.0
 #: bytes / DOF^(4/3), fitted at 28,413 DOFs (module docstring); 2D (sheets) fills far less
+#: bytes / DOF on the iterative path for Q1 hexahedra, fitted on the cubes' peak RSS (docstring)
+ITERATIVE_BYTES = 10_000.0
+NONZEROS_RELATIVE = {("hex", 1): 1.0, ("hex", 2): 2.3, ("tet", 1): 0.58, ("tet", 2): 1.09,
+                     ("quad", 1): 0.25, ("quad", 2): 0.55, ("tri", 1): 0.2, ("tri", 2): 0.35}
 FILL_BYTES = {("hex", 1): 513.0, ("hex", 2): 801.0, ("tet", 1): 380.0, ("tet", 2): 538.0,
               ("quad", 1): 60.0, ("quad", 2): 90.0, ("tri", 1): 45.0, ("tri", 2): 65.0}
 
@@ -44,10 +56,12 @@ class SizeEstimate:
     dofs: int
     memory_bytes: float
     how: str  # which rule counted (for the message)
+    iterative: bool = False  # memory estimated for the CG + AMG path (no factorization)
 
     def describe(self) -> str:
+        path = "CG + AMG, no factorization" if self.iterative else "sparse factorization"
         return (f"≈ {_count(self.elements)} elements, {_count(self.nodes)} nodes, {_count(self.dofs)} DOFs, "
-                f"≈ {self.memory_bytes / 1e9:.3g} GB ({self.how})")
+                f"≈ {self.memory_bytes / 1e9:.3g} GB with the {path} ({self.how})")
 
 
 def _count(n: int) -> str:
@@ -57,16 +71,27 @@ def _count(n: int) -> str:
     return f"{float(n):.3g}" if n < 10**300 else f"10^{len(str(n)) - 1}"
 
 
-def estimate(scene) -> SizeEstimate:
-    """The scene's mesh size, counted by its shape's registry entry (module docstring)."""
+def estimate(scene, linear_path=None) -> SizeEstimate:
+    """The scene's mesh size, counted by its shape's registry entry, and its memory (module
+    docstring). ``linear_path(dofs)`` -> "direct" | "cg-amg" says which solver path the run would
+    take (vlab.fe.iterative.choose, handed in by the pipeline); None: the direct path."""
     from vlab.geometry.shapes import SHAPES
 
     mesh = scene.mesh
     count = SHAPES[scene.specimen.shape].count(scene.specimen, mesh)
     dofs = count.dim * count.nodes
-    fill = FILL_BYTES.get((mesh.cell, mesh.order), 801.0)
-    memory = BASE_BYTES + fill * float(dofs) ** FILL_EXPONENT if dofs < 10**15 else math.inf
-    return SizeEstimate(count.elements, count.nodes, dofs, memory, count.how)
+    iterative = (linear_path is not None and count.dim == 3 and dofs < 10**15
+                 and linear_path(dofs) == "cg-amg")
+    return SizeEstimate(count.elements, count.nodes, dofs, _memory(dofs, mesh.cell, mesh.order, iterative),
+                        count.how, iterative)
+
+
+def _memory(dofs: int, cell: str, order: int, iterative: bool) -> float:
+    if dofs >= 10**15:
+        return math.inf
+    if iterative:
+        return BASE_BYTES + ITERATIVE_BYTES * NONZEROS_RELATIVE.get((cell, order), 2.3) * dofs
+    return BASE_BYTES + FILL_BYTES.get((cell, order), 801.0) * float(dofs) ** FILL_EXPONENT
 
 
 def available_memory() -> float:
@@ -75,9 +100,10 @@ def available_memory() -> float:
     return float(psutil.virtual_memory().available)
 
 
-def check_budget(scene) -> SizeEstimate:
-    """Raise SceneError (naming mesh.size and mesh.max_dofs) if the mesh is beyond the budget."""
-    est = estimate(scene)
+def check_budget(scene, linear_path=None) -> SizeEstimate:
+    """Raise SceneError (naming mesh.size and mesh.max_dofs) if the mesh is beyond the budget;
+    ``linear_path`` as for ``estimate``."""
+    est = estimate(scene, linear_path)
     limit = scene.mesh.max_dofs or DEFAULT_MAX_DOFS
     what = "mesh.size" if scene.specimen.shape != "mesh" else "specimen.file"
     if est.dofs > limit:

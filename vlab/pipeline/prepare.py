@@ -69,9 +69,11 @@ def prepare(scene: Scene, specimen: Specimen | None = None, settings: Settings |
 def build_specimen(scene: Scene) -> Specimen:
     """The specimen mesh (its shape's ``build``: vlab/geometry/shapes.py); first the size budget
     (SceneError before anything is allocated)."""
+    from vlab.fe.iterative import choose
+    from vlab.fe.linsolve import solver_in_use
     from vlab.geometry.budget import check_budget
 
-    check_budget(scene)
+    check_budget(scene, lambda dofs: choose(scene.solver.linear, dofs, solver_in_use()))
     return SHAPES[scene.specimen.shape].build(scene.specimen, scene.mesh, scene.measure.gauge_length)
 
 

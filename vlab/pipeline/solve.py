@@ -16,7 +16,7 @@ from vlab.checks.admissibility import inadmissible_request
 from vlab.checks.conditioning import restrained_but_singular
 from vlab.checks.monitor import MonitorOptions, StabilityMonitor
 from vlab.effects import EFFECTS
-from vlab.fe.iterative import choose as choose_linear
+from vlab.fe.iterative import choose as choose_linear, supports
 from vlab.fe.linsolve import solver_in_use
 from vlab.fe.newton import CHORD_CONTRACTION, NewtonOptions
 from vlab.fe.system import System
@@ -52,7 +52,8 @@ def stability_monitor(prepared: Prepared) -> StabilityMonitor:
 def solve(prepared: Prepared, monitor: StabilityMonitor, observers: list[Observer]) -> Solved:
     """Run the test's load schedule; a request that cannot be solved at all is a failure at level 0."""
     scene, specimen = prepared.scene, prepared.specimen
-    linear_solver = choose_linear(scene.solver.linear, len(prepared.partition.free), solver_in_use())
+    linear_solver = choose_linear(scene.solver.linear, len(prepared.partition.free), solver_in_use(),
+                                  supports(prepared.body))
     refusal = _refusal(prepared)
     if refusal is not None:
         return Solved(SolveHistory(failure=Failure(0, 1.0, 1.0, 0.0, refusal, [])), linear_solver)
