@@ -53,14 +53,14 @@ def _problem(n: int) -> str:
 
 
 def run_vlab(n: int) -> dict:
-    from vlab import jit
+    from vlab import jit, settings
     from vlab.fe import linsolve
     from vlab.report.results import result_to_dict
     from vlab.run import run_scene
 
     scene = bench._scene(_problem(n))
     linsolve.solver_in_use()
-    jit.available()
+    jit.available(settings.current())
     t0 = time.perf_counter()
     result = run_scene(scene)
     total = time.perf_counter() - t0
