@@ -59,6 +59,15 @@ def kernel_in_use(config: Settings) -> str:
     return jit.in_use(config)
 
 
+def kernel_label(kernels, version: str) -> str:
+    """The tangent kernel a body assembles with, for results.json: 'compiled (numba x.y, t
+    threads)' for CompiledKernels ``kernels`` built under ``version``, 'numpy' for None."""
+    if kernels is None:
+        return "numpy"
+    t = kernels.threads
+    return f"compiled ({version}, {t} thread{'s' if t > 1 else ''})"
+
+
 def source(n_local: int) -> str:
     """Python source of the stiffness kernel for elements with ``n_local`` nodes."""
     A = n_local

@@ -148,11 +148,8 @@ class MixedHyperelasticBody(BodyDefaults):
 
     @property
     def tangent_kernel(self) -> str:
-        """'compiled (numba x.y, t threads)' or 'numpy'."""
-        if self._compiled is None:
-            return "numpy"
-        t = self._compiled.threads
-        return f"compiled ({self._kernel_version}, {t} thread{'s' if t > 1 else ''})"
+        """Which kernel assembles the tangent: 'compiled (numba x.y, t threads)' or 'numpy'."""
+        return compiled.kernel_label(self._compiled, self._kernel_version if self._compiled is not None else "")
 
     def _gradient(self, u: np.ndarray) -> np.ndarray:
         fast = self._compiled

@@ -80,10 +80,7 @@ class HyperelasticBody(BodyDefaults):
     @property
     def tangent_kernel(self) -> str:
         """Which kernel assembles the tangent: 'compiled (numba x.y, t threads)' or 'numpy'."""
-        if self._compiled is None:
-            return "numpy"
-        t = self._compiled.threads
-        return f"compiled ({self._kernel_version}, {t} thread{'s' if t > 1 else ''})"
+        return compiled.kernel_label(self._compiled, self._kernel_version if self._compiled is not None else "")
 
     @timed(ASSEMBLY)
     def evaluate(self, u: np.ndarray) -> Evaluation:
