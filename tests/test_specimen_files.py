@@ -111,5 +111,5 @@ def test_results_match_the_golden_files_recorded_before_the_restructuring(path, 
     goldens to round-off that any solver improvement would break."""
     skip_without_gmsh(path)
     expected = json.loads(golden_path(path).read_text(encoding="utf-8"))
-    found = differences(expected, golden_view(run_coarse(path, folder)[2]), rtol=1e-6)
+    found = differences(expected, golden_view(run_coarse(path, folder)[2], expected), rtol=1e-6)
     assert not found, "\n".join(found[:20])
