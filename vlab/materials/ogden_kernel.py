@@ -57,22 +57,9 @@ def ogden_state(F, mus, alphas, lam, N, n, eps, psi, tau, c, g, P, start, stop):
     """(module docstring) F (3,3,p) admissible, points start:stop; outputs as PrincipalFrame
     and principal_iso."""
     for p in range(start, stop):
-        c00 = F[0, 0, p] * F[0, 0, p] + F[1, 0, p] * F[1, 0, p] + F[2, 0, p] * F[2, 0, p]
-        c01 = F[0, 0, p] * F[0, 1, p] + F[1, 0, p] * F[1, 1, p] + F[2, 0, p] * F[2, 1, p]
-        c02 = F[0, 0, p] * F[0, 2, p] + F[1, 0, p] * F[1, 2, p] + F[2, 0, p] * F[2, 2, p]
-        c11 = F[0, 1, p] * F[0, 1, p] + F[1, 1, p] * F[1, 1, p] + F[2, 1, p] * F[2, 1, p]
-        c12 = F[0, 1, p] * F[0, 2, p] + F[1, 1, p] * F[1, 2, p] + F[2, 1, p] * F[2, 2, p]
-        c22 = F[0, 2, p] * F[0, 2, p] + F[1, 2, p] * F[1, 2, p] + F[2, 2, p] * F[2, 2, p]
-        out = eig3(c00, c01, c02, c11, c12, c22)
+        frame_point(F, p, lam, N, n)
         for A in range(3):
-            l = math.sqrt(out[A])
-            lam[A, p] = l
-            eps[A, p] = math.log(l)
-            N0, N1, N2 = out[3 + A], out[6 + A], out[9 + A]
-            N[0, A, p], N[1, A, p], N[2, A, p] = N0, N1, N2
-            r = 1.0 / l
-            for i in range(3):
-                n[i, A, p] = (F[i, 0, p] * N0 + F[i, 1, p] * N1 + F[i, 2, p] * N2) * r
+            eps[A, p] = math.log(lam[A, p])
         e0, e1, e2 = eps[0, p], eps[1, p], eps[2, p]
         mean = (e0 + e1 + e2) / 3.0
         # accumulate in scalars, store once: the outputs are strided (p is their last axis)

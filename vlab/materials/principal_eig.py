@@ -158,26 +158,33 @@ def eigh_batch(A, w, V):
         V[p, 2, 0], V[p, 2, 1], V[p, 2, 2] = out[9], out[10], out[11]
 
 
+@numba.njit(inline="always", **_OPTIONS)
+def frame_point(F, p, lam, N, n):
+    """Point p of F (3,3,p): principal stretches lam[:, p], N[:, :, p] (eigenvectors of C = FᵀF)
+    and n[:, :, p] = F N_A / λ_A (shared by frame_batch and the Ogden kernel)."""
+    c00 = F[0, 0, p] * F[0, 0, p] + F[1, 0, p] * F[1, 0, p] + F[2, 0, p] * F[2, 0, p]
+    c01 = F[0, 0, p] * F[0, 1, p] + F[1, 0, p] * F[1, 1, p] + F[2, 0, p] * F[2, 1, p]
+    c02 = F[0, 0, p] * F[0, 2, p] + F[1, 0, p] * F[1, 2, p] + F[2, 0, p] * F[2, 2, p]
+    c11 = F[0, 1, p] * F[0, 1, p] + F[1, 1, p] * F[1, 1, p] + F[2, 1, p] * F[2, 1, p]
+    c12 = F[0, 1, p] * F[0, 2, p] + F[1, 1, p] * F[1, 2, p] + F[2, 1, p] * F[2, 2, p]
+    c22 = F[0, 2, p] * F[0, 2, p] + F[1, 2, p] * F[1, 2, p] + F[2, 2, p] * F[2, 2, p]
+    out = eig3(c00, c01, c02, c11, c12, c22)
+    for A in range(3):
+        l = math.sqrt(out[A])
+        lam[A, p] = l
+        N0, N1, N2 = out[3 + A], out[6 + A], out[9 + A]
+        N[0, A, p], N[1, A, p], N[2, A, p] = N0, N1, N2
+        r = 1.0 / l
+        for i in range(3):
+            n[i, A, p] = (F[i, 0, p] * N0 + F[i, 1, p] * N1 + F[i, 2, p] * N2) * r
+
+
 @numba.njit(**_OPTIONS)
 def frame_batch(F, lam, N, n):
     """F (3,3,p) -> principal stretches lam (3,p), N[J, A, p] (eigenvectors of C = FᵀF) and
     n[i, A, p] = F N_A / λ_A."""
     for p in range(F.shape[2]):
-        c00 = F[0, 0, p] * F[0, 0, p] + F[1, 0, p] * F[1, 0, p] + F[2, 0, p] * F[2, 0, p]
-        c01 = F[0, 0, p] * F[0, 1, p] + F[1, 0, p] * F[1, 1, p] + F[2, 0, p] * F[2, 1, p]
-        c02 = F[0, 0, p] * F[0, 2, p] + F[1, 0, p] * F[1, 2, p] + F[2, 0, p] * F[2, 2, p]
-        c11 = F[0, 1, p] * F[0, 1, p] + F[1, 1, p] * F[1, 1, p] + F[2, 1, p] * F[2, 1, p]
-        c12 = F[0, 1, p] * F[0, 2, p] + F[1, 1, p] * F[1, 2, p] + F[2, 1, p] * F[2, 2, p]
-        c22 = F[0, 2, p] * F[0, 2, p] + F[1, 2, p] * F[1, 2, p] + F[2, 2, p] * F[2, 2, p]
-        out = eig3(c00, c01, c02, c11, c12, c22)
-        for A in range(3):
-            l = math.sqrt(out[A])
-            lam[A, p] = l
-            N0, N1, N2 = out[3 + A], out[6 + A], out[9 + A]
-            N[0, A, p], N[1, A, p], N[2, A, p] = N0, N1, N2
-            r = 1.0 / l
-            for i in range(3):
-                n[i, A, p] = (F[i, 0, p] * N0 + F[i, 1, p] * N1 + F[i, 2, p] * N2) * r
+        frame_point(F, p, lam, N, n)
 '''
 
 _KERNELS: list = []
