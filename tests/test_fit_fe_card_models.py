@@ -6,9 +6,7 @@ import tomllib
 import numpy as np
 import pytest
 
-pytest.importorskip("vlab.materials.card", reason="the FE model library (#18) is not merged yet")
-
-from vlab.identify.fe_sensitivity import simulate  # noqa: E402
+from vlab.identify.fe_sensitivity import simulate
 
 BLOCK = '''name = "fe-block-mr"
 [specimen]
