@@ -137,7 +137,10 @@ class StabilityMonitor:
                                 path_load=load, path_stiffness=slope, stability_method=found.key,
                                 eigenpair_residual=found.residual)
         if record.accepted:
-            self._accepted, self._accepted_Kff = record, (Kff, found.solve)
+            # K_ff is kept only while the state's lowest eigenvalue is unknown (a bracket needs
+            # it); LOBPCG's states carry theirs, and a large run then holds one K_ff less
+            self._accepted = record
+            self._accepted_Kff = (Kff, found.solve) if record.lowest_eigenvalue is None else None
             return None
         self.records.append(record)
         if unstable:
@@ -162,7 +165,7 @@ class StabilityMonitor:
             K = self.body.stiffness(ev)
             Kff, Kfp = self.partition.blocks(K)
             return K, Kff, Kfp, inertia(Kff)
-        Kff = self.partition.blocks(tangent.K)[0]
+        Kff = tangent.Kff if tangent.Kff is not None else self.partition.blocks(tangent.K)[0]
         # the stepper verified the unloaded K_ff (no free rigid modes), so a Cholesky here
         # needs no second look for a zero eigenvalue (vlab.fe.stepping._check_restrained)
         return tangent.K, Kff, tangent.Kfp, factorized_inertia(tangent.factor, Kff, verify_zero=False)

@@ -73,6 +73,11 @@ class BodyDefaults:
     history: HistoryCapability | None = None
     tangent_kernel: str = "numpy"
     advance = None  # (evaluation, du, alpha) -> Evaluation for a body with element unknowns
+    #: u -> F (d,d,e,q) bit for bit as ``evaluate`` computes it, or None. With it a recorded
+    #: load level keeps no F (vlab.fe.stepping.Level.released: 576 B per Q1 hex per level) and
+    #: rebuilds it when read; a body that keys data by the identity of an evaluation (history
+    #: bodies' kept cell fields) leaves it None
+    gradient = None
 
     def cell_cauchy(self, evaluation: "Evaluation") -> np.ndarray | None:
         return None

@@ -39,6 +39,7 @@ class LoadedBody(BodyDefaults):
     material = property(lambda self: self.inner.material)
     history = property(lambda self: self.inner.history)
     tangent_kernel = property(lambda self: self.inner.tangent_kernel)
+    gradient = property(lambda self: self.inner.gradient)  # the load does not change F
 
     def cell_cauchy(self, evaluation: Evaluation) -> np.ndarray | None:
         return self.inner.cell_cauchy(evaluation)

@@ -151,7 +151,8 @@ class MixedHyperelasticBody(BodyDefaults):
         """Which kernel assembles the tangent: 'compiled (numba x.y, t threads)' or 'numpy'."""
         return compiled.kernel_label(self._compiled, self._kernel_version if self._compiled is not None else "")
 
-    def _gradient(self, u: np.ndarray) -> np.ndarray:
+    def gradient(self, u: np.ndarray) -> np.ndarray:
+        """F = I + ∂u/∂X (3,3,e,q), bit for bit the F of ``evaluate``."""
         fast = self._compiled
         return fast.deformation_gradient(u) if fast is not None else self.space.deformation_gradient(u)
 
@@ -170,7 +171,7 @@ class MixedHyperelasticBody(BodyDefaults):
         i.e. P_eff = P_iso + p̃ ∂v/∂F with p̃ = Π_e [U'(θ) + U''(θ)(Π_e v − θ)]; at θ = Π_e v it is
         ∂W/∂u."""
         law, dx = self.material, self.space.dx
-        F = self._gradient(u)
+        F = self.gradient(u)
         J = det(F)
         projected = self.projection(law.volume(F))                # Π_e v, the volume change of u
         x = projected if volume_change is None else volume_change
@@ -199,7 +200,7 @@ class MixedHyperelasticBody(BodyDefaults):
         recomputing p from Π_e v would put it in the pressure and the geometric stiffness."""
         law = self.material
         F = evaluation.F
-        grad = self._gradient(du)
+        grad = self.gradient(du)
         for i in range(3):
             grad[i, i] -= 1.0                                     # ∇Δu (3, 3, e, q)
         rate = np.einsum("iJeq,iJeq->eq", law.volume_gradient(F), grad)

@@ -82,11 +82,14 @@ class HyperelasticBody(BodyDefaults):
         """Which kernel assembles the tangent: 'compiled (numba x.y, t threads)' or 'numpy'."""
         return compiled.kernel_label(self._compiled, self._kernel_version if self._compiled is not None else "")
 
+    def gradient(self, u: np.ndarray) -> np.ndarray:
+        """F = I + ∂u/∂X (3,3,e,q) by the kernel ``evaluate`` uses, so bit for bit its F."""
+        fast = self._compiled
+        return fast.deformation_gradient(u) if fast is not None else self.space.deformation_gradient(u)
+
     @timed(ASSEMBLY)
     def evaluate(self, u: np.ndarray) -> Evaluation:
-        fast = self._compiled
-        F = (fast.deformation_gradient(u) if fast is not None
-             else self.space.deformation_gradient(u))
+        F = self.gradient(u)
         J = det(F)  # closed form: LAPACK's batched det of 3×3 matrices is ~10× slower
         worst = np.unravel_index(int(np.argmin(J)), J.shape)
         min_J = float(J[worst])
@@ -96,6 +99,7 @@ class HyperelasticBody(BodyDefaults):
         if not np.isfinite(W):
             return Evaluation(u, F, np.inf, None, min_J, (int(worst[0]), int(worst[1])))
         P = self.material.stress(F)
+        fast = self._compiled
         f_int = (fast.internal_force(P) if fast is not None
                  else scatter_vector(self.space, element_forces(self.space, P)))
         return Evaluation(u, F, W, f_int, min_J, (int(worst[0]), int(worst[1])))

@@ -92,12 +92,16 @@ class SpringNetwork(BodyDefaults):
         length = np.linalg.norm(d, axis=1)
         return d, length
 
+    def gradient(self, u: np.ndarray) -> np.ndarray:
+        """The FE deformation gradient of the mesh (for reports), as ``evaluate`` computes it."""
+        return self.space.deformation_gradient(u)
+
     @timed(ASSEMBLY)
     def evaluate(self, u: np.ndarray) -> Evaluation:
         """Energy, spring forces and (for reports) the FE deformation gradient of the mesh.
 
         A state in which any spring has collapsed to zero length is inadmissible (W = +inf)."""
-        F = self.space.deformation_gradient(u)
+        F = self.gradient(u)
         J = np.linalg.det(np.moveaxis(F, (0, 1), (-2, -1)))
         worst = np.unravel_index(int(np.argmin(J)), J.shape)
         worst = (int(worst[0]), int(worst[1]))

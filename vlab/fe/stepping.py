@@ -33,7 +33,7 @@ with a dead load (``f_ext``) is first brought to equilibrium under it at t = 0.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Callable
 
 import numpy as np
@@ -70,13 +70,32 @@ class PathPoint:
 
 @dataclass(frozen=True)
 class Level:
-    """A converged state at a scheduled load level t."""
+    """A converged state at a scheduled load level t.
+
+    ``state`` is the converged Evaluation. Once the level's observers have read it (the
+    measurements, vlab.fe.stepping.run_schedule), the history keeps it ``released``: without its
+    deformation gradient F (3·3·n_qp doubles per element, 576 B per Q1 hexahedron, one of the
+    largest arrays of a large run, times the number of levels), which ``evaluation`` rebuilds
+    from u with the body's ``gradient`` (bit for bit the F the solver had) on every read."""
 
     t: float
-    evaluation: Evaluation
+    state: Evaluation
     newton: list[NewtonRecord]
     cutbacks: int
     time: float | None = None  # physical time, s (None for a quasi-static test)
+    gradient: Callable[[np.ndarray], np.ndarray] | None = None  # u -> F once F is released
+
+    @property
+    def evaluation(self) -> Evaluation:
+        if self.gradient is None:
+            return self.state
+        return replace(self.state, F=self.gradient(self.state.u))
+
+    def released(self, gradient: Callable[[np.ndarray], np.ndarray] | None) -> "Level":
+        """This level without F in memory (itself if the body cannot rebuild F: ``gradient`` None)."""
+        if gradient is None or self.gradient is not None:
+            return self
+        return replace(self, state=replace(self.state, F=None), gradient=gradient)
 
     @property
     def iterations(self) -> int:
@@ -140,9 +159,9 @@ def run_schedule(system: System, stepping: Stepping,
         if isinstance(level, Failure):
             history.failure = level
             break
-        history.levels.append(level)
         if on_level is not None:
             on_level(level)
+        history.levels.append(level.released(system.body.gradient))
     return _finish(history, start, cache, walk.factorizations)
 
 

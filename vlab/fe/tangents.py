@@ -22,6 +22,7 @@ class Tangent:
     factor: Factorization
     Kfp: sp.csr_matrix
     K: sp.csr_matrix | None = None  # the full tangent (free and prescribed), if kept
+    Kff: sp.csr_matrix | None = None  # the free block that ``factor`` stands for, if kept
 
 
 class TangentCache:
@@ -66,9 +67,9 @@ class TangentCache:
             K = self.body.stiffness(evaluation)
             Kff, Kfp = self.partition.blocks(K)
             if self.linear == "cg-amg":
-                self._tangent = Tangent(AMGConjugateGradient(Kff, hierarchy=self.hierarchy), Kfp, K)
+                self._tangent = Tangent(AMGConjugateGradient(Kff, hierarchy=self.hierarchy), Kfp, K, Kff)
             else:
-                self._tangent = Tangent(factorize(Kff), Kfp, K)
+                self._tangent = Tangent(factorize(Kff), Kfp, K, Kff)
                 self.factorizations += 1
             self._state = evaluation
         return self._tangent

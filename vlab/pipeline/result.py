@@ -80,4 +80,4 @@ class RunResult:
     @property
     def final_displacement(self) -> np.ndarray:
         levels = self.history.levels
-        return levels[-1].evaluation.u if levels else np.zeros(self.space.n_dofs)
+        return levels[-1].state.u if levels else np.zeros(self.space.n_dofs)

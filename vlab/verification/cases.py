@@ -308,7 +308,7 @@ def dogbone_stretch(context: CaseContext) -> Outcome:
     data = result_to_dict(result)
     stable = all(s["negative_eigenvalues"] == 0 for s in data["stability"])
     reached = data["curve"]["stretch"][-1]
-    min_J = min(level.evaluation.min_J for level in result.history.levels)
+    min_J = min(level.state.min_J for level in result.history.levels)
     return from_run(data, f"converged to {reached:g}, min J {min_J:.3g}, force {data['curve']['force'][-1]:.3g} N"
                     if data["converged"] else f"stopped at {reached:g}: {data['failure']['reason'][:80]}",
                     data["converged"] and stable and reached == 4.0, min_J=min_J, dofs=data["mesh"]["dofs"])
