@@ -31,7 +31,7 @@ def golden_view(data: dict, expected: dict | None = None) -> dict:
     eigenvalue and this run vetted the state by LOBPCG, the eigenvalue is left out too. The
     iterative check finds it at every level as a by-product, the direct inertia only when
     [solver] eigenvalues asks, and which path a mesh takes depends on the installed direct
-    solver's crossover (PARDISO 50,000 free DOFs, SuperLU 5,000), not on the physics."""
+    solver's crossover (PARDISO 20,000 free DOFs, SuperLU 5,000), not on the physics."""
     view = {key: data.get(key) for key in KEPT}
     view["mesh"] = {key: data["mesh"].get(key) for key in MESH_KEPT}
     # the inertia's back end (PARDISO or SuperLU) depends on what is installed, not on the physics

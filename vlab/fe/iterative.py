@@ -59,7 +59,14 @@ def available() -> str | None:
 #   PARDISO      0.02   0.13    0.43    2.40    15.2
 #   SuperLU      0.05   0.81    2.48   27.9       -
 #   CG + AMG     0.08   0.27    0.89    2.71     5.58
-CROSSOVER = {"pardiso": 50_000, "superlu": 5_000}
+#: Whole runs since the Jacobi smoother (SMOOTHER) and the shared hierarchy, benchmarks/cube_scaling.py
+#: (10 steps to stretch 1.5, the stability check at every level, quiet machine, seconds):
+#:   cube  DOFs     PARDISO + Cholesky check   CG + AMG + LOBPCG check
+#:   16³   14,739   2.97, 3.03                 3.16, 3.01
+#:   24³   46,875   13.25                      10.7-11.9
+#: so PARDISO's crossover moved from 50,000 to 20,000 free DOFs (the iterative path also peaks
+#: lower: 317 against 443 MB at 16³)
+CROSSOVER = {"pardiso": 20_000, "superlu": 5_000}
 
 
 def choose(requested: str, n_free: int, direct_backend: str, supported: bool = True) -> str:
