@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from vlab.fe.cell_fields import cauchy, cell_average
+from vlab.tensor import det
 
 #: field name -> (label for scalar bars, unit)
 FIELDS: dict[str, tuple[str, str]] = {
@@ -89,7 +90,7 @@ def cell_fields(body, evaluation) -> CellFields:
     material = body.material
     if F.shape[0] == 2:
         F, material = material.full_gradient(F), material.base
-    J_q = np.linalg.det(np.moveaxis(F, (0, 1), (-2, -1)))
+    J_q = det(F)  # closed form, as the solver's J (numpy.linalg.det: 0.06 s a state on block16's 32,768 points)
     sigma = body.cell_cauchy(evaluation)  # a body's own (spring network, history), or from P
     if sigma is None:
         sigma = cell_average(cauchy(material.stress(F), F), dx)
