@@ -115,14 +115,14 @@ class StabilityMonitor:
         return self.kind.at(self.target, t)
 
     def accept(self, ev: Evaluation, t: float) -> str | None:
-        K, Kff, Kfp, found = self._inertia(ev)
+        Kpp, Kff, Kfp, found = self._inertia(ev)
         slope = None
         if self.options.limit_points:
             try:
-                slope = self._path_stiffness(K, Kfp, found)
+                slope = self._path_stiffness(Kff, Kfp, Kpp, found)
             except SingularSystem:  # a Cholesky that succeeded on a numerically singular K_ff,
                 found = self._recount(Kff, found)  # or CG's negative curvature after LOBPCG
-                slope = self._path_stiffness(K, Kfp, found)
+                slope = self._path_stiffness(Kff, Kfp, Kpp, found)
         forces = [float(ev.f_int[self.moving[a]].sum()) for a in range(len(self.direction))]
         load = float(self.u_hat @ ev.f_int)
         limit = self._is_limit(load, slope) if self.options.limit_points else False
@@ -156,7 +156,7 @@ class StabilityMonitor:
 
     @timed(STABILITY)
     def _inertia(self, ev: Evaluation):
-        """K, K_ff, K_fp and the inertia of K_ff, from the Newton solver's factorization when it
+        """K_pp, K_ff, K_fp and the inertia of K_ff, from the Newton solver's factorization when it
         is conclusive (a Cholesky, or SuperLU's symmetric LDLᵀ), from LOBPCG with the AMG
         hierarchy on the iterative path (no factorization), else from a separate count."""
         try:
@@ -164,11 +164,10 @@ class StabilityMonitor:
         except SingularSystem:
             K = self.body.stiffness(ev)
             Kff, Kfp = self.partition.blocks(K)
-            return K, Kff, Kfp, inertia(Kff)
-        Kff = tangent.Kff if tangent.Kff is not None else self.partition.blocks(tangent.K)[0]
+            return self.partition.prescribed_block(K), Kff, Kfp, inertia(Kff)
         # the stepper verified the unloaded K_ff (no free rigid modes), so a Cholesky here
         # needs no second look for a zero eigenvalue (vlab.fe.stepping._check_restrained)
-        return tangent.K, Kff, tangent.Kfp, factorized_inertia(tangent.factor, Kff, verify_zero=False)
+        return tangent.Kpp, tangent.Kff, tangent.Kfp, factorized_inertia(tangent.factor, tangent.Kff, verify_zero=False)
 
     def _recount(self, Kff, found):
         """The inertia again after the solve with ``found`` failed: on the iterative path LOBPCG
@@ -215,14 +214,15 @@ class StabilityMonitor:
             return non_elliptic_fraction(material.respond(ev.F, history.state, history.dt, with_tangent=True).tangent)
         return non_elliptic_fraction(material.tangent(ev.F))
 
-    def _path_stiffness(self, K, Kfp, found) -> float | None:
-        """dQ/dt = vᵀ K v along the displacement-controlled path (None if K_ff could not be solved)."""
+    def _path_stiffness(self, Kff, Kfp, Kpp, found) -> float | None:
+        """dQ/dt = vᵀ K v along the displacement-controlled path v = (v_f, û_p), v_f = −K_ff⁻¹K_fp û_p,
+        by blocks: v_fᵀK_ff v_f + 2 v_fᵀK_fp û_p + û_pᵀK_pp û_p (None if K_ff could not be solved)."""
         if found.solve is None or found.negative or found.zero:
             return None
         up = self.u_hat[self.partition.prescribed]
-        v = self.u_hat.copy()
-        v[self.partition.free] = -found.solve(Kfp @ up)
-        return float(v @ (K @ v))
+        coupling = Kfp @ up
+        vf = -found.solve(coupling)
+        return float(vf @ (Kff @ vf) + 2.0 * (vf @ coupling) + up @ (Kpp @ up))
 
     def _is_limit(self, load: float, slope: float | None) -> bool:
         """The load Q conjugate to t stops rising: its tangent slope vᵀKv ≤ 0, or it fell since

@@ -168,6 +168,9 @@ class Partition:
     fp: np.ndarray
     fp_indptr: np.ndarray
     fp_indices: np.ndarray
+    pp: np.ndarray  # the prescribed × prescribed block likewise (the path slope's û_pᵀ K_pp û_p)
+    pp_indptr: np.ndarray
+    pp_indices: np.ndarray
 
     @classmethod
     def build(cls, pattern: SparsityPattern, prescribed: np.ndarray) -> "Partition":
@@ -181,10 +184,13 @@ class Partition:
         row = np.repeat(np.arange(pattern.n), np.diff(pattern.indptr))
         col = pattern.indices
         blocks = []
-        for col_ok, col_map in ((is_free[col], renumber), (~is_free[col], renumber_p)):
-            keep = np.flatnonzero(is_free[row] & col_ok)
-            indptr = np.zeros(len(free) + 1, dtype=np.int64)
-            np.cumsum(np.bincount(renumber[row[keep]], minlength=len(free)), out=indptr[1:])
+        for rows_ok, row_map, n_rows, col_ok, col_map in (
+                (is_free[row], renumber, len(free), is_free[col], renumber),
+                (is_free[row], renumber, len(free), ~is_free[col], renumber_p),
+                (~is_free[row], renumber_p, len(prescribed), ~is_free[col], renumber_p)):
+            keep = np.flatnonzero(rows_ok & col_ok)
+            indptr = np.zeros(n_rows + 1, dtype=np.int64)
+            np.cumsum(np.bincount(row_map[row[keep]], minlength=n_rows), out=indptr[1:])
             # the data positions as int32 when they fit (nnz < 2³¹): half the memory of the
             # largest index arrays a run keeps (0.6 kB per free DOF of a Q1 hex mesh in int64)
             positions = keep.astype(np.int32) if pattern.indptr[-1] < np.iinfo(np.int32).max else keep
@@ -197,6 +203,11 @@ class Partition:
         Kff = sp.csr_matrix((K.data[self.ff], self.ff_indices, self.ff_indptr), shape=(nf, nf))
         Kfp = sp.csr_matrix((K.data[self.fp], self.fp_indices, self.fp_indptr), shape=(nf, npres))
         return Kff, Kfp
+
+    def prescribed_block(self, K: sp.csr_matrix) -> sp.csr_matrix:
+        """K_pp (prescribed × prescribed) of an assembled K."""
+        n = len(self.prescribed)
+        return sp.csr_matrix((K.data[self.pp], self.pp_indices, self.pp_indptr), shape=(n, n))
 
 
 def _compact(indptr: np.ndarray) -> np.ndarray:

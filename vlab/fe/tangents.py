@@ -23,6 +23,7 @@ class Tangent:
     Kfp: sp.csr_matrix
     K: sp.csr_matrix | None = None  # the full tangent (free and prescribed), if kept
     Kff: sp.csr_matrix | None = None  # the free block that ``factor`` stands for, if kept
+    Kpp: sp.csr_matrix | None = None  # the prescribed block, if kept (the path slope vᵀKv)
 
 
 class TangentCache:
@@ -64,13 +65,18 @@ class TangentCache:
     def at(self, evaluation: Evaluation) -> Tangent:
         """K, K_ff factorized (or CG + AMG) and K_fp at ``evaluation`` (raises SingularSystem)."""
         if self._tangent is None or not (self._constant or evaluation is self._state):
+            # the blocks only: the full K is not kept (on the 32³ cube one more 131 MB copy
+            # of the matrix beside K_ff, at the peak of the run)
             K = self.body.stiffness(evaluation)
             Kff, Kfp = self.partition.blocks(K)
+            Kpp = self.partition.prescribed_block(K)
+            del K
             if self.linear == "cg-amg":
-                self._tangent = Tangent(AMGConjugateGradient(Kff, hierarchy=self.hierarchy), Kfp, K, Kff)
+                factor = AMGConjugateGradient(Kff, hierarchy=self.hierarchy)
             else:
-                self._tangent = Tangent(factorize(Kff), Kfp, K, Kff)
+                factor = factorize(Kff)
                 self.factorizations += 1
+            self._tangent = Tangent(factor, Kfp, None, Kff, Kpp)
             self._state = evaluation
         return self._tangent
 

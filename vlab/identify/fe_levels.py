@@ -56,7 +56,7 @@ class LevelSensitivities:
         names = self.fe["parameters"]
         dP = stress_derivatives(ev.F, self.fe.get("model", "neo-hookean"), self.values, names,
                                 self.fe.get("volumetric"))
-        K_grips = [tangent.K[g][:, self.free] for g in self.grips]
+        K_grips = self._grip_rows(tangent)
         directions = [_direction(e, ev.u) for e in self.ext]
         dF = np.zeros((len(self.grips), len(names)))
         de = np.zeros_like(dF)
@@ -71,6 +71,16 @@ class LevelSensitivities:
                 dx = _marks_displacement(ext, du)
                 de[a, j] = float(n @ (dx[1] - dx[0])) / ext.length0
         self.rows.append((dF, de))
+
+    def _grip_rows(self, tangent) -> list:
+        """K[g, free] for each grip's DOFs g: from K_fp = K[free, prescribed] by symmetry when the
+        tangent keeps its blocks only (vlab.fe.tangents.TangentCache)."""
+        if tangent.K is not None:
+            return [tangent.K[g][:, self.free] for g in self.grips]
+        where = np.full(self.space.n_dofs, -1)
+        where[self.partition.prescribed] = np.arange(len(self.partition.prescribed))
+        rows = tangent.Kfp.T.tocsr()
+        return [rows[where[g]] for g in self.grips]
 
     def _tangent(self, ev):
         """The monitor's factor of this state (no work if it holds it), or, with
