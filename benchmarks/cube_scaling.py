@@ -226,7 +226,7 @@ def main() -> None:
             r = _child(code, n)
             rows.append((n, code, r))
             print(n, code, json.dumps(r), flush=True)
-    command = "nice -n 10 python benchmarks/cube_scaling.py " + " ".join(sys.argv[1:])
+    command = "python benchmarks/cube_scaling.py " + " ".join(sys.argv[1:])
     text = (f"## Cube scaling (issue #20)\n\nCommand: `{command}`\n\nMachine: {bench._machine()}\n\n"
             + table(rows) + "\n\n" + summary(rows) + "\n")
     print(text)
