@@ -285,11 +285,9 @@ def _check_restrained(tangent: Tangent, partition: Partition) -> None:
     modes the grips leave free. A factorization may still "succeed" on such a K_ff with round-off
     pivots, and the load, orthogonal to the free modes, would then drive Newton astray with no
     word of the cause. The count reuses the factor (SuperLU's pivots, or two PARDISO solves)."""
-    Kff = tangent.Kff if tangent.Kff is not None else (
-        partition.blocks(tangent.K)[0] if tangent.K is not None else None)
-    if Kff is None or len(partition.free) == 0:
+    if tangent.Kff is None or len(partition.free) == 0:
         return
-    found = factorized_inertia(tangent.factor, Kff)
+    found = factorized_inertia(tangent.factor, tangent.Kff)
     if found.zero:
         raise SingularSystem(f"{found.zero} zero eigenvalue(s) of K_ff at rest ({found.method})")
 

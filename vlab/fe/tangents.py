@@ -17,11 +17,11 @@ from vlab.fe.problem import Evaluation, HyperelasticBody
 
 @dataclass(frozen=True)
 class Tangent:
-    """A factorized K_ff with its coupling block K_fp (used by the load-step predictor)."""
+    """A factorized K_ff with its coupling block K_fp (used by the load-step predictor). The full K
+    is not kept: its blocks are all any reader needs (the path slope, the grips' rows by symmetry)."""
 
     factor: Factorization
     Kfp: sp.csr_matrix
-    K: sp.csr_matrix | None = None  # the full tangent (free and prescribed), if kept
     Kff: sp.csr_matrix | None = None  # the free block that ``factor`` stands for, if kept
     Kpp: sp.csr_matrix | None = None  # the prescribed block, if kept (the path slope vᵀKv)
 
@@ -65,8 +65,8 @@ class TangentCache:
     def at(self, evaluation: Evaluation) -> Tangent:
         """K, K_ff factorized (or CG + AMG) and K_fp at ``evaluation`` (raises SingularSystem)."""
         if self._tangent is None or not (self._constant or evaluation is self._state):
-            # the blocks only: the full K is not kept (on the 32³ cube one more 131 MB copy
-            # of the matrix beside K_ff, at the peak of the run)
+            # the blocks only: a kept full K was one more 131 MB copy of the matrix beside K_ff
+            # at the peak of the 32³ cube's run
             K = self.body.stiffness(evaluation)
             Kff, Kfp = self.partition.blocks(K)
             Kpp = self.partition.prescribed_block(K)
@@ -76,7 +76,7 @@ class TangentCache:
             else:
                 factor = factorize(Kff)
                 self.factorizations += 1
-            self._tangent = Tangent(factor, Kfp, None, Kff, Kpp)
+            self._tangent = Tangent(factor, Kfp, Kff, Kpp)
             self._state = evaluation
         return self._tangent
 

@@ -41,6 +41,9 @@ class LevelSensitivities:
         self.body, self.partition = prepared.body, prepared.partition
         self.free = prepared.partition.free
         self.grips = [np.asarray(prepared.loading.moving_dofs[a]) for a in axes]
+        position = np.full(space.n_dofs, -1)  # a prescribed DOF's column in K_fp
+        position[self.partition.prescribed] = np.arange(len(self.partition.prescribed))
+        self.grip_positions = [position[g] for g in self.grips]
         self.factors = [specimen.force_factor(a) for a in axes]
         self.ext = extensometers(space, [specimen.extensometers[a] for a in axes], specimen.symmetry)
         self.rows: list[tuple[np.ndarray, np.ndarray]] = []
@@ -73,14 +76,9 @@ class LevelSensitivities:
         self.rows.append((dF, de))
 
     def _grip_rows(self, tangent) -> list:
-        """K[g, free] for each grip's DOFs g: from K_fp = K[free, prescribed] by symmetry when the
-        tangent keeps its blocks only (vlab.fe.tangents.TangentCache)."""
-        if tangent.K is not None:
-            return [tangent.K[g][:, self.free] for g in self.grips]
-        where = np.full(self.space.n_dofs, -1)
-        where[self.partition.prescribed] = np.arange(len(self.partition.prescribed))
+        """K[g, free] for each grip's (prescribed) DOFs g: rows of K_fpᵀ, K being symmetric."""
         rows = tangent.Kfp.T.tocsr()
-        return [rows[where[g]] for g in self.grips]
+        return [rows[g] for g in self.grip_positions]
 
     def _tangent(self, ev):
         """The monitor's factor of this state (no work if it holds it), or, with
@@ -89,10 +87,9 @@ class LevelSensitivities:
             from vlab.fe.newton import Tangent
             from vlab.fe.linsolve import factorize
 
-            K = self.body.stiffness(ev).tocsr()
-            Kff, Kfp = self.partition.blocks(K)
+            Kff, Kfp = self.partition.blocks(self.body.stiffness(ev).tocsr())
             self.factorizations += 1
-            return Tangent(factorize(Kff), Kfp, K)
+            return Tangent(factorize(Kff), Kfp)
         before = self.tangents.factorizations
         self.reused += self.tangents.holds(ev) is not None
         tangent = self.tangents.at(ev)
