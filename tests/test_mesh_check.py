@@ -101,3 +101,23 @@ def test_perturbed_mesh_of_a_clamped_block_stays_close_to_the_regular_mesh(cell)
     assert regular["converged"] and moved["converged"]
     f0, f1 = regular["curve"]["force"][-1], moved["curve"]["force"][-1]
     assert abs(f1 - f0) / f0 < 0.005
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_close_pairs_are_cKDTrees_pairs(seed):
+    from scipy.spatial import cKDTree
+
+    from vlab.geometry.mesh_check import close_pairs
+
+    rng = np.random.default_rng(seed)
+    grid = np.stack(np.meshgrid(*[np.arange(7.0)] * 3, indexing="ij"), -1).reshape(-1, 3)
+    planted = grid[rng.choice(len(grid), 25)] + rng.uniform(-1, 1, (25, 3)) * 1e-10  # near copies
+    triple = np.repeat(grid[[3]], 3, axis=0)                                          # a cluster of 4
+    points = np.vstack([grid, planted, triple, rng.uniform(0, 6, (300, 3))])[rng.permutation(len(grid) + 328)]
+    dim = 3 if seed % 2 == 0 else 2  # 2D meshes too
+    pts = points[:, :dim]
+    for tol in (1e-9, 1e-3, 0.3):
+        expected = cKDTree(pts).query_pairs(tol, output_type="ndarray")
+        expected = np.sort(expected, axis=1) if len(expected) else expected.reshape(0, 2)
+        expected = expected[np.lexsort((expected[:, 1], expected[:, 0]))]
+        assert np.array_equal(close_pairs(pts, tol), expected)

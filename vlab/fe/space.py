@@ -199,41 +199,22 @@ class DisplacementSpace:
         return self.inverse_jacobian * self.dx
 
     def probe_matrix(self, points: np.ndarray):
-        """Sparse (n_points, n_nodes) interpolation matrix at reference points (dim, n_points).
+        """Sparse (n_points, n_nodes) interpolation matrix N_a(ξ(X)) at reference points X
+        (dim, n_points), located by :func:`vlab.fe.locate.locate` (a point on the boundary that
+        misses its element by round-off is read where it is). A point outside the mesh raises
+        ValueError naming it."""
+        from scipy.sparse import coo_matrix
 
-        A point on the boundary that the element search misses by round-off (a gauge mark on the
-        face of a specimen a few microns wide) is moved towards the centroid of its nearest
-        element by a fraction 1e-9 .. 1e-6 of the distance: the reading changes by that fraction
-        of an element. A point still outside raises ValueError naming it."""
-        points = np.asarray(points, dtype=float)
-        try:
-            return self.basis.probes(points).tocsr()
-        except ValueError:
-            return self.basis.probes(_inside(self.basis, points)).tocsr()
+        from vlab.fe.locate import locate
 
-
-def _inside(basis: skfem.CellBasis, points: np.ndarray) -> np.ndarray:
-    """``points`` (dim, n), each moved just inside the mesh if it lies on its boundary (round-off)."""
-    from scipy.spatial import cKDTree
-
-    mesh = basis.mesh
-    finder = mesh.element_finder(mapping=basis.mapping)
-    centroids = mesh.p[:, mesh.t].mean(axis=1).T
-    tree, out = cKDTree(centroids), points.copy()
-    for k in range(points.shape[1]):
-        x = points[:, k]
-        c = centroids[tree.query(x)[1]]
-        for s in (0.0, 1e-9, 1e-7, 1e-6):
-            y = x + s * (c - x)
-            try:
-                finder(*(np.array([v]) for v in y))
-            except ValueError:
-                continue
-            out[:, k] = y
-            break
-        else:
-            raise ValueError(f"point {x.tolist()} lies outside the mesh")
-    return out
+        cells, xi = locate(self.basis, points)
+        basis = self.basis
+        values = np.array([basis.elem.gbasis(basis.mapping, xi[:, :, None], a, tind=cells)[0][:, 0]
+                           for a in range(basis.Nbfun)])  # (n_local, n_points)
+        rows = np.broadcast_to(np.arange(len(cells)), values.shape)
+        cols = basis.element_dofs[:, cells]  # (n_local, n_points)
+        return coo_matrix((values.ravel(), (rows.ravel(), cols.ravel())),
+                          shape=(len(cells), basis.N)).tocsr()
 
 
 def _reference_map(basis: skfem.CellBasis, dN: np.ndarray):

@@ -25,7 +25,6 @@ from pathlib import Path
 
 import numpy as np
 import skfem
-from scipy.spatial import cKDTree
 
 from vlab import fields
 from vlab.fields import SceneError
@@ -164,6 +163,8 @@ def _region_selector(X: np.ndarray, nodes: np.ndarray, mesh: skfem.Mesh, tol: fl
     for entities in (mesh.edges, mesh.facets, mesh.t):
         held = entities[:, np.all(inside[entities], axis=0)]
         points.append(X[held].mean(axis=0))  # (k, n_vertices of the entity) -> vertex means
+    from scipy.spatial import cKDTree  # ~0.1 s to import: paid only where it is used
+
     tree = cKDTree(np.vstack(points))
     return lambda Y: tree.query(np.asarray(Y, float), distance_upper_bound=tol)[0] <= tol
 

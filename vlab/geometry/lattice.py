@@ -26,7 +26,6 @@ import numpy as np
 import skfem
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
-from scipy.spatial import cKDTree
 
 _REF = skfem.MeshHex().p[:, skfem.MeshHex().t[:, 0]].T.astype(int)  # skfem local node -> (di, dj, dk)
 
@@ -69,6 +68,8 @@ class Lattice:
 
     def merged(self, tol: float) -> "Lattice":
         """Coincident nodes (closer than ``tol``) become one; node order is kept otherwise."""
+        from scipy.spatial import cKDTree  # ~0.1 s to import: paid only where it is used
+
         pairs = cKDTree(self.nodes).query_pairs(tol, output_type="ndarray")
         n = len(self.nodes)
         if len(pairs) == 0:

@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import numpy as np
 import skfem
-from scipy.spatial import cKDTree
 
 MIN_QUALITY = 0.05
 DUPLICATE_TOL = 1e-9
@@ -109,6 +108,43 @@ def _hex_corner_edges(mesh: skfem.MeshHex):
         yield sign * e[0], e[1], e[2]
 
 
+# a fixed direction with no rational relation between its components: distinct nodes of a
+# structured grid do not project onto (nearly) the same value, so the clusters stay pairs
+_DIRECTION = np.array([0.5773502691896257, 0.6172133998483676, 0.5345224838248488])
+
+
+def close_pairs(points: np.ndarray, tol: float) -> np.ndarray:
+    """All pairs (i, j), i < j, of rows of ``points`` (n, d) at Euclidean distance ≤ ``tol``,
+    sorted; shape (k, 2).
+
+    The rows are sorted by their projection s = x·d on a unit vector d. Two points within ``tol``
+    have |s_i − s_j| ≤ tol, and every point between them in that order lies within it too, so
+    they fall in one cluster of consecutive projections with gaps ≤ tol; only the pairs inside a
+    cluster are measured. Exact, one sort (O(n log n)), no spatial tree: scipy.spatial's cKDTree
+    gives the same pairs (tests/test_mesh_check.py) but importing it costs every run ≈ 0.1 s."""
+    points = np.asarray(points, float)
+    d = _DIRECTION[: points.shape[1]] / np.linalg.norm(_DIRECTION[: points.shape[1]])
+    s = points @ d
+    order = np.argsort(s, kind="stable")
+    close = np.diff(s[order]) <= tol  # close[k]: sorted rows k and k + 1 within tol along d
+    if not close.any():
+        return np.empty((0, 2), dtype=np.intp)
+    starts = np.flatnonzero(close & ~np.r_[False, close[:-1]])  # first gap of each cluster
+    ends = np.flatnonzero(close & ~np.r_[close[1:], False]) + 1  # last row of each cluster
+    two = ends - starts == 1  # clusters of two rows (the usual case), measured at once
+    a, b = order[starts[two]], order[ends[two]]
+    within = np.linalg.norm(points[a] - points[b], axis=1) <= tol
+    found = [np.sort(np.stack([a[within], b[within]], axis=1), axis=1)]
+    for first, last in zip(starts[~two], ends[~two]):
+        members = order[first:last + 1]
+        for k, i in enumerate(members[:-1]):  # row by row: memory O(cluster), not O(cluster²)
+            others = members[k + 1:]
+            near = others[np.linalg.norm(points[others] - points[i], axis=1) <= tol]
+            found.append(np.sort(np.stack([np.full(len(near), i), near], axis=1), axis=1))
+    pairs = np.concatenate(found)
+    return pairs[np.lexsort((pairs[:, 1], pairs[:, 0]))]
+
+
 def check_mesh(mesh: skfem.Mesh, min_quality: float = MIN_QUALITY) -> None:
     """Raise MeshError naming the first offending elements or nodes; return None if fine."""
     p, t = mesh.p, mesh.t
@@ -117,7 +153,7 @@ def check_mesh(mesh: skfem.Mesh, min_quality: float = MIN_QUALITY) -> None:
     if len(unused):
         raise MeshError(f"mesh has {len(unused)} unused node(s) (no element refers to them), "
                         f"e.g. node(s) {_few(unused)}")
-    pairs = cKDTree(p.T).query_pairs(DUPLICATE_TOL * extent, output_type="ndarray")
+    pairs = close_pairs(p.T, DUPLICATE_TOL * extent)
     if len(pairs):
         raise MeshError(f"mesh has {len(pairs)} pair(s) of duplicate nodes (closer than "
                         f"{DUPLICATE_TOL:g} x extent), e.g. nodes {pairs[0].tolist()}")

@@ -9,8 +9,9 @@ grips deforms homogeneously, so the stress–stretch curve follows from one scal
 - Planar (pure shear): F = diag(λ, 1, t) with P₃₃(F) = 0, the biaxial state at (λ, 1).
 - Simple shear: F = I + γ e₁⊗e₂ prescribed on the whole boundary, nothing to solve.
 
-The root is found with a bracketing solver (``scipy.optimize.brentq``) on g(t) = P_free(t)/t,
-starting from t = 1 and expanding the bracket geometrically. For the four built-in models
+The root is found with Brent's bracketing solver (:mod:`vlab.materials.brent`, the algorithm of
+``scipy.optimize.brentq``) on g(t) = P_free(t)/t, starting from t = 1 and expanding the bracket
+geometrically. For the four built-in models
 the root is unique on t > 0 (so it is the branch through t = 1 at λ = 1):
 
 - linear:          λ_L(λ − 1 + 2(t − 1)) + 2μ(t − 1) = 0        (always solvable)
@@ -32,7 +33,8 @@ from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
-from scipy.optimize import brentq
+
+from vlab.materials.brent import brent_root
 
 __all__ = ["InadmissibleState", "HomogeneousState", "uniaxial", "biaxial", "plane_strain_uniaxial",
            "plane_strain_biaxial", "homogeneous_uniaxial", "homogeneous_biaxial", "planar", "simple_shear",
@@ -130,7 +132,7 @@ def _solve(g: Callable[[float], float], starts: tuple[float, ...] = (1.0,)) -> f
     lo, hi = br
     if lo == hi:
         return lo
-    return brentq(g, lo, hi, xtol=_XTOL, rtol=_RTOL, maxiter=500)
+    return brent_root(g, lo, hi, xtol=_XTOL, rtol=_RTOL, maxiter=500)
 
 
 def _limit_along(admissible: Callable[[float], bool]) -> float:

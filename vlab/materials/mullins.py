@@ -31,7 +31,6 @@ from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
-from scipy.special import erf, erfinv
 
 from vlab.materials.history import HistoryMaterial, Response, State
 from vlab.tensor import as_tensor_field, dyad
@@ -39,6 +38,20 @@ from vlab.tensor import as_tensor_field, dyad
 __all__ = ["OgdenRoxburgh"]
 
 _SQRT_PI = math.sqrt(math.pi)
+
+
+# scipy.special takes ~0.15 s to import (its array-API layer): imported on first use, so only a
+# scene with Mullins softening pays it
+def _erf(x):
+    from scipy.special import erf
+
+    return erf(x)
+
+
+def _erfinv(x):
+    from scipy.special import erfinv
+
+    return erfinv(x)
 
 
 @dataclass(frozen=True)
@@ -65,11 +78,11 @@ class OgdenRoxburgh(HistoryMaterial):
 
     def softening(self, psi0, W_max) -> np.ndarray:
         """η = 1 − erf(z)/r, z = max(0, (W_max − ψ₀)/(m + βW_max))."""
-        return 1.0 - erf(self._z(psi0, W_max)) / self.r
+        return 1.0 - _erf(self._z(psi0, W_max)) / self.r
 
     def phi(self, eta, W_max) -> np.ndarray:
         """φ(η) = (1 − η)W_max − (m + βW_max)(1 − exp(−erfinv(r(1 − η))²))/(r√π), MPa."""
-        y = erfinv(self.r * (1.0 - np.asarray(eta, dtype=float)))
+        y = _erfinv(self.r * (1.0 - np.asarray(eta, dtype=float)))
         return (1.0 - eta) * W_max - self.scale(W_max) * (-np.expm1(-y * y)) / (self.r * _SQRT_PI)
 
     def respond(self, F, state: State, dt: float, with_tangent: bool = True) -> Response:
@@ -79,7 +92,7 @@ class OgdenRoxburgh(HistoryMaterial):
         finite = np.isfinite(psi0)
         psi0_ok = np.where(finite, psi0, 0.0)
         z = self._z(psi0_ok, W_max)
-        eta = 1.0 - erf(z) / self.r
+        eta = 1.0 - _erf(z) / self.r
         energy = eta * psi0_ok + (1.0 - eta) * W_max - self.scale(W_max) * (-np.expm1(-z * z)) / (
             self.r * _SQRT_PI)
         energy = np.where(finite, energy, np.inf)

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from vlab.fe.locate import locate
 from vlab.fe.space import DisplacementSpace
 from vlab.geometry.specimen import GaugeMarks
 from vlab.geometry.symmetry import reflect_back, reflection
@@ -76,8 +77,7 @@ class ThicknessGauge:
         self.marks, self.material = marks, material
         self.length0 = marks.length  # the reference thickness t, mm
         point = np.asarray(marks.a[:2], dtype=float)
-        mesh = space.basis.mesh
-        self.element = int(mesh.element_finder()(np.array([point[0]]), np.array([point[1]]))[0])
+        self.element = int(locate(space.basis, point[:, None])[0][0])
         self._nodes = space.element_nodes[self.element]
         self._dN = space.dN[self.element]  # (q, a, J)
         self._w = space.dx[self.element] / space.dx[self.element].sum()

@@ -26,13 +26,20 @@ from __future__ import annotations
 
 import numpy as np
 import skfem
-import skfem.io.meshio as skfem_meshio
 
 _QUADRATIC = {skfem.ElementTetP2: "tetra10", skfem.ElementHex2: "hexahedron27",
               skfem.ElementTriP2: "triangle6", skfem.ElementQuad2: "quad9"}
 _LINEAR = {skfem.MeshTet: "tetra", skfem.MeshHex: "hexahedron", skfem.MeshTri: "triangle",
            skfem.MeshQuad: "quad"}
 
+
+# VTK's hexahedron corners (x, y, z) in its node order, and scikit-fem's local node of each: the
+# first 8 entries of skfem.io.meshio.HEX_MAPPING (tests/test_vtk_cells_order.py), found here
+# from MeshHex's reference nodes so that order-1 output does not import meshio (≈ 0.05 s)
+_VTK_HEX_CORNERS = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0],
+                             [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]])
+_SKFEM_HEX = skfem.MeshHex().p[:, skfem.MeshHex().t[:, 0]].T
+HEX_CORNERS = np.array([int(np.flatnonzero(np.all(_SKFEM_HEX == c, axis=1))[0]) for c in _VTK_HEX_CORNERS])
 
 _TET_SWAP = {"tetra": [0, 2, 1, 3], "tetra10": [0, 2, 1, 3, 6, 5, 4, 7, 9, 8]}
 
@@ -57,9 +64,14 @@ def vtk_cells(space) -> tuple[np.ndarray, str, np.ndarray]:
     dofs = np.asarray(space.element_nodes)  # (n_cells, n_local), scikit-fem local order
     if element in _QUADRATIC:
         cell = _QUADRATIC[element]
-        order = skfem_meshio.HEX_MAPPING if cell == "hexahedron27" else np.arange(dofs.shape[1])
+        if cell == "hexahedron27":
+            import skfem.io.meshio as skfem_meshio  # its 27-node order: mid-edges, faces, centre
+
+            order = skfem_meshio.HEX_MAPPING
+        else:
+            order = np.arange(dofs.shape[1])
         return points, cell, positively_oriented(points, cell, dofs[:, order])
     mesh = space.basis.mesh
     cell = next(name for kind, name in _LINEAR.items() if isinstance(mesh, kind))
-    order = skfem_meshio.HEX_MAPPING[:8] if cell == "hexahedron" else np.arange(dofs.shape[1])
+    order = HEX_CORNERS if cell == "hexahedron" else np.arange(dofs.shape[1])
     return points, cell, positively_oriented(points, cell, dofs[:, order])

@@ -21,12 +21,11 @@ only for the renders (``reference_grid``).
 from __future__ import annotations
 
 import base64
+import html
 import zlib
 from pathlib import Path
-from xml.sax.saxutils import quoteattr
 
 import numpy as np
-import skfem.io.meshio
 
 from vlab.post.snapshot import Snapshot
 
@@ -35,9 +34,16 @@ VTK_TYPES = {"triangle": 5, "quad": 9, "tetra": 10, "hexahedron": 12, "wedge": 1
              "triangle6": 22, "quad9": 28, "tetra10": 24, "hexahedron27": 29}
 
 
+def quoteattr(text: str) -> str:
+    """``text`` as a quoted XML attribute value (&, <, >, ", ' escaped). xml.sax.saxutils'
+    quoteattr would do, but importing it imports urllib.request, http and ssl (≈ 0.1 s a run)."""
+    return f'"{html.escape(text, quote=True)}"'
+
+
 def reference_grid(mesh):
     """The scikit-fem mesh (vertices only) as a pyvista grid in VTK node order (renders)."""
     import pyvista as pv
+    import skfem.io.meshio
 
     return pv.from_meshio(skfem.io.meshio.to_meshio(mesh))
 
@@ -66,6 +72,8 @@ class _Topology:
 
     def __init__(self, mesh, vtk: tuple | None = None):
         if vtk is None:
+            import skfem.io.meshio  # imports meshio and its ~40 format modules: only for a bare mesh
+
             m = skfem.io.meshio.to_meshio(mesh)
             (kind, cells), = m.cells_dict.items()
             m_points = m.points

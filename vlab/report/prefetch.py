@@ -1,8 +1,7 @@
 """The report's libraries imported in a background thread while the solver works.
 
 A run's report imports matplotlib (figure, Agg backend, ticker: 0.4-0.5 CPU-s, its Artist classes
-build their property docstrings at import) and scikit-fem's meshio bridge (the VTK cell order of
-the VTU files) only after the solve. The solver spends most of its time in code that releases
+build their property docstrings at import) only after the solve. The solver spends most of its time in code that releases
 the GIL (PARDISO through ctypes, the numba kernels are ``nogil``), so the same imports made by a
 thread started at the first converged load level cost the command little wall time
 (benchmarks/command_overhead.py). Only third-party modules are imported here (no vlab module,
@@ -15,7 +14,7 @@ from __future__ import annotations
 import importlib
 import threading
 
-MODULES = ("matplotlib.figure", "matplotlib.backends.backend_agg", "matplotlib.ticker", "skfem.io")
+MODULES = ("matplotlib.figure", "matplotlib.backends.backend_agg", "matplotlib.ticker")
 
 
 def _import_all(modules: tuple[str, ...]) -> None:
