@@ -74,7 +74,7 @@ def differences(expected, actual, rtol: float, path: str = "") -> list[str]:
         key = path.rsplit(".", 1)[-1]
         if key == "path_load" and max(abs(actual), abs(expected)) <= 1e-9:
             # a load level of O(1) read at its return to zero (a cycle's unloaded end): round-off
-            # of 0 (-1.0e-12 against 7.2e-13 once gauge marks were located by vlab.fe.locate)
+            # of 0 (-1.0e-12 against 7.2e-13 once gauge marks were located by vlab.geometry.locate)
             return []
         if key.endswith(("stderr", "intercept")):
             # a fit's standard error and intercept on nearly exact data are round-off (PARDISO's

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 import skfem
 
-from vlab.fe.locate import locate
+from vlab.geometry.locate import locate
 from vlab.fe.space import DisplacementSpace
 
 rng = np.random.default_rng(3)

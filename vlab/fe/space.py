@@ -21,6 +21,7 @@ import numpy as np
 import skfem
 
 from vlab.fe.blas import single_threaded_blas
+from vlab.geometry.locate import locate
 
 # Quadrature order per (cell, element order). P1 tets have constant F, so one point is exact;
 # the others use the lowest Gauss rule that integrates the linearised stiffness exactly.
@@ -200,12 +201,10 @@ class DisplacementSpace:
 
     def probe_matrix(self, points: np.ndarray):
         """Sparse (n_points, n_nodes) interpolation matrix N_a(ξ(X)) at reference points X
-        (dim, n_points), located by :func:`vlab.fe.locate.locate` (a point on the boundary that
-        misses its element by round-off is read where it is). A point outside the mesh raises
-        ValueError naming it."""
+        (dim, n_points), located by :func:`vlab.geometry.locate.locate` (a point on the boundary
+        that misses its element by round-off is read where it is). A point outside the mesh
+        raises ValueError naming it."""
         from scipy.sparse import coo_matrix
-
-        from vlab.fe.locate import locate
 
         cells, xi = locate(self.basis, points)
         basis = self.basis

@@ -27,6 +27,7 @@ import numpy as np
 import skfem
 
 from vlab import fields
+from vlab.geometry.locate import locate
 from vlab.fields import SceneError
 from vlab.geometry.counts import MeshCount
 from vlab.geometry.shape import Shape
@@ -267,15 +268,14 @@ def mesh_file_specimen(t: fields.Table, path: Path, data: ImportedMesh) -> MeshF
 
 
 def _check_marks_inside(t: fields.Table, spec: MeshImport, data: ImportedMesh) -> None:
-    import skfem
-
+    """Every mark where the instruments will find it (the same search, vlab.geometry.locate)."""
     mesh = (skfem.MeshTet if data.cell == "tet" else skfem.MeshHex)(
         np.ascontiguousarray(data.points.T), np.ascontiguousarray(data.cells.T))
-    find = mesh.element_finder()
+    basis = skfem.CellBasis(mesh, mesh.elem())
     for key in ("gauge_marks", "transverse_marks", "thickness_marks"):
         for point in getattr(spec, key):
             try:
-                find(*(np.array([c]) for c in point))
+                locate(basis, np.asarray(point, dtype=float)[:, None])
             except ValueError:
                 raise SceneError(f"{t.field(key)}: point {list(point)} lies outside the mesh of "
                                  f"{spec.file.name} (bounding box {data.points.min(axis=0).tolist()} to "

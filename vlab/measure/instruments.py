@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from vlab.fe.locate import locate
+from vlab.geometry.locate import locate
 from vlab.fe.space import DisplacementSpace
 from vlab.geometry.specimen import GaugeMarks
 from vlab.geometry.symmetry import reflect_back, reflection
