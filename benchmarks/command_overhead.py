@@ -9,10 +9,11 @@ command runs its own code): the interpreter's start-up, ``import vlab.cli`` (typ
 scene grammar and the registries it loads), the CLI until the solve, numba's start-up (inside
 run_scene, before its clocks), the solve itself (results.json ``timing.total_s``: mesh, solve,
 measure), the report without renders (results.json, CSV, PNGs, VTU/PVD, HTML) and the process
-exit. Wall seconds and CPU seconds (user + system of all threads of the process). Three variants
-run interleaved, so that they meet the same load: the command as shipped (the report's imports
-made by a thread while the solver works, vlab.report.prefetch; the fast exit of vlab/__main__.py),
-without the prefetch thread, and with Python's normal exit (interpreter finalization). Medians
+exit. Wall seconds and CPU seconds (user + system of all threads of the process; the figure
+process's CPU on its own row). Three variants run interleaved, so that they meet the same load:
+the command as shipped (the figures drawn by a second process started with the run,
+vlab.report.figure_worker; the fast exit of vlab/__main__.py), with the figures drawn in process
+(VLAB_FIGURE_PROCESS=off), and with Python's normal exit (interpreter finalization). Medians
 over the repeats; the load average is printed (the machine is shared: wall times under load
 are noisy, the CPU figures are the steadier ones). ``--baseline TREE`` also times the plain
 command (``python -m vlab run ...``, no launcher) with PYTHONPATH = TREE (e.g. a checkout of main)
@@ -33,19 +34,19 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-VARIANTS = ("shipped", "no-prefetch", "normal-exit")
+VARIANTS = ("shipped", "in-process", "normal-exit")
 LAUNCHER = r"""
 import json, os, sys, time
 def stamp():
     t = os.times()
-    return [time.perf_counter(), t.user + t.system]
+    return [time.perf_counter(), t.user + t.system, t.children_user + t.children_system]
 marks = {"start": stamp()}
 variant, record, args = sys.argv[1], sys.argv[2], sys.argv[3:]
+if variant == "in-process":
+    os.environ["VLAB_FIGURE_PROCESS"] = "off"
 import vlab.cli
 marks["import_cli"] = stamp()
-import vlab.report.prefetch, vlab.report.writer, vlab.run
-if variant == "no-prefetch":
-    vlab.report.prefetch.ReportPrefetch.__init__.__defaults__ = ((),)
+import vlab.report.writer, vlab.run
 def wrapped(module, name, before, after):
     inner = getattr(module, name)
     def call(*a, **k):
@@ -106,7 +107,8 @@ def one(variant: str, scene: Path, out: Path, record: Path) -> dict:
         "run_scene (numba start-up + solve), CPU of all threads": [run[0], run[1]],
         "report without renders (write_run)": span("write_start", "write_end"),
         "CLI after the report (summary)": span("write_end", "end"),
-        "process exit": [t1 - m["end"][0], cpu - m["end"][1]],
+        "figure process (its CPU, beside the above)": [None, m["end"][2]],
+        "process exit": [t1 - m["end"][0], cpu - m["end"][1] - m["end"][2]],
         "whole command": [t1 - t0, cpu],
         "overhead = whole command - timing.total_s": [t1 - t0 - total, None],
     }

@@ -1,5 +1,5 @@
-"""The command's process: fast exit after the CLI (vlab/__main__.py), report imports prefetched
-while the solver works (vlab/report/prefetch.py)."""
+"""The command's process: fast exit after the CLI (vlab/__main__.py). (Its figures' process:
+tests/test_figure_worker.py.)"""
 
 from __future__ import annotations
 
@@ -10,7 +10,6 @@ import textwrap
 import pytest
 
 import vlab.__main__ as entry
-from vlab.report.prefetch import ReportPrefetch
 
 
 def _main(monkeypatch, argv):
@@ -49,27 +48,3 @@ def test_python_m_vlab_keeps_its_exit_codes_and_output(argv, code, text):
     proc = subprocess.run([sys.executable, "-m", "vlab", *argv], capture_output=True, text=True)
     assert proc.returncode == code
     assert text in proc.stdout + proc.stderr
-
-
-def test_the_first_load_level_starts_the_report_imports_in_a_thread():
-    script = textwrap.dedent("""
-        import sys
-        from vlab.report.prefetch import ReportPrefetch
-        seen = []
-        prefetch = ReportPrefetch(("json.tool",))
-        level = prefetch.on_level(seen.append)
-        assert "json.tool" not in sys.modules and prefetch.thread.ident is None
-        level("level 1")
-        level("level 2")
-        prefetch.wait()
-        print("json.tool" in sys.modules, seen)
-    """)
-    out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, check=True).stdout
-    assert out.strip() == "True ['level 1', 'level 2']"
-
-
-def test_a_module_that_cannot_be_imported_is_left_to_the_writer():
-    prefetch = ReportPrefetch(("vlab_no_such_module", "json"))
-    prefetch.on_level()(None)
-    prefetch.wait()
-    assert not prefetch.thread.is_alive()

@@ -82,13 +82,17 @@ def _load(scene: Optional[Path]):
 
 
 def _write(writer, *args):
-    """Call a report writer; a folder that cannot be written is exit 2 naming it."""
+    """Call a report writer; a folder that cannot be written is exit 2 naming it, a figure worker
+    that failed exit 1 with its cause (the report folder is not written in either case)."""
+    from vlab.report.figure_worker import FigureWorkerError
     from vlab.report.folder import ReportFolderError
 
     try:
         return writer(*args)
     except ReportFolderError as exc:
         fail("cannot write report", exc)
+    except FigureWorkerError as exc:
+        fail("cannot draw the report's figures:", exc, EXIT_FAILED)
 
 
 @app.command()
@@ -102,8 +106,11 @@ def run(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (defa
                                       help="Accuracy estimate from one coarser companion solve (mesh.size × 2)."),
         force: bool = FORCE):
     """Run one test and write its report: results.json, curve.csv, PNGs, renders, VTU/PVD, index.html."""
+    import contextlib
+
+    from vlab import settings
     from vlab.cli_progress import RunProgress, scheduled_levels
-    from vlab.report.prefetch import ReportPrefetch
+    from vlab.report.figure_worker import FigureWorker, wanted
     from vlab.report.writer import write_run
 
     parsed, text = _load(scene)
@@ -111,12 +118,12 @@ def run(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (defa
     dest = report_destination(out or Path("reports") / parsed.name, force, scene or None)
     if not quiet:
         _announce(parsed)
-    prefetch = ReportPrefetch()  # the report's imports made while the solver works
-    with RunProgress(console, scheduled_levels(parsed), quiet) as progress:
-        result = _solved(parsed, progress, estimate, prefetch.on_level(progress.level))
+    # the figures' process imports matplotlib on the other core while this one solves
+    worker = FigureWorker() if wanted(settings.current().figure_process) else None
+    with worker or contextlib.nullcontext(), RunProgress(console, scheduled_levels(parsed), quiet) as progress:
+        result = _solved(parsed, progress, estimate)
         progress.phase("report: plots, renders, 3-D")
-        prefetch.wait()
-        data = _write(write_run, result, dest, text, options)
+        data = _write(write_run, result, dest, text, options, worker)
         progress.phase("done")
     _print_summary(data)
     _print_estimate(data.get("accuracy_estimate"))

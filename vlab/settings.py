@@ -6,6 +6,9 @@
     iterative_from    free DOFs from which solver.linear = "auto" takes CG + AMG   VLAB_ITERATIVE_FROM
                       and the LOBPCG stability check (None: the measured crossover of
                       vlab.fe.iterative; 0 forces the iterative path on any 3D mesh)
+    figure_process    "auto" (a `vlab run` draws its report's figures in a second    VLAB_FIGURE_PROCESS
+                      process unless matplotlib is already imported) | "on" | "off"
+                      (vlab.report.figure_worker)
 
 :meth:`Settings.from_environment` reads (and validates) the variables; the CLI fills the object
 from them at start-up and installs it with :func:`use`, vlab compare's worker processes install
@@ -25,6 +28,7 @@ __all__ = ["Settings", "current", "use", "using"]
 
 KERNELS = ("auto", "numpy")
 LINEAR_SOLVERS = ("auto", "pardiso", "superlu")
+FIGURE_PROCESS = ("auto", "on", "off")
 
 
 @dataclass(frozen=True)
@@ -33,8 +37,12 @@ class Settings:
     assembly_threads: int | None = None
     linear_solver: str = "auto"
     iterative_from: int | None = None
+    figure_process: str = "auto"
 
     def __post_init__(self) -> None:
+        if self.figure_process not in FIGURE_PROCESS:
+            raise ValueError(f"VLAB_FIGURE_PROCESS must be one of {', '.join(FIGURE_PROCESS)}; "
+                             f"got {self.figure_process!r}")
         if self.kernel not in KERNELS:
             raise ValueError(f"VLAB_KERNEL must be one of {', '.join(KERNELS)}; got {self.kernel!r}")
         if self.linear_solver not in LINEAR_SOLVERS:
@@ -60,7 +68,8 @@ class Settings:
         return cls(kernel=environ.get("VLAB_KERNEL", "auto").strip().lower() or "auto",
                    assembly_threads=int(threads) if threads else None,
                    iterative_from=int(start) if start else None,
-                   linear_solver=environ.get("VLAB_LINEAR_SOLVER", "auto").strip().lower() or "auto")
+                   linear_solver=environ.get("VLAB_LINEAR_SOLVER", "auto").strip().lower() or "auto",
+                   figure_process=environ.get("VLAB_FIGURE_PROCESS", "auto").strip().lower() or "auto")
 
 
 def usable_cores(environ: Mapping[str, str] = os.environ) -> int:

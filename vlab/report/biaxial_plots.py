@@ -65,9 +65,7 @@ def plot_biaxial_stress_strain(datas: list[dict], path: Path, true: bool = False
     title = constants_text(datas[0]) if len(datas) == 1 else f"{len(datas)} models"
     fig.suptitle(f"Biaxial {kind} stress–strain, {datas[0]['input']['model'] if len(datas) == 1 else ''} {title}",
                  fontsize=11)
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
+    plt.save(fig, path)
 
 
 def plot_thickness(datas: list[dict], path: Path) -> None:
@@ -89,6 +87,4 @@ def plot_thickness(datas: list[dict], path: Path) -> None:
     ax.set_title("Thickness against in-plane strain", fontsize=10)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
+    plt.save(fig, path)

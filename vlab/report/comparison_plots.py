@@ -128,9 +128,7 @@ def plot_overlay(datas: list[dict], path: Path, true: bool = False,
     ax.grid(alpha=0.3)
     ax.legend(handles=_legend_handles(datas, departures, window), fontsize=8, loc="upper left",
               bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0)
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
+    plt.save(fig, path)
 
 
 def _legend_handles(datas, departures, window):
@@ -215,6 +213,4 @@ def plot_lateral(datas: list[dict], path: Path) -> None:
     for ax in (left, right):
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
+    plt.save(fig, path)

@@ -65,9 +65,7 @@ def _finish(fig, ax, path: Path, title: str) -> None:
     ax.set_title(title, fontsize=10)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="best")
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
+    plt.save(fig, path)
 
 
 def _hysteresis(datas: list[dict], path: Path) -> None:

@@ -19,6 +19,19 @@ def subplots(nrows: int = 1, ncols: int = 1, *, figsize=None, dpi=None, **kwargs
     return fig, fig.subplots(nrows, ncols, **kwargs)
 
 
+def save(fig: Figure, path) -> None:
+    """Lay the figure out (tight_layout), write the PNG, free the figure.
+
+    The layout engine that tight_layout leaves set is dropped before saving: with one set,
+    savefig draws the whole figure once more, without rendering, before the real draw (the
+    layout would be recomputed from it); the laid-out figure needs no second layout. The PNG is
+    byte-identical and the save ~15 % faster (benchmarks/RESULTS.md, "command overhead")."""
+    fig.tight_layout()
+    fig.set_layout_engine(None)
+    fig.savefig(path)
+    close(fig)
+
+
 def close(fig: Figure) -> None:
     """Drop the figure's artists now (its memory goes with its last reference)."""
     fig.clear()

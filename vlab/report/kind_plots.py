@@ -93,6 +93,4 @@ def plot_kind(datas: list[dict], path: Path) -> None:
     _side_panel(right, datas, kind)
     title = {"planar": "Planar tension (pure shear)", "simple-shear": "Simple shear"}.get(kind.name, kind.name)
     left.set_title(f"{title}: {', '.join(d['input']['model'] for d in datas)}", fontsize=10)
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
+    plt.save(fig, path)

@@ -3,7 +3,8 @@ renders and VTU files, and model-specific evidence (a Taylor test of the spring 
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from functools import cached_property
 
 from vlab.post.snapshot import Snapshot
 from vlab.materials.registry import MODELS
@@ -13,21 +14,31 @@ __all__ = ["ModelOutcome", "outcome_of"]
 
 @dataclass(frozen=True)
 class ModelOutcome:
-    """One model's test: the results.json dict, the snapshot for renders/VTU, checks of the model."""
+    """One model's test: the results.json dict, the snapshot for renders/VTU, checks of the model.
+
+    ``source`` is the snapshot, or the RunResult it is taken from on first use of ``snapshot``
+    (a report's figures, drawn from ``data`` alone, start before the snapshot is taken)."""
 
     model: str
     data: dict
-    snapshot: Snapshot
+    source: object
     checks: dict
     critical_mode: object = None  # eigenvector of the first loss of stability (full DOF vector), if any
 
+    @cached_property
+    def snapshot(self) -> Snapshot:
+        from vlab.post.snapshot import take_snapshot
 
-def outcome_of(result, label: str | None = None) -> ModelOutcome:
+        if isinstance(self.source, Snapshot):
+            return self.source
+        return replace(take_snapshot(self.source), model=self.model)
+
+
+def outcome_of(result, label: str | None = None, snapshot_now: bool = True) -> ModelOutcome:
     """Package a RunResult for the reports; ``label`` (default: the model name; vlab compare: a
-    [compare.<label>] card) names the outcome, its folder and its curves (input.label)."""
-    from dataclasses import replace
-
-    from vlab.post.snapshot import take_snapshot
+    [compare.<label>] card) names the outcome, its folder and its curves (input.label).
+    ``snapshot_now=False`` takes the snapshot when it is first used (the outcome then holds the
+    result: not for outcomes sent between processes)."""
     from vlab.report.results import result_to_dict
 
     label = label or result.scene.material.model
@@ -35,8 +46,11 @@ def outcome_of(result, label: str | None = None) -> ModelOutcome:
     if label != result.scene.material.model:
         data["input"]["label"] = label
     critical = result.solver.critical_state
-    return ModelOutcome(label, data, replace(take_snapshot(result), model=label),
-                        _model_checks(result), None if critical is None else critical.mode)
+    outcome = ModelOutcome(label, data, result, _model_checks(result), None if critical is None else critical.mode)
+    if snapshot_now:
+        outcome.snapshot  # noqa: B018 - taken now, the result let go
+        object.__setattr__(outcome, "source", outcome.snapshot)
+    return outcome
 
 
 def _model_checks(result) -> dict:

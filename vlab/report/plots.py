@@ -53,6 +53,4 @@ def plot_stress_strain(data: dict, path: Path) -> None:
     ax.axvline(0, color="0.7", lw=0.5)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="best")
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
+    plt.save(fig, path)

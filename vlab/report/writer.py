@@ -25,6 +25,7 @@ from vlab.report.folder import report_folder
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:  # the solver is imported only by the writers that need it (vlab fit needs none of it)
+    from vlab.report.figure_worker import FigureWorker
     from vlab.run import RunResult
 
 log = logging.getLogger(__name__)
@@ -56,40 +57,42 @@ class ReportOptions:
 
 
 def write_run(result: RunResult, out: Path, scene_text: str | None = None,
-              options: ReportOptions = ReportOptions()) -> dict:
+              options: ReportOptions = ReportOptions(), worker: FigureWorker | None = None) -> dict:
     """The report of a single run; returns its results dict."""
     from vlab.report.outcome import outcome_of
 
-    outcome = outcome_of(result)
-    write_report([outcome], out, result.scene, scene_text, options)
+    outcome = outcome_of(result, snapshot_now=False)  # taken while the figures are drawn
+    write_report([outcome], out, result.scene, scene_text, options, worker)
     return outcome.data
 
 
 def write_report(outcomes: list, out: Path, scene, scene_text: str | None,
-                 options: ReportOptions = ReportOptions()) -> dict:
-    """Write the report of one scene run with one or more models; returns comparison.json's dict."""
-    from vlab.measure.departure import REFERENCE_MODEL, departure_strains
+                 options: ReportOptions = ReportOptions(), worker: FigureWorker | None = None) -> dict:
+    """Write the report of one scene run with one or more models; returns comparison.json's dict.
+
+    The matplotlib figures are drawn by ``worker`` (vlab.report.figure_worker) while this process
+    writes the model files, renders and page, or here when there is none."""
+    from vlab.report.figure_worker import figure_job, start_figures
     from vlab.report.html import ReportPage, write_comparison
-    from vlab.report.kind_plots import kind_of_data
+    from vlab.report.kind_rows import kind_of_data
 
     single = len(outcomes) == 1
     if options.gif_model is not None and options.gif_model not in [o.model for o in outcomes]:
         raise ValueError(f"gif model {options.gif_model!r} is not among the models run: "
                          f"{', '.join(o.model for o in outcomes)}")
     datas = [o.data for o in outcomes]
-    by_model = {o.model: o for o in outcomes}
     test_kind = kind_of_data(datas[0])
-    departures = {}
-    if REFERENCE_MODEL in by_model and not single and test_kind.lateral_ratio:
-        ref = by_model[REFERENCE_MODEL].data
-        departures = {o.model: departure_strains(ref, o.data) for o in outcomes if o.model != REFERENCE_MODEL}
+    departures = _departures(outcomes) if not single and test_kind.lateral_ratio else {}
     kind = "true" if options.true_measures else "engineering"
+    job = figure_job(datas, options.true_measures, departures, test_kind.lateral_ratio)
     with report_folder(out, "run" if single else "compare") as tmp:
-        links = {o.model: _write_model_files(o, tmp, "." if single else o.model, options) for o in outcomes}
-        figures = (_stretch_figures(datas, tmp, options, departures, kind) if test_kind.lateral_ratio
-                   else _kind_figures(datas, tmp))
-        renders, notes = _renders(outcomes, tmp, options, figures)
-        view = _interactive(outcomes, tmp, scene.name, options)
+        drawing = start_figures(job | {"folder": str(tmp)}, worker)
+        try:
+            links, rendered, renders, notes, view = _beside_figures(outcomes, tmp, scene.name, options)
+        except BaseException:
+            drawing.cancel()  # before the folder is discarded: the worker writes into it
+            raise
+        figures = drawing.result() + rendered
         if scene_text is not None:
             (tmp / "scene.toml").write_text(scene_text, encoding="utf-8")
         summary = {"models": [o.model for o in outcomes], "departures_from_neo_hookean": departures,
@@ -103,30 +106,25 @@ def write_report(outcomes: list, out: Path, scene, scene_text: str | None,
     return summary
 
 
-def _stretch_figures(datas: list[dict], tmp: Path, options: ReportOptions, departures: dict, kind: str) -> list:
-    """Uniaxial and biaxial tests: each kind's own figures (vlab/report/stretch_plots.py), then the
-    protocol's; no offset notation on any tick label."""
-    import matplotlib
-
-    from vlab.report.effect_plots import effect_figures
-    from vlab.report.stretch_plots import NO_OFFSET, kind_figures
-
-    figures = kind_figures(datas, tmp, options.true_measures, departures)
-    with matplotlib.rc_context(NO_OFFSET):
-        return figures + effect_figures(datas, tmp)
+def _beside_figures(outcomes: list, tmp: Path, title: str, options: ReportOptions) -> tuple:
+    """What is written while the figures are drawn: the model files, renders and 3-D view;
+    (links, render figures, renders, notes, view)."""
+    single = len(outcomes) == 1
+    links = {o.model: _write_model_files(o, tmp, "." if single else o.model, options) for o in outcomes}
+    rendered: list = []
+    renders, notes = _renders(outcomes, tmp, options, rendered)
+    return links, rendered, renders, notes, _interactive(outcomes, tmp, title, options)
 
 
-def _kind_figures(datas: list[dict], tmp: Path) -> list:
-    """Planar and simple-shear tests: the kind's own figure (vlab/report/kind_plots.py)."""
-    from vlab.report.html import Figure
-    from vlab.report.kind_plots import KIND_CAPTIONS, kind_of_data, plot_kind
+def _departures(outcomes: list) -> dict:
+    """Where each model's stress first departs from Neo-Hookean's (a comparison that runs it)."""
+    from vlab.measure.departure import REFERENCE_MODEL, departure_strains
 
-    from vlab.report.effect_plots import effect_figures
-
-    plot_kind(datas, tmp / "stress_strain.png")
-    kind = kind_of_data(datas[0])
-    figures = [Figure("stress_strain.png", KIND_CAPTIONS[kind.name])]
-    return figures + (effect_figures(datas, tmp) if kind.effects else [])
+    by_model = {o.model: o for o in outcomes}
+    if REFERENCE_MODEL not in by_model:
+        return {}
+    ref = by_model[REFERENCE_MODEL].data
+    return {o.model: departure_strains(ref, o.data) for o in outcomes if o.model != REFERENCE_MODEL}
 
 
 def _write_model_files(outcome, root: Path, sub: str, options: ReportOptions) -> list[str]:

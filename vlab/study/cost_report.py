@@ -44,9 +44,7 @@ def plot_error_time(summaries: list[dict], analysis: CostAnalysis, target: float
     ax.set_title(f"Error against time — reference: {analysis.reference_kind}")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=7.5, loc="best")
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
+    plt.save(fig, path)
 
 
 ERROR_COLUMNS = (("rel. error E", ("errors", "E")), ("rel. error ν", ("errors", "nu")),
