@@ -13,8 +13,8 @@ from typer.testing import CliRunner
 
 from vlab import settings
 from vlab.cli import app
-from vlab.report.figure_worker import (FigureWorker, FigureWorkerError, draw_figures, figure_job, start_figures,
-                                       wanted)
+from vlab.report.figure_worker import (FigureWorker, FigureWorkerError, draw_figures, figure_job,
+                                       running_besides_this, start_figures, wanted)
 from vlab.report.outcome import outcome_of
 from vlab.report.writer import ReportOptions, write_report
 from vlab.run import run_scene
@@ -102,12 +102,19 @@ def test_a_command_that_cannot_start_a_process_draws_in_process(tmp_path, uniaxi
     assert len(figures) == 2 and "figures drawn in process" in caplog.text
 
 
-def test_auto_starts_a_worker_only_where_matplotlib_is_not_yet_imported(monkeypatch):
-    assert wanted("on") and not wanted("off")
-    monkeypatch.setitem(sys.modules, "matplotlib", sys.modules.get("matplotlib", object()))
-    assert not wanted("auto")
-    monkeypatch.delitem(sys.modules, "matplotlib")
-    assert wanted("auto")
+def test_auto_starts_a_worker_only_where_it_pays(monkeypatch):
+    assert wanted("on", cores=1) and not wanted("off", cores=8, others=0)
+    monkeypatch.delitem(sys.modules, "matplotlib", raising=False)
+    assert wanted("auto", cores=2, others=0) and wanted("auto", cores=2, others=1)
+    assert not wanted("auto", cores=1, others=0)  # one core: the worker only competes with the solve
+    assert not wanted("auto", cores=2, others=2)  # every core taken by others
+    monkeypatch.setitem(sys.modules, "matplotlib", object())
+    assert not wanted("auto", cores=8, others=0)  # already imported: drawing here is cheaper
+
+
+def test_running_tasks_are_read_from_the_kernel():
+    n = running_besides_this()
+    assert isinstance(n, int) and n >= 0
 
 
 def test_the_setting_is_validated_naming_the_variable():

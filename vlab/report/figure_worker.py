@@ -95,10 +95,34 @@ def start_figures(job: dict, worker: "FigureWorker | None"):
     return Drawn(draw_figures(job))
 
 
-def wanted(mode: str) -> bool:
-    """Whether a command should start a worker: ``mode`` "on", "off" or "auto" (a worker unless
-    matplotlib is already imported here: then drawing in process costs less than a new process)."""
-    return mode == "on" or (mode == "auto" and "matplotlib" not in sys.modules)
+def wanted(mode: str, cores: int | None = None, others: int | None = None) -> bool:
+    """Whether a command should start a worker: ``mode`` "on", "off" or "auto".
+
+    "auto": a worker where it pays (benchmarks/command_overhead.py, on the 2-core machine): not
+    where matplotlib is already imported (drawing here costs less than a new process), and only
+    with a core to spare: ``cores`` usable (vlab.settings.usable_cores) ≥ 2, of which at most
+    ``cores`` − 1 are taken by ``others`` (tasks running besides this one, /proc/loadavg). Measured
+    overhead of block16's run: 2.65 s with the worker against 3.77 s without on an idle machine,
+    10.99 against 11.25 s whole command with one core busy, but 12.74 against 12.05 s on one core."""
+    if mode != "auto":
+        return mode == "on"
+    if "matplotlib" in sys.modules:
+        return False
+    from vlab.settings import usable_cores
+
+    cores = usable_cores() if cores is None else cores
+    others = running_besides_this() if others is None else others
+    return cores >= 2 and cores - others >= 1
+
+
+def running_besides_this() -> int:
+    """Tasks running or runnable on the machine now besides the caller (Linux: /proc/loadavg's
+    'running/total' field counts the caller too); 0 where it cannot be read."""
+    try:
+        with open("/proc/loadavg", encoding="ascii") as fh:
+            return max(int(fh.read().split()[3].split("/")[0]) - 1, 0)
+    except (OSError, IndexError, ValueError):
+        return 0
 
 
 class FigureWorker:
