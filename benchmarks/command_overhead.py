@@ -17,7 +17,9 @@ vlab.report.figure_worker; the fast exit of vlab/__main__.py), with the figures 
 over the repeats; the load average is printed (the machine is shared: wall times under load
 are noisy, the CPU figures are the steadier ones). ``--baseline TREE`` also times the plain
 command (``python -m vlab run ...``, no launcher) with PYTHONPATH = TREE (e.g. a checkout of main)
-and with this tree, interleaved: whole-command wall and CPU and wall − timing.total_s.
+and with this tree, interleaved (each from its own directory: ``-m`` puts the working directory
+first on the path): whole-command wall and CPU and wall − timing.total_s; ``--plain-only`` skips
+the phase table.
 """
 
 from __future__ import annotations
@@ -119,8 +121,8 @@ def plain(tree: Path, scene: Path, out: Path) -> list[float]:
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
     subprocess.run([sys.executable, "-m", "vlab", "run", str(scene), "--no-render", "--no-estimate", "--out",
-                    str(out), "-q", "--force"], check=True, cwd=ROOT, capture_output=True,
-                   env=os.environ | {"PYTHONPATH": str(tree)})
+                    str(out), "-q", "--force"], check=True, cwd=tree, capture_output=True,
+                   env=os.environ | {"PYTHONPATH": str(tree)})  # cwd: `-m` puts it first on the path
     wall = time.perf_counter() - t0
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
@@ -150,7 +152,12 @@ def main() -> None:
     parser.add_argument("scene", nargs="?", default=str(ROOT / "benchmarks" / "block16.toml"))
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--baseline", type=Path, default=None, help="another source tree to compare with")
+    parser.add_argument("--plain-only", action="store_true", help="with --baseline: only the plain commands")
     args = parser.parse_args()
+    if args.plain_only and args.baseline is not None:
+        with tempfile.TemporaryDirectory() as scratch:
+            compare_trees(args.baseline.resolve(), Path(args.scene), args.repeat, Path(scratch))
+        return
     rows: dict[str, list[dict]] = {v: [] for v in VARIANTS}
     load0 = os.getloadavg()[0]
     with tempfile.TemporaryDirectory() as scratch:
