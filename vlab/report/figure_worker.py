@@ -91,7 +91,8 @@ def start_figures(job: dict, worker: "FigureWorker | None"):
         worker.submit(job)
         return worker
     if worker is not None and worker.proc is not None:  # it ended before its job: say why, draw here
-        log.warning("%s; figures drawn in process", worker._failure("ended before its job"))
+        log.warning("%s; figures drawn in process",
+                    worker._failure(f"ended before its job (exit status {worker.proc.returncode})"))
     return Drawn(draw_figures(job))
 
 
