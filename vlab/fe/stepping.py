@@ -209,19 +209,55 @@ def _unloaded(system: System, stepping: Stepping, cache: TangentCache, history: 
     return _Walk(current, tangent)
 
 
+class Rejected(NewtonFailure):
+    """A substep that converged to a state ``stepping.accept`` rejected (unstable, a limit point)."""
+
+
+@dataclass
+class _Cutbacks:
+    """The substep fractions [s, s + ds] of one level's segment: halved on a failure, doubled
+    after an easy step, never beyond a rejected state (the ``ceiling``, lifted if a state there
+    is accepted after all). Past a loss of stability Newton may stagnate (a perfectly plastic
+    strip: residual 3.6e-8 for 20 iterations with SuperLU), and the run must stop on the
+    instability it found, not on a non-convergence beyond it."""
+
+    max_cutbacks: int
+    ds: float = 1.0
+    count: int = 0
+    ceiling: float = 1.0
+    rejected: tuple | None = None  # (t, Rejected) of the last rejection
+
+    def next_try(self, s: float) -> float:
+        return min(1.0 if 1.0 - s <= self.ds * (1 + 1e-12) else s + self.ds, self.ceiling)
+
+    def failed(self, failure: NewtonFailure, s_try: float, t_try: float) -> tuple | None:
+        """Halve the substep; the (t, failure) to diagnose once the cutbacks run out, else None."""
+        self.count, self.ds = self.count + 1, self.ds / 2
+        if isinstance(failure, Rejected):
+            self.ceiling, self.rejected = min(self.ceiling, s_try), (t_try, failure)
+        if self.count > self.max_cutbacks or self.ds < (1 - 1e-12) / 2.0**self.max_cutbacks:
+            return self.rejected or (t_try, failure)
+        return None
+
+    def accepted(self, s_try: float, easy: bool) -> None:
+        if s_try >= self.ceiling:
+            self.ceiling = 1.0
+        if easy:
+            self.ds *= 2.0
+
+
 def _level(system: System, stepping: Stepping, cache: TangentCache, walk: _Walk, index: int,
            target) -> "Level | Failure":
-    """Reach scheduled level ``index`` (load parameter ``target``) in substeps, halving a failed
-    or rejected one; the Failure if the cutbacks run out."""
+    """Reach scheduled level ``index`` (load parameter ``target``) in substeps (``_Cutbacks``);
+    the Failure if the cutbacks run out (the last rejection if any: the instability found)."""
     history = system.body.history
     t0, clock0 = walk.t, walk.clock
     span = (float(stepping.times[index - 1]) - clock0) if stepping.times is not None else 0.0
     held = stepping.force_held is not None and bool(stepping.force_held[index - 1])
     q0 = _held_forces(system, stepping, walk, index) if held else None
-    ds, s, cutbacks, records = 1.0, 0.0, 0, []  # substep = fraction [s, s + ds] of the segment
-    smallest = 1.0 / 2.0**stepping.max_cutbacks
+    steps, s, records = _Cutbacks(stepping.max_cutbacks), 0.0, []
     while s < 1.0:
-        s_try = 1.0 if 1.0 - s <= ds * (1 + 1e-12) else s + ds
+        s_try = steps.next_try(s)
         t_try = target if s_try == 1.0 else t0 + s_try * (target - t0)
         if history is not None:
             history.begin_increment((s_try - s) * span)
@@ -231,9 +267,9 @@ def _level(system: System, stepping: Stepping, cache: TangentCache, walk: _Walk,
         except NewtonFailure as failure:
             records.append(failure.record)
             walk.factorizations += failure.record.factorized
-            cutbacks, ds = cutbacks + 1, ds / 2
-            if cutbacks > stepping.max_cutbacks or ds < smallest * (1 - 1e-12):
-                return _diagnose(index, target, t_try, walk.t, failure)
+            stop = steps.failed(failure, s_try, t_try)
+            if stop is not None:
+                return _diagnose(index, target, *stop, walk.t)
             continue
         if history is not None:
             history.commit(walk.current)
@@ -242,9 +278,8 @@ def _level(system: System, stepping: Stepping, cache: TangentCache, walk: _Walk,
         walk.tangent = cache.holds(walk.current) or step.tangent or walk.tangent
         walk.t, s = step.t, s_try
         walk.clock = clock0 + s * span
-        if step.record.iterations <= EASY_ITERATIONS:
-            ds *= 2.0
-    return Level(float(walk.t), walk.current, records, cutbacks,
+        steps.accepted(s_try, step.record.iterations <= EASY_ITERATIONS)
+    return Level(float(walk.t), walk.current, records, steps.count,
                  None if stepping.times is None else float(stepping.times[index - 1]))
 
 
@@ -275,7 +310,7 @@ def _attempt(system: System, stepping: Stepping, cache: TangentCache, walk: _Wal
                         converged_tangent, walk.previous, cache.hierarchy)
     objection = stepping.accept and stepping.accept(step.evaluation, float(step.t))
     if objection:
-        raise NewtonFailure(objection, step.record, None)
+        raise Rejected(objection, step.record, None)
     walk.previous, walk.current = step.here, step.evaluation
     return step
 
@@ -383,8 +418,8 @@ def _settled(system: System, current: Evaluation, stepping: Stepping) -> Evaluat
     return settled
 
 
-def _diagnose(index: int, target: float, attempted: float, converged: float,
-              failure: NewtonFailure) -> Failure:
+def _diagnose(index: int, target: float, attempted: float, failure: NewtonFailure,
+              converged: float) -> Failure:
     ev = failure.evaluation
     inverted = ev is not None and not ev.admissible
     return Failure(
