@@ -135,3 +135,12 @@ def test_vlab_run_with_the_worker_writes_the_report_and_its_figures(tmp_path, mo
     assert (tmp_path / "r" / "lateral_strain.png").stat().st_size > 10_000
     data = json.loads((tmp_path / "r" / "results.json").read_text())
     assert data["converged"] and os.path.exists(tmp_path / "r" / "index.html")
+
+
+def test_other_output_on_the_workers_stdout_does_not_break_its_answer(tmp_path, uniaxial):
+    _, outcome = uniaxial
+    noisy = [sys.executable, "-c", "print('a sitecustomize says hello'); import vlab.report.figure_worker as w; "
+             "print('{not json'); w.main()"]
+    with FigureWorker(noisy) as worker:
+        figures = start_figures(_job(outcome, tmp_path), worker).result()
+    assert [f.file for f in figures] == ["stress_strain.png", "lateral_strain.png"]

@@ -10,8 +10,8 @@ font cache, the Agg renderer) on the other core while the command imports the so
 then waits for its one job. The report writer sends the job before it writes the VTU files,
 renders and page, and collects the figures' list after them.
 
-Protocol: stdin carries one JSON job (:func:`figure_job` plus the folder), stdout one JSON answer,
-``{"figures": [[file, caption], ...]}`` or ``{"error": ..., "traceback": ...}``. End of input with
+Protocol: stdin carries one JSON job (:func:`figure_job` plus the folder), stdout one answer line,
+``ANSWER`` then ``{"figures": [[file, caption], ...]}`` or ``{"error": ..., "traceback": ...}``. End of input with
 no job ends the worker quietly (a run that failed before its report). Whatever goes wrong with the
 worker (it could not be started, it died, it answered nothing or an error) is raised in the command
 as :class:`FigureWorkerError` naming the cause with the worker's stderr; the report folder is then
@@ -35,6 +35,7 @@ log = logging.getLogger(__name__)
 PLOT_MODULES = ("matplotlib.figure", "matplotlib.backends.backend_agg", "matplotlib.ticker",
                 "vlab.report.stretch_plots", "vlab.report.comparison_plots", "vlab.report.biaxial_plots",
                 "vlab.report.effect_plots", "vlab.report.kind_plots", "vlab.report.html")
+ANSWER = "vlab-figure-worker-answer: "  # starts the answer's line on the worker's stdout
 ANSWER_TIMEOUT_S = 600.0  # the figures of a large comparison take seconds; a stuck worker is killed
 
 
@@ -179,8 +180,9 @@ class FigureWorker:
             self.proc.kill()
             self.proc.wait()
             raise FigureWorkerError(self._failure(f"no answer within {ANSWER_TIMEOUT_S:g} s (killed)")) from None
+        lines = [ln for ln in answer.decode(errors="replace").splitlines() if ln.startswith(ANSWER)]
         try:
-            reply = json.loads(answer.decode() or "null")
+            reply = json.loads(lines[-1][len(ANSWER):]) if lines else None
         except ValueError:
             reply = None
         if not isinstance(reply, dict) or "figures" not in reply:
@@ -246,20 +248,25 @@ def _warm() -> None:
 
 
 def main() -> int:
-    """The worker: warm up, read one job, draw it, answer; the exit skips finalization."""
+    """The worker: warm up, read one job, draw it, answer; the exit skips finalization.
+
+    Anything else printed to stdout (a sitecustomize, a library's notice) goes to stderr while
+    the worker runs, and the answer is the last line that starts with ANSWER."""
     import traceback
 
+    answer, sys.stdout = sys.stdout, sys.stderr
+    reply = None
     try:
         _warm()
         raw = sys.stdin.buffer.read()
         if raw.strip():
             reply = {"figures": [[f.file, f.caption] for f in draw_figures(json.loads(raw))]}
-            sys.stdout.write(json.dumps(reply))
     except Exception as exc:  # noqa: BLE001 - every failure goes back to the command
-        sys.stdout.write(json.dumps({"error": f"{type(exc).__name__}: {exc}",
-                                     "traceback": traceback.format_exc()}))
+        reply = {"error": f"{type(exc).__name__}: {exc}", "traceback": traceback.format_exc()}
         traceback.print_exc()
-    sys.stdout.flush()
+    if reply is not None:
+        answer.write(f"\n{ANSWER}{json.dumps(reply)}\n")
+    answer.flush()
     sys.stderr.flush()
     os._exit(0)
 
