@@ -4,8 +4,8 @@ A run's figures (stress–strain overlay, lateral or thickness strain, the proto
 relaxation curves) are a pure function of its results dicts (:func:`draw_figures`). Drawn by
 the command's own process they come after the solve, on one core: matplotlib's import (0.3–0.9
 CPU-s) and two figures (0.2–0.4 s each), while the second core idles (benchmarks/RESULTS.md,
-"command overhead"). :class:`FigureWorker` starts ``python -m vlab.report.figure_worker`` when a
-run starts: the worker imports matplotlib and vlab's plot modules and draws a small figure (the
+"command overhead"). :class:`FigureWorker` starts a Python process running :func:`main` (this
+vlab on its path) when a run starts: the worker imports matplotlib and vlab's plot modules and draws a small figure (the
 font cache, the Agg renderer) on the other core while the command imports the solver and solves,
 then waits for its one job. The report writer sends the job before it writes the VTU files,
 renders and page, and collects the figures' list after them.
@@ -247,7 +247,7 @@ def _warm() -> None:
     fig.canvas.draw()
 
 
-def main() -> int:
+def main() -> None:
     """The worker: warm up, read one job, draw it, answer; the exit skips finalization.
 
     Anything else printed to stdout (a sitecustomize, a library's notice) goes to stderr while

@@ -27,11 +27,13 @@ class ModelOutcome:
 
     @cached_property
     def snapshot(self) -> Snapshot:
-        from vlab.post.snapshot import take_snapshot
+        return self.source if isinstance(self.source, Snapshot) else _snapshot_of(self.source, self.model)
 
-        if isinstance(self.source, Snapshot):
-            return self.source
-        return replace(take_snapshot(self.source), model=self.model)
+
+def _snapshot_of(result, label: str) -> Snapshot:
+    from vlab.post.snapshot import take_snapshot
+
+    return replace(take_snapshot(result), model=label)
 
 
 def outcome_of(result, label: str | None = None, snapshot_now: bool = True) -> ModelOutcome:
@@ -46,11 +48,8 @@ def outcome_of(result, label: str | None = None, snapshot_now: bool = True) -> M
     if label != result.scene.material.model:
         data["input"]["label"] = label
     critical = result.solver.critical_state
-    outcome = ModelOutcome(label, data, result, _model_checks(result), None if critical is None else critical.mode)
-    if snapshot_now:
-        outcome.snapshot  # noqa: B018 - taken now, the result let go
-        object.__setattr__(outcome, "source", outcome.snapshot)
-    return outcome
+    return ModelOutcome(label, data, _snapshot_of(result, label) if snapshot_now else result,
+                        _model_checks(result), None if critical is None else critical.mode)
 
 
 def _model_checks(result) -> dict:
