@@ -2,24 +2,27 @@
 
     python benchmarks/command_overhead.py [SCENE] [--repeat 3]
 
-Each repeat runs the real command (``python -m vlab run SCENE --no-render --no-estimate -q``) in
-a fresh process, with clocks put around its phases from outside the package (vlab.run.run_scene,
+Each repeat runs the real command (``python -m vlab run SCENE --no-render --no-estimate -q``) in a
+fresh process, with clocks put around its phases from outside the package (vlab.run.run_scene,
 vlab.report.writer.write_run and the final ``os._exit`` are wrapped by the launcher below, so the
-command runs its own code): the interpreter's start-up, ``import vlab.cli`` (typer, rich, the
-scene grammar and the registries it loads), the CLI until the solve, numba's start-up (inside
-run_scene, before its clocks), the solve itself (results.json ``timing.total_s``: mesh, solve,
-measure), the report without renders (results.json, CSV, PNGs, VTU/PVD, HTML) and the process
-exit. Wall seconds and CPU seconds (user + system of all threads of the process; the figure
-process's CPU on its own row). Three variants run interleaved, so that they meet the same load:
-the command as shipped (the figures drawn by a second process started with the run,
-vlab.report.figure_worker; the fast exit of vlab/__main__.py), with the figures drawn in process
-(VLAB_FIGURE_PROCESS=off), and with Python's normal exit (interpreter finalization). Medians
-over the repeats; the load average is printed (the machine is shared: wall times under load
-are noisy, the CPU figures are the steadier ones). ``--baseline TREE`` also times the plain
-command (``python -m vlab run ...``, no launcher) with PYTHONPATH = TREE (e.g. a checkout of main)
-and with this tree, interleaved (each from its own directory: ``-m`` puts the working directory
-first on the path): whole-command wall and CPU and wall − timing.total_s; ``--plain-only`` skips
-the phase table.
+command runs its own code): the interpreter's start-up, ``import vlab.cli`` (typer, rich, the scene
+grammar and the registries it loads), the CLI until the solve, numba's start-up (inside run_scene,
+before its clocks), the solve itself (results.json ``timing.total_s``: mesh, solve, measure), the
+report without renders (results.json, CSV, PNGs, VTU/PVD, HTML) and the process exit. Wall seconds
+and CPU seconds (user + system of all threads of the process; the figure process's CPU on its own
+row). Three variants run interleaved, so that they meet the same load: the command as shipped (the
+figures drawn by a second process started with the run, vlab.report.figure_worker; the fast exit of
+vlab/__main__.py), with the figures drawn in process (VLAB_FIGURE_PROCESS=off), and with Python's
+normal exit (interpreter finalization). Medians over the repeats. Each repeat also times the floor:
+a process that only imports the libraries a run needs (numpy, scipy.sparse.linalg, scikit-fem,
+typer, rich) and starts numba as vlab.jit does, then exits; the shipped overhead is printed above
+that floor, the part vlab's own code can still change. Whether Python's bytecode cache is on is
+printed (PYTHONDONTWRITEBYTECODE=1 makes every run compile vlab's ~130 modules from source, ~0.3 s
+here). The load average is printed (the machine is shared: wall times under load are noisy, the CPU
+figures are the steadier ones). ``--baseline TREE`` also times the plain command (``python -m vlab
+run ...``, no launcher) with PYTHONPATH = TREE (e.g. a checkout of main) and with this tree,
+interleaved (each from its own directory: ``-m`` puts the working directory first on the path):
+whole-command wall and CPU and wall − timing.total_s; ``--plain-only`` skips the phase table.
 """
 
 from __future__ import annotations
@@ -81,6 +84,32 @@ else:
     import vlab.__main__
     vlab.__main__.main()
 """
+
+
+FLOOR = r"""
+import os, sys, time
+t = [time.perf_counter()]
+import numpy, scipy.sparse.linalg, skfem, typer, rich
+t.append(time.perf_counter())
+import vlab.jit  # its own imports are the standard library's
+vlab.jit._start()  # import numba and make its first (cached) call, as vlab.run does
+t.append(time.perf_counter())
+print(" ".join(repr(x) for x in t))
+sys.stdout.flush()
+os._exit(0)
+"""
+
+
+def floor() -> list[float]:
+    """[interpreter start-up, libraries, numba start-up, whole] wall seconds of a process that only
+    imports the libraries a run needs (numpy, scipy.sparse.linalg, scikit-fem, typer, rich), starts
+    numba as vlab.jit does, and ends with os._exit: what no change inside vlab can take off a
+    fresh ``vlab run``."""
+    t0 = time.perf_counter()
+    out = subprocess.run([sys.executable, "-c", FLOOR], check=True, cwd=ROOT, capture_output=True, text=True)
+    t1 = time.perf_counter()
+    start, libraries, numba = (float(x) for x in out.stdout.split())
+    return [start - t0, libraries - start, numba - libraries, t1 - t0]
 
 
 def one(variant: str, scene: Path, out: Path, record: Path) -> dict:
@@ -159,13 +188,16 @@ def main() -> None:
             compare_trees(args.baseline.resolve(), Path(args.scene), args.repeat, Path(scratch))
         return
     rows: dict[str, list[dict]] = {v: [] for v in VARIANTS}
+    floors = []
     load0 = os.getloadavg()[0]
     with tempfile.TemporaryDirectory() as scratch:
         for i in range(args.repeat):
+            floors.append(floor())
             for v in VARIANTS:
                 rows[v].append(one(v, Path(args.scene), Path(scratch) / f"{v}{i}", Path(scratch) / f"{v}{i}.json"))
     print(f"load average (1 min) at the start {load0:.1f}, at the end {os.getloadavg()[0]:.1f}; "
-          f"median of {args.repeat} interleaved repeats")
+          f"median of {args.repeat} interleaved repeats; bytecode cache "
+          f"{'OFF (PYTHONDONTWRITEBYTECODE: every vlab module is compiled from source)' if sys.dont_write_bytecode else 'on'}")
     print("| phase | " + " | ".join(f"{v} wall s | {v} CPU s" for v in VARIANTS) + " |")
     print("|---|" + "---|---|" * len(VARIANTS))
     for key in rows[VARIANTS[0]][0]:
@@ -175,9 +207,19 @@ def main() -> None:
                 x = median(rows[v], key, i)
                 cells.append("—" if x is None else f"{x:.2f}")
         print(f"| {key} | " + " | ".join(cells) + " |")
+    print_floor(floors, median(rows[VARIANTS[0]], "overhead = whole command - timing.total_s", 0))
     if args.baseline is not None:
         with tempfile.TemporaryDirectory() as scratch:
             compare_trees(args.baseline.resolve(), Path(args.scene), args.repeat, Path(scratch))
+
+
+def print_floor(floors: list[list[float]], overhead: float) -> None:
+    """The floor's split and what the shipped command's overhead is above it."""
+    m = [statistics.median(f[j] for f in floors) for j in range(4)]
+    print("\nfloor: a process that imports the libraries a run needs, starts numba and exits (same repeats)")
+    print("| interpreter start-up s | numpy, scipy.sparse.linalg, skfem, typer, rich s | numba start-up s "
+          "| whole floor s | shipped overhead above the floor s |\n|---|---|---|---|---|")
+    print(f"| {m[0]:.2f} | {m[1]:.2f} | {m[2]:.2f} | {m[3]:.2f} | {overhead - m[3]:.2f} |")
 
 
 if __name__ == "__main__":
