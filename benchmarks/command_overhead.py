@@ -17,8 +17,8 @@ normal exit (interpreter finalization). Medians over the repeats. Each repeat al
 a process that only imports the libraries a run needs (numpy, scipy.sparse.linalg, scikit-fem,
 typer, rich) and starts numba as vlab.jit does, then exits; the shipped overhead is printed above
 that floor, the part vlab's own code can still change. Whether Python's bytecode cache is on is
-printed (PYTHONDONTWRITEBYTECODE=1 makes every run compile vlab's ~130 modules from source, ~0.3 s
-here). The load average is printed (the machine is shared: wall times under load are noisy, the CPU
+printed (with PYTHONDONTWRITEBYTECODE=1 and no .pyc on disk, every run compiles vlab's ~130 modules
+from source, ~0.3 s here). The load average is printed (the machine is shared: wall times under load are noisy, the CPU
 figures are the steadier ones). ``--baseline TREE`` also times the plain command (``python -m vlab
 run ...``, no launcher) with PYTHONPATH = TREE (e.g. a checkout of main) and with this tree,
 interleaved (each from its own directory: ``-m`` puts the working directory first on the path):
@@ -92,7 +92,7 @@ t = [time.perf_counter()]
 import numpy, scipy.sparse.linalg, skfem, typer, rich
 t.append(time.perf_counter())
 import vlab.jit  # its own imports are the standard library's
-vlab.jit._start()  # import numba and make its first (cached) call, as vlab.run does
+vlab.jit.numba()  # import numba and make its first (cached) call, as vlab.run does
 t.append(time.perf_counter())
 print(" ".join(repr(x) for x in t))
 sys.stdout.flush()
@@ -197,7 +197,7 @@ def main() -> None:
                 rows[v].append(one(v, Path(args.scene), Path(scratch) / f"{v}{i}", Path(scratch) / f"{v}{i}.json"))
     print(f"load average (1 min) at the start {load0:.1f}, at the end {os.getloadavg()[0]:.1f}; "
           f"median of {args.repeat} interleaved repeats; bytecode cache "
-          f"{'OFF (PYTHONDONTWRITEBYTECODE: every vlab module is compiled from source)' if sys.dont_write_bytecode else 'on'}")
+          f"{'OFF (PYTHONDONTWRITEBYTECODE: a module without a .pyc already on disk is compiled from source every run)' if sys.dont_write_bytecode else 'on'}")
     print("| phase | " + " | ".join(f"{v} wall s | {v} CPU s" for v in VARIANTS) + " |")
     print("|---|" + "---|---|" * len(VARIANTS))
     for key in rows[VARIANTS[0]][0]:
