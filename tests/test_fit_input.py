@@ -80,7 +80,10 @@ def _cli(*args, cwd):
 
 
 def test_cli_exit_codes_valid_invalid_and_not_converged(tmp_path):
-    f = _write(tmp_path, BASE)
+    f = _write(tmp_path, BASE)  # Mooney-Rivlin on this curve: C01 < 0, unstable inside the data: exit 3
+    r = _cli(f, "--out", tmp_path / "unstable", cwd=tmp_path)
+    assert r.returncode == 3 and "card not trustworthy" in r.stderr and "Drucker" in r.stderr, r.stderr
+    f = _write(tmp_path, BASE.replace('"mooney-rivlin"', '"neo-hookean"'))
     ok = _cli(f, "--out", tmp_path / "ok", cwd=tmp_path)
     assert ok.returncode == 0, ok.stderr
     d = json.loads((tmp_path / "ok" / "fit.json").read_text())

@@ -15,6 +15,7 @@ from rich.console import Console
 from rich.text import Text
 
 EXIT_OK, EXIT_FAILED, EXIT_INVALID = 0, 1, 2
+EXIT_UNTRUSTED = 3  # vlab fit: converged, but the card is not trustworthy (docs/fit-exit-codes.md)
 
 console = Console(stderr=True, markup=False, highlight=False, emoji=False)
 

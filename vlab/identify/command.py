@@ -1,4 +1,6 @@
-"""`vlab fit`: read, fit, write, print; the exit code says converged (0), not (1), invalid (2)."""
+"""`vlab fit`: read, fit, write, print; the exit code (docs/fit-exit-codes.md) says converged with
+a trustworthy card (0), not converged (1), invalid input (2), converged but the card is not
+trustworthy (3: a constant without an interval, or a card unstable over the fitted ranges)."""
 
 from __future__ import annotations
 
@@ -7,6 +9,7 @@ from pathlib import Path
 from rich.console import Console
 from rich.text import Text
 
+from vlab.cli_io import EXIT_FAILED, EXIT_OK, EXIT_UNTRUSTED
 from vlab.fields import SceneError
 
 __all__ = ["fit_command"]
@@ -16,14 +19,27 @@ def _print_fit(console: Console, d: dict) -> None:
     # Text, not markup: the CLI's console prints verbatim (a name or reason may hold "[...]")
     console.print(Text.assemble((d['name'], "bold"), f": {d['model']['name']} "
                   f"({'converged' if d['converged'] else 'NOT converged: ' + str(d['reason'])})"), highlight=False)
+    said = None
     for k, u in d["uncertainty"].items():
-        console.print(f"  {k:>10} = {u['interval'][0] / 2 + u['interval'][1] / 2:.6g} "
-                      f"± {u['standard_error']:.3g}", highlight=False)
+        spread = f"± {u['standard_error']:.3g}" if u["interval"] is not None else \
+            "(no interval: as above)" if u["reason"] == said else f"(no interval: {u['reason']})"
+        said = u["reason"]
+        console.print(f"  {k:>10} = {u['value']:.6g} {spread}", highlight=False, soft_wrap=True)
     for x in d["datasets"]:
         console.print(f"  {x['name']} ({x['kind']}, {x['role']}): rms {100 * x['rms_relative']:.3g} %, "
                       f"max {100 * x['max_relative']:.3g} %", highlight=False)
     for w in d["warnings"]:
         console.print(Text.assemble("  ", ("warning", "yellow"), f" {w}"), highlight=False, soft_wrap=True)
+    if d["converged"] and not d["trust"]["trustworthy"]:
+        console.print(Text.assemble(("card not trustworthy", "red"), ": " + "; ".join(d["trust"]["because"])),
+                      highlight=False, soft_wrap=True)
+
+
+def exit_code(d: dict) -> int:
+    """0 converged and trustworthy, 1 not converged, 3 converged but not trustworthy."""
+    if not d["converged"]:
+        return EXIT_FAILED
+    return EXIT_OK if d["trust"]["trustworthy"] else EXIT_UNTRUSTED
 
 
 def _destination(out: Path, force: bool, spec, path: Path):
@@ -99,4 +115,4 @@ def _fit_and_write(spec, names, dest, out: Path, text: str, console: Console, ex
     d = write_fit_report(outcome, dest, text)
     _print_fit(console, d)
     console.print(f"report: {out / 'index.html'}", highlight=False, soft_wrap=True)
-    return 0 if d["converged"] else 1
+    return exit_code(d)

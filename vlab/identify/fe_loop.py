@@ -190,7 +190,7 @@ def fit_specimen(spec, execution=None):
 
 
 def _fit_specimen(spec, run, t0):
-    from vlab.identify.fitting import FitOutcome, _information
+    from vlab.identify.fitting import FitOutcome, _information, trust_of
 
     prob = _Problem(spec, run)
     names = prob.names
@@ -201,7 +201,8 @@ def _fit_specimen(spec, run, t0):
         raise SceneError(f"fe.scene: {exc}") from None
     t_fit = time.perf_counter() - t0
     cov, s2, dof, cond = unc.covariance(J, r)
-    stats = unc.summarize(p, cov, list(names), dof, spec.confidence)
+    reasons = unc.undetermined(J, list(names), dof)
+    stats = unc.summarize(p, cov, list(names), dof, spec.confidence, reasons)
     se = np.sqrt(np.clip(np.diag(cov), 0, None))
     values = prob.values(p)
     model = _closed_form(spec.fe, "fit")
@@ -217,8 +218,9 @@ def _fit_specimen(spec, run, t0):
         "information": _information(r, len(p), s2, dof),
         "starts": {"count": 1, "reached_best": 1, "agree": True, "others_objective_ratio": None,
                    "note": "FE-in-the-loop fits start once, from fe.start"},
-        "identifiability": {"identifiable": not stats["correlated_pairs"] and cond <= unc.COND_LIMIT,
-                            "condition_number": cond, "correlated_pairs": stats["correlated_pairs"]},
+        "identifiability": {"identifiable": not stats["correlated_pairs"] and not reasons and cond <= unc.COND_LIMIT,
+                            "condition_number": cond, "correlated_pairs": stats["correlated_pairs"],
+                            "not_determined": reasons},
         "stability": _specimen_stability(model, x, spec),
         "card": card_of(model, model.card_vector(x), None if "K" in names else "K held at the scene's value"),
         "fe": _fe_record(spec, prob, run, trail, _homogeneous_comparison(spec, sim, p, se, names)),
@@ -226,6 +228,7 @@ def _fit_specimen(spec, run, t0):
         "options": {"residual": spec.residual},
         "timing": {"fit_s": t_fit, "total_s": time.perf_counter() - t0},
     }
+    data["trust"] = trust_of(data)
     outcome = FitOutcome(data, dataclasses.replace(spec, model=model), x, cov_x, stats["t_quantile"])
     _attach_figure(outcome, lambda path: _plot(spec, sim, J, cov, stats["t_quantile"], path))
     return outcome

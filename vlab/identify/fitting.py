@@ -100,10 +100,24 @@ def _candidates(model, x, fit_sets, factor_of):
     return out
 
 
-def _identifiability(model, x, J, cov_x, s2, cond, pairs, fit_sets, relative: bool) -> dict:
-    ok = not pairs and cond <= unc.COND_LIMIT
-    out = {"identifiable": bool(ok), "condition_number": cond, "correlated_pairs": pairs, "warning": None}
-    if ok or len(x) < 2:
+def _not_determined(model, J, dof: int, best) -> dict[str, str]:
+    """{card parameter: why it gets no standard error}: no degrees of freedom, a direction the
+    data do not determine (rank of the scaled Jacobian in card coordinates), or a parameter on
+    a bound of the admissible box (the interval of an interior optimum does not apply)."""
+    names = list(model.names)
+    out = unc.undetermined(J @ np.linalg.inv(model.transform), names, dof)
+    for n, b in zip(names, best.at_bound):
+        if b and n not in out:
+            out[n] = "on a bound of the admissible box: the interval of an interior optimum does not apply"
+    return out
+
+
+def _identifiability(model, x, J, cov_x, s2, cond, pairs, fit_sets, relative: bool, reasons=None) -> dict:
+    loose = {k: v for k, v in (reasons or {}).items() if v.startswith("not identifiable")}
+    ok = not pairs and not loose and cond <= unc.COND_LIMIT
+    out = {"identifiable": bool(ok), "condition_number": cond if np.isfinite(cond) else None,
+           "correlated_pairs": pairs, "not_determined": reasons or {}, "warning": None}
+    if ok or len(x) < 2 or len(J) == 0:
         return out
     factor = (lambda y: 1.0 / np.maximum(np.abs(y), 1e-3 * np.max(np.abs(y)))) if relative else \
         (lambda y: np.ones_like(y))
@@ -116,6 +130,8 @@ def _identifiability(model, x, J, cov_x, s2, cond, pairs, fit_sets, relative: bo
     what = ", ".join(f"|corr({a}, {b})| = {abs(c):.4f}" for a, b, c in top[:3]) or "no single pair"
     if len(top) > 3:
         what += f" and {len(top) - 3} more pairs"
+    if loose:
+        what = next(iter(loose.values()))[len("not identifiable: "):] + ("; " + what if top else "")
     best = ranked[0]
     if best["worst_correlation"] < unc.CORR_LIMIT:
         cure = (f"adding {best['data']} (20 points, same scatter) would bring the worst |correlation| to "
@@ -123,8 +139,13 @@ def _identifiability(model, x, J, cov_x, s2, cond, pairs, fit_sets, relative: bo
     else:
         cure = (f"none of the data sets tried separates them (best: {best['data']}, worst |correlation| "
                 f"{best['worst_correlation']:.4f}): the model has more parameters than these modes determine")
-    out["warning"] = (f"parameters not identifiable from the data given ({what}; condition number of "
-                      f"the scaled Jacobian {cond:.3g}): {cure}")
+    what += f"; condition number of the scaled Jacobian {cond:.3g}" if np.isfinite(cond) else ""
+    out["warning"] = f"parameters not identifiable from the data given ({what}): {cure}"
+    if best["worst_correlation"] >= 1.0:  # no candidate determines every direction
+        out["warning"] = (f"parameters not identifiable from the data given ({what}): none of the data sets "
+                          "tried determines every direction (a mode at the fitted deformation level, or "
+                          "each fitted kind to 1.5 × its range): the model has more parameters than "
+                          "these modes determine; fit a model with fewer parameters")
     return out
 
 
@@ -142,9 +163,10 @@ def fit_homogeneous(spec: FitSpec) -> FitOutcome:
     cov_x, s2, dof, cond = unc.covariance(J, r)
     values = model.card_vector(x)
     cov_c = model.transform @ cov_x @ model.transform.T
-    stats = unc.summarize(values, cov_c, list(model.names), dof, spec.confidence)
+    reasons = _not_determined(model, J, dof, best)
+    stats = unc.summarize(values, cov_c, list(model.names), dof, spec.confidence, reasons)
     ident = _identifiability(model, x, J, cov_x, s2, cond, stats["correlated_pairs"], fit_sets,
-                             spec.residual == "relative")
+                             spec.residual == "relative", reasons)
     t2 = time.perf_counter()
     stability = _stability(model, x, spec)
     t3 = time.perf_counter()
@@ -159,12 +181,27 @@ def fit_homogeneous(spec: FitSpec) -> FitOutcome:
         "datasets": [_dataset_errors(model, x, d) for d in spec.datasets if d.kind != "specimen"],
         "information": _information(r, len(x), s2, dof), "starts": starts, "identifiability": ident,
         "stability": stability, "card": card_of(model, values),
-        "warnings": _warnings(model, best, ident, starts, stability),
+        "warnings": _warnings(model, best, ident, starts, stability, stats["uncertainty"]),
         "options": {"residual": spec.residual, "starts": spec.starts, "seed": spec.seed},
         "timing": {"fit_s": t_fit, "uncertainty_s": t2 - t1, "stability_s": t3 - t2,
                    "total_s": time.perf_counter() - t0},
     }
+    data["trust"] = trust_of(data)
     return FitOutcome(data, spec, x, cov_x, stats["t_quantile"])
+
+
+def trust_of(d: dict) -> dict:
+    """Whether a converged card can be used as it is: every constant has an interval (none left
+    undetermined by the data, none on a bound of the admissible box) and the card is Drucker-
+    stable over the fitted ranges. `vlab fit` exits 3 (vlab.cli_io.EXIT_UNTRUSTED) when not."""
+    because = []
+    loose = [k for k, u in d["uncertainty"].items() if u["interval"] is None]
+    if loose:
+        reasons = sorted({d["uncertainty"][k]["reason"] for k in loose})
+        because.append(f"no interval for {', '.join(loose)} ({'; '.join(reasons)})")
+    if not d["stability"]["stable_over_all_fitted_ranges"]:
+        because.append("the card is not Drucker-stable over the fitted ranges")
+    return {"trustworthy": not because, "because": because}
 
 
 def _verdict(best, mu0: float, max_evaluations: int) -> tuple[bool, str]:
@@ -187,10 +224,12 @@ def _model_record(model, mu0: float) -> dict:
     return out
 
 
-def _warnings(model, best, ident: dict, starts: dict, stability: dict) -> list[str]:
-    """What a reader must know before trusting the constants: identifiability, disagreeing
-    starts, parameters on a bound, and a card that is not stable over the data."""
+def _warnings(model, best, ident: dict, starts: dict, stability: dict, uncertainty: dict) -> list[str]:
+    """What a reader must know before trusting the constants: identifiability, no degrees of
+    freedom, disagreeing starts, parameters on a bound, and a card that is not stable over the data."""
     out = [ident["warning"]] if ident["warning"] else []
+    dof = sorted({u["reason"] for u in uncertainty.values() if (u["reason"] or "").startswith("n − p")})
+    out += [f"no standard errors or intervals: {r}" for r in dof]
     if not starts["agree"]:
         out.append(f"the starts disagree: {starts['reached_best']} of {starts['count']} reached the best "
                    f"objective and those within 1 % of it differ in their parameters by up to "
@@ -198,8 +237,8 @@ def _warnings(model, best, ident: dict, starts: dict, stability: dict) -> list[s
                    "by these data")
     bound = [n for n, b in zip(model.names, best.at_bound) if b]
     if bound:
-        out.append(f"parameters on a bound of the admissible box: {', '.join(bound)} (their intervals "
-                   "assume an interior optimum)")
+        out.append(f"parameters on a bound of the admissible box: {', '.join(bound)} (no interval: the "
+                   "interval of an interior optimum does not apply; the data pull the constant past its range)")
     if not stability["stable_over_all_fitted_ranges"]:
         out.append("the fitted model is not Drucker-stable over the whole fitted range (see stability)")
     return out

@@ -51,8 +51,12 @@ def _parameter_rows(d: dict) -> list:
         values += [(f"{k}[{i}]", x) for i, x in enumerate(v)] if isinstance(v, list) else [(k, v)]
     for (name, value) in values:
         u = d["uncertainty"].get(name, {})
-        lo, hi = u.get("interval", [None, None])
         unit = unit_of(d["model"]["name"], name.split("[")[0])
+        if u.get("interval") is None:  # not determined: say why, never a number the fit does not have
+            why = html.escape(u.get("reason") or "not determined")
+            rows.append([html.escape(name), _f(value, 6), "not determined", why, unit])
+            continue
+        lo, hi = u["interval"]
         rows.append([html.escape(name), _f(value, 6), _f(u.get("standard_error")), f"{_f(lo)} … {_f(hi)}", unit])
     return rows
 
@@ -98,6 +102,8 @@ def page(d: dict, images: list[tuple[str, str]]) -> str:
     figs = "".join(f"<figure><img src='{f}' style='max-width:100%'><figcaption>{html.escape(c)}</figcaption>"
                    "</figure>" for f, c in images)
     status = "converged" if d["converged"] else f"NOT converged: {html.escape(str(d['reason']))}"
+    if d["converged"] and not d.get("trust", {}).get("trustworthy", True):
+        status += " but the card is not trustworthy: " + html.escape("; ".join(d["trust"]["because"]))
     return f"""<!doctype html><html><head><meta charset="utf-8">
 <title>vlab fit — {html.escape(d['name'])}</title><style>{_STYLE} .warn{{color:#a40}}</style></head><body>
 <h1>vlab fit — {html.escape(d['name'])}: {html.escape(d['model']['name'])}</h1>
@@ -106,7 +112,7 @@ def page(d: dict, images: list[tuple[str, str]]) -> str:
 <h2>Parameters ({100 * d['confidence']:g} % intervals)</h2>
 {_table(['parameter', 'value', 'standard error', 'interval', 'unit'], _parameter_rows(d))}
 <h2>Correlations</h2>
-{_table([''] + corr['order'], [[html.escape(n)] + [f"{v:.3f}" for v in row] for n, row in zip(corr['order'], corr['matrix'])])}
+{_table([''] + corr['order'], [[html.escape(n)] + ["—" if v is None else f"{v:.3f}" for v in row] for n, row in zip(corr['order'], corr['matrix'])])}
 <h2>Data sets</h2>
 {_table(['data', 'kind', 'role', 'points', 'rms relative', 'max relative'], ds_rows)}
 <h2>Fit</h2>
@@ -121,6 +127,28 @@ def page(d: dict, images: list[tuple[str, str]]) -> str:
 <h2>Card</h2><pre>{html.escape(d['card']['toml'])}</pre><p>{html.escape(d['card']['note'])}</p>
 <p>Timing: fit {d['timing']['fit_s']:.3g} s, total {d['timing']['total_s']:.3g} s.</p>
 </body></html>"""
+
+
+def strict(o):
+    """o with every non-finite float (NaN, ±inf) replaced by None, so that the JSON is strict
+    (a parser that refuses NaN and Infinity reads it); a missing number is null and the record
+    beside it says why."""
+    if isinstance(o, dict):
+        return {k: strict(v) for k, v in o.items()}
+    if isinstance(o, (list, tuple)):
+        return [strict(v) for v in o]
+    if isinstance(o, np.ndarray):
+        return strict(o.tolist())
+    if isinstance(o, (np.floating, np.integer)):
+        o = o.item()
+    if isinstance(o, float) and not np.isfinite(o):
+        return None
+    return o
+
+
+def json_text(d) -> str:
+    """Strict JSON text of d (indent 2): no NaN or Infinity tokens."""
+    return json.dumps(strict(d), indent=2, default=_json_default, allow_nan=False)
 
 
 def _json_default(o):
@@ -142,7 +170,7 @@ def write_fit_files(outcome, tmp: Path, fit_text: str | None = None) -> dict:
     from vlab.identify.fitting import curves
     from vlab.identify.plots import plot_curves, plot_stability_map
 
-    d = outcome.data
+    d = outcome.data = strict(outcome.data)  # what the console and the page show is what fit.json holds
     sets = [s for s in outcome.spec.datasets if s.kind != "specimen"]
     tmp = Path(tmp)
     images = list(outcome.extras.get("figures", []))
@@ -156,7 +184,7 @@ def write_fit_files(outcome, tmp: Path, fit_text: str | None = None) -> dict:
     for name, writer in outcome.extras.get("writers", []):
         writer(tmp / name)
     d["files"] = ["fit.json", "index.html", "card.toml"] + [f for f, _ in images]
-    (tmp / "fit.json").write_text(json.dumps(d, indent=2, default=_json_default))
+    (tmp / "fit.json").write_text(json_text(d))
     (tmp / "card.toml").write_text(d["card"]["toml"])
     if fit_text is not None:
         (tmp / "fit.toml").write_text(fit_text)
