@@ -15,7 +15,7 @@ import numpy as np
 
 from vlab.fields import SceneError, suggest
 
-__all__ = ["Dataset", "STRESS_UNITS", "FORCE_UNITS", "read_columns", "COLUMN_KEYS"]
+__all__ = ["Dataset", "STRESS_UNITS", "FORCE_UNITS", "read_columns", "COLUMN_KEYS", "check_plausible"]
 
 STRESS_UNITS = {"MPa": 1.0, "N/mm2": 1.0, "kPa": 1e-3, "Pa": 1e-6, "kgf/cm2": 0.0980665}
 FORCE_UNITS = {"N": 1.0, "kN": 1e3}
@@ -93,6 +93,47 @@ def read_columns(path: Path, wanted: dict[str, str]) -> dict[str, np.ndarray]:
                 raise SceneError(f"{path.name} row {line} column {wanted[key]!r}: empty cell")
             out[key].append(_cell(path, line, wanted[key], text))
     return {k: np.array(v) for k, v in out.items()}
+
+
+STRESS_RANGE = (1e-9, 1e6)   # MPa: the largest |stress| of a data set (1 mPa .. 1 TPa, beyond any solid)
+SOFTENING = 0.10             # a fall of the stress by more than this share of its largest |value| is softening
+WRONG_SIGN = 0.02            # a stress of the wrong sign larger than this share of the largest is not noise
+_MONOTONIC = ("uniaxial", "equibiaxial", "planar", "simple-shear")
+
+
+def check_plausible(path: Path, kind: str, column: str, a: np.ndarray, y: np.ndarray, lines) -> None:
+    """Data no card of the library can represent, named before any fit (SceneError, exit 2):
+    a largest |stress| outside STRESS_RANGE (a unit error, or no load at all); in a monotonic kind,
+    a nominal or true stress whose sign is not that of the deformation (λ − 1, or γ) or that falls
+    as the stretch rises (softening: a hyperelastic card with dP/dλ < 0 is Drucker-unstable)."""
+    top = float(np.max(np.abs(y)))
+    lo, hi = STRESS_RANGE
+    if not lo <= top <= hi:
+        j = int(np.argmax(np.abs(y)))
+        raise SceneError(f"{path.name} row {int(lines[j])}: the largest |stress| is {top:g} MPa, outside the "
+                         f"plausible range {lo:g}..{hi:g} MPa (check data[].units and the column)")
+    if kind not in _MONOTONIC:
+        return
+    ref = 0.0 if kind == "simple-shear" else 1.0
+    name = "shear" if kind == "simple-shear" else "stretch"
+    bad = np.nonzero(np.sign(a - ref) * y < -WRONG_SIGN * top)[0]
+    if len(bad):
+        j = int(bad[0])
+        raise SceneError(f"{path.name} row {int(lines[j])}: stress {y[j]:g} MPa at {name} {a[j]:g} has the "
+                         f"sign opposite to the deformation ({'tension' if a[j] > ref else 'compression'}): "
+                         "not a loading curve of this kind (check the sign convention and the kind)")
+    order = np.argsort(a)
+    ya = y[order]
+    peak = np.maximum.accumulate(ya)
+    drop = peak - ya
+    if np.any(drop > SOFTENING * top):
+        k = int(np.argmax(drop > SOFTENING * top))
+        j, i = int(order[k]), int(order[int(np.argmax(ya[:k + 1]))])
+        raise SceneError(f"{path.name} row {int(lines[j])}: the stress falls to {y[j]:g} MPa at {name} {a[j]:g} "
+                         f"from {y[i]:g} MPa at {name} {a[i]:g} ({100 * drop[k] / top:.3g} % of the largest "
+                         f"|stress|): softening (damage, Mullins, an unloading branch) is not a hyperelastic "
+                         f"{kind} curve, no stable card of the library follows it; fit the loading branch "
+                         "up to its peak")
 
 
 def check_monotonic(path: Path, column: str, v: np.ndarray, lines: np.ndarray) -> None:

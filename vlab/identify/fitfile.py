@@ -24,7 +24,7 @@ from vlab import fields
 from vlab.fields import SceneError, Table
 from vlab.identify.card import INCOMPRESSIBLE_K_RATIO
 from vlab.identify.datasets import (COLUMN_KEYS, FORCE_UNITS, STRESS_UNITS, Dataset, check_monotonic,
-                                    read_columns)
+                                    check_plausible, read_columns)
 from vlab.identify.laws import MODEL_NAMES, law_for
 from vlab.identify.states import Constitutive
 
@@ -155,6 +155,9 @@ def _to_dataset(path, name, kind, role, weight, measure, factor, wanted, cols) -
             y = np.r_[y, cols["force2"] * factor]
     else:
         a, b, y = cols[control], None, cols["stress"] * factor
+    if kind != "specimen":
+        check_plausible(path, kind, wanted.get(control, control), a if b is None else np.r_[a, a], y,
+                        lines if b is None else np.r_[lines, lines])
     return Dataset(str(name), str(path), kind, role, weight, measure, a, b, y)
 
 

@@ -113,7 +113,7 @@ def _not_determined(model, J, dof: int, best) -> dict[str, str]:
 
 
 def _identifiability(model, x, J, cov_x, s2, cond, pairs, fit_sets, relative: bool, reasons=None) -> dict:
-    loose = {k: v for k, v in (reasons or {}).items() if v.startswith("not identifiable")}
+    loose = {k: v[v.index("not identifiable: ") + 18:] for k, v in (reasons or {}).items() if "not identifiable: " in v}
     ok = not pairs and not loose and cond <= unc.COND_LIMIT
     out = {"identifiable": bool(ok), "condition_number": cond if np.isfinite(cond) else None,
            "correlated_pairs": pairs, "not_determined": reasons or {}, "warning": None}
@@ -131,7 +131,7 @@ def _identifiability(model, x, J, cov_x, s2, cond, pairs, fit_sets, relative: bo
     if len(top) > 3:
         what += f" and {len(top) - 3} more pairs"
     if loose:
-        what = next(iter(loose.values()))[len("not identifiable: "):] + ("; " + what if top else "")
+        what = next(iter(loose.values())) + ("; " + what if top else "")
     best = ranked[0]
     if best["worst_correlation"] < unc.CORR_LIMIT:
         cure = (f"adding {best['data']} (20 points, same scatter) would bring the worst |correlation| to "
@@ -201,7 +201,22 @@ def trust_of(d: dict) -> dict:
         because.append(f"no interval for {', '.join(loose)} ({'; '.join(reasons)})")
     if not d["stability"]["stable_over_all_fitted_ranges"]:
         because.append("the card is not Drucker-stable over the fitted ranges")
+    refused = _run_refuses(d["card"]["material"])
+    if refused:
+        because.append(f"vlab run would refuse the card: {refused}")
     return {"trustworthy": not because, "because": because}
+
+
+def _run_refuses(material: dict) -> str | None:
+    """The error `vlab run` gives on the card's [material] table, or None when it reads it."""
+    from vlab.fields import SceneError
+    from vlab.materials.card import parse_material
+
+    try:
+        parse_material(dict(material))
+    except (SceneError, ValueError, OverflowError) as exc:
+        return str(exc)
+    return None
 
 
 def _verdict(best, mu0: float, max_evaluations: int) -> tuple[bool, str]:

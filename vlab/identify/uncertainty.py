@@ -116,12 +116,13 @@ def _rank_deficient(Jc: np.ndarray, names: list) -> dict[str, str]:
     sub = [names[i] for i in loose]
     terms = [_combination(b, sub) for b in basis]
     if len(basis) == 0:
-        what = f"none of {', '.join(sub)}"
+        what = None
     elif len(basis) <= 2 and all(t.count(" + ") + t.count(" − ") < 4 for t in terms):
         what = " and ".join(terms)
     else:
         what = f"{len(basis)} combinations of {', '.join(sub)}"
-    reason = f"not identifiable: the data determine only {what} (rank {int(keep.sum())} of {p})"
+    reason = (f"not identifiable: the data determine only {what}" if what else
+              f"not identifiable: the data determine none of {', '.join(sub)}") + f" (rank {int(keep.sum())} of {p})"
     return {names[i]: reason for i in loose}
 
 
