@@ -35,6 +35,18 @@ def _print_fit(console: Console, d: dict) -> None:
                       highlight=False, soft_wrap=True)
 
 
+def _print_ranking(console: Console, rows: list[dict]) -> None:
+    def pct(v):
+        return "—" if v is None else f"{100 * v:.3g} %"
+    console.print("  ranked on the worse of the fit and held-out rms errors (then BIC)", highlight=False)
+    for r in rows:
+        flags = ("" if r["converged"] else "  NOT converged") + \
+            ("" if r["stable_over_fitted_ranges"] else "  unstable in the data ranges") + \
+            ("" if r["trustworthy"] else "  not trustworthy")
+        console.print(f"  {r['rank']}. {r['model']:<14} fit rms {pct(r['fit_rms_relative']):>8}  held-out rms "
+                      f"{pct(r['held_out_rms_relative']):>8}  BIC {r['BIC']:.4g}{flags}", highlight=False, soft_wrap=True)
+
+
 def exit_code(d: dict) -> int:
     """0 converged and trustworthy, 1 not converged, 3 converged but not trustworthy."""
     if not d["converged"]:
@@ -98,12 +110,11 @@ def _fit_and_write(spec, names, dest, out: Path, text: str, console: Console, ex
         from vlab.identify.ranking import fit_models, write_ranking
 
         rows = write_ranking(spec, fit_models(spec, names), dest, text)
-        for r in rows:
-            held = r["held_out_rms_relative"]
-            console.print(f"  {r['rank']}. {r['model']:<14} held-out rms "
-                          f"{'—' if held is None else f'{100 * held:.3g} %':>8}  BIC {r['BIC']:.4g}", highlight=False)
+        _print_ranking(console, rows)
         console.print(f"report: {out / 'index.html'}", highlight=False, soft_wrap=True)
-        return 0 if all(r["converged"] for r in rows) else 1
+        if not all(r["converged"] for r in rows):
+            return EXIT_FAILED
+        return EXIT_OK if rows[0]["trustworthy"] else EXIT_UNTRUSTED
     from vlab.identify.fitting import fit_any
     from vlab.identify.report import write_fit_report
 

@@ -13,7 +13,7 @@ from matplotlib.colors import ListedColormap  # noqa: E402
 
 from vlab.identify.drucker import PATHS, stability_map  # noqa: E402
 
-__all__ = ["plot_curves", "plot_stability_map"]
+__all__ = ["plot_curves", "plot_stability_map", "plot_models"]
 
 _XLABEL = {"simple-shear": "shear γ", "biaxial": "point", "specimen": "strain", "volumetric": "volume ratio J"}
 
@@ -102,6 +102,37 @@ def plot_stability_map(outcome, path: Path) -> None:
     ax.set_title(f"Drucker stability (green: stable, red: unstable{locked}; λ3 = 1/(λ1 λ2));\n"
                  "thick: the stretch range of the data", fontsize=9)
     ax.legend(fontsize=7, loc="lower left")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def plot_models(spec, ranked, path: Path) -> None:
+    """One panel per data set: the data (filled: fitted; open orange: held out) and every ranked
+    model's curve, labelled with its rank."""
+    from vlab.identify.fitting import curves
+
+    sets = [d for d in spec.datasets if d.kind != "specimen"]
+    fig, axes = plt.subplots(1, len(sets), figsize=(4.4 * len(sets), 4.2), squeeze=False)
+    for ax, d in zip(axes[0], sets):
+        held = d.role == "validate"
+        x = np.arange(len(d.y)) if d.kind == "biaxial" else d.a
+        ax.plot(x, d.y, "o", ms=5, mfc="none" if held else "tab:blue", color="tab:orange" if held else "tab:blue",
+                label="held out" if held else "fitted data", zorder=5)
+        for i, (name, o) in enumerate(ranked, 1):
+            cur = curves(o, d)
+            style = "_" if d.kind == "biaxial" else "-"
+            ax.plot(np.arange(len(cur["y"])) if d.kind == "biaxial" else cur["a"], np.real(cur["y"]), style,
+                    lw=1.2, label=f"{i}. {name}")
+        span = float(np.max(d.y) - min(0.0, float(np.min(d.y))))  # a wild prediction must not hide the data
+        ax.set_ylim(min(0.0, float(np.min(d.y))) - 0.1 * span, float(np.max(d.y)) + 0.6 * span)
+        ax.set_title(f"{d.name} ({d.kind}{', held out' if held else ''})", fontsize=9)
+        ax.set_xlabel(_XLABEL.get(d.kind, "stretch λ"))
+        ax.set_ylabel("pressure (MPa)" if d.kind == "volumetric" else
+                      f"{'true' if d.measure == 'true' else 'nominal'} stress (MPa)")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+    fig.suptitle(f"{spec.name}: models against the data", fontsize=10)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
