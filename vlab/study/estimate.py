@@ -38,13 +38,20 @@ def companion_scene(scene: Scene, factor: float = COARSENING) -> Scene:
 
 
 def _values(result) -> dict:
-    """E, ν and the stress at the peak grip stretch (the last reading of a monotonic test; a
+    """E, ν and the stress at the peak grip stretch or shear (``peak_level``: the last reading of a monotonic test; a
     cyclic or load–unload test ends unloaded, where a relative error means nothing)."""
     stress = result.curve.column("stress", 0) if result.curve.t else []
     if not len(stress):
         return {"E": result.constants.E, "nu": result.constants.nu, "final_stress": None}
-    peak = int(np.argmax(np.abs(np.asarray(result.curve.stretch[0]) - 1.0)))
+    peak = peak_level(result.curve)
     return {"E": result.constants.E, "nu": result.constants.nu, "final_stress": float(stress[peak])}
+
+
+def peak_level(curve) -> int:
+    """The level of the largest deformation: the largest |λ − 1| of the grip stretch, or for simple
+    shear (whose control column is the shear γ, at rest 0) the largest |γ|."""
+    rest = 0.0 if curve.kind == "simple-shear" else 1.0
+    return int(np.argmax(np.abs(np.asarray(curve.stretch[0], dtype=float) - rest)))
 
 
 def _estimates(fine: dict, rough: dict, ratio: float, order: int) -> tuple[dict, bool]:
