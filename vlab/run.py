@@ -177,6 +177,17 @@ def specimen_thickness(scene: Scene) -> float:
     return SHAPES[scene.specimen.shape].thickness(scene.specimen)
 
 
+def uniform_field(scene: Scene) -> bool:
+    """The test's deformation is uniform on every mesh (the kind's exact homogeneous state for this
+    shape and grips, e.g. the roller block or the kinematic shear block; no imperfection, no
+    self-weight): a displacement-only element cannot lock there, so no locking warning."""
+    from vlab.loading.kinds import kind_of
+
+    kind = kind_of(scene.test)
+    return (kind.has_oracle(scene.specimen.shape, scene.test.grips) and scene.test.imperfection is None
+            and scene.effect("gravity") is None)
+
+
 def _warnings(scene: Scene) -> list[str]:
     """Caveats about the set-up (also logged)."""
     found = []
@@ -184,7 +195,7 @@ def _warnings(scene: Scene) -> list[str]:
     if scene.effects or scene.test.protocol.name != "monotonic":
         from vlab.effects.build import effect_warnings
         found += effect_warnings(scene)
-    if nu > LOCKING_NU and scene.mesh.formulation == "displacement":
+    if nu > LOCKING_NU and scene.mesh.formulation == "displacement" and not uniform_field(scene):
         cure = (f'use mesh.formulation = "mixed" (locking-free up to nu = {MIXED_NU_LIMIT:g})'
                 if MODELS[scene.material.model].split is not None else
                 f'mesh.formulation = "mixed" would cure it but needs material.model in '
