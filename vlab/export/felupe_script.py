@@ -81,7 +81,8 @@ def write(card: ExportCard, units) -> str:
     out = commented(lines, "#") + "import felupe as fem\n"
     if card.model == "neo-hookean":
         p = card.params
-        return out + f"\numat = fem.NeoHookeCompressible(mu={num(p['mu'] * s)}, lmbda={num(p['lambda'] * s)})\n"
+        return out + f"\numat = fem.NeoHookeCompressible(mu={num(p['mu'] * s)}, lmbda={num(p['lambda'] * s)})\n" \
+            + _density(card, units)
     funcs = [_FUNCS[k] for k in ("gent", card.volumetric) if k in _FUNCS and (k != "gent" or card.model == "gent")]
     if funcs:
         out += "from tensortrax.math import log, trace\nfrom tensortrax.math.linalg import det\n"
@@ -89,10 +90,11 @@ def write(card: ExportCard, units) -> str:
     K = num(card.K * s)
     vol = (f"fem.Volumetric(bulk={K})" if card.volumetric == "quadratic" else
            f"fem.Hyperelastic(volumetric_{card.volumetric.replace('-', '_')}, bulk={K})")
-    out += f"\n\numat = {_isochoric(card, s)} & {vol}\n"
-    if card.density is not None:
-        out += f"density = {num(card.density * units.density)}  # not part of umat\n"
-    return out
+    return out + f"\n\numat = {_isochoric(card, s)} & {vol}\n" + _density(card, units)
+
+
+def _density(card: ExportCard, units) -> str:
+    return "" if card.density is None else f"density = {num(card.density * units.density)}  # not part of umat\n"
 
 
 # --- reading ---------------------------------------------------------------------------------
@@ -162,7 +164,7 @@ def read(text: str, where: str, units) -> ExportCard:
             elif fn in _ISO:
                 model, keys = _ISO[fn]
                 kw = _numbers(kw, keys, call.lineno, where, fn)
-                params = _iso_params(model, kw, s)
+                params = _iso_params(model, kw, s, f"{where}, line {call.lineno}")
             else:
                 raise CardFormatError(f"{where}, line {call.lineno}: {fn} is not read by vlab (allowed: "
                                       f"{', '.join(list(_ISO) + list(_VOL))})")
@@ -170,14 +172,26 @@ def read(text: str, where: str, units) -> ExportCard:
             raise CardFormatError(f"{where}, line {call.lineno}: {f} is not read by vlab")
     if model is None or (model != "neo-hookean" and K is None):
         raise CardFormatError(f"{where}: umat needs an isochoric model and a volumetric part")
-    base = ExportCard(model, params, K, vol)
+    base = ExportCard(model, params, K, vol, _read_density(tree, where, units))
     return card_from_table(material_table(base), where, source=Source("import", where))
 
 
-def _iso_params(model: str, kw: dict, s: float) -> dict:
+def _read_density(tree, where: str, units) -> float | None:
+    for node in tree.body:
+        if isinstance(node, ast.Assign) and any(isinstance(t, ast.Name) and t.id == "density" for t in node.targets):
+            try:
+                return float(ast.literal_eval(node.value)) / units.density
+            except (ValueError, TypeError):
+                raise CardFormatError(f"{where}, line {node.lineno}: density must be a number") from None
+    return None
+
+
+def _iso_params(model: str, kw: dict, s: float, where: str) -> dict:
     if model == "ogden":
+        if not isinstance(kw["mu"], (list, tuple)) or not isinstance(kw["alpha"], (list, tuple)):
+            raise CardFormatError(f"{where}: fem.ogden takes lists mu and alpha")
         if len(kw["mu"]) != len(kw["alpha"]):
-            raise CardFormatError(f"ogden: mu and alpha need the same length, got {len(kw['mu'])} and {len(kw['alpha'])}")
+            raise CardFormatError(f"{where}: fem.ogden mu and alpha need the same length, got {len(kw['mu'])} and {len(kw['alpha'])}")
         return {"mu": tuple(m / s for m in kw["mu"]), "alpha": tuple(kw["alpha"])}
     if model == "arruda-boyce":
         return {"mu": kw["C1"] / s, "lambda_m": kw["limit"]}
