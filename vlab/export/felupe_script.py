@@ -86,6 +86,8 @@ def write(card: ExportCard, units) -> str:
     u = {"quadratic": "K/2 (J − 1)²", "log": "K/2 (ln J)²", "simo-taylor": "K/4 (J² − 1 − 2 ln J)"}
     lines = header(card, "felupe", MAPPINGS[card.model].keyword, CONVENTION, units, _MANUAL,
                    u.get(card.volumetric))
+    lines.append("use: umat = runpy.run_path(\"felupe.py\")[\"umat\"]; a file named felupe.py next to a script "
+                 "shadows the felupe package, so rename it to import it")
     out = commented(lines, "#") + "import felupe as fem\n"
     if card.model == "neo-hookean":
         p = card.params
