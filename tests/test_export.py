@@ -174,10 +174,10 @@ MALFORMED = [
     ("lsdyna.k", "*MAT_OGDEN_RUBBER\n1,1e-9,0.49,0\n", "line 1", "needs 3 data cards"),
     ("lsdyna.k", "*MAT_HYPERELASTIC_RUBBER\n1,1e-9,0.49,0\n0.3,zz,0,0,0,0\n", "line 3", "'zz' is not a number"),
     ("lsdyna.k", "*MAT_HYPERELASTIC_RUBBER\n1,1e-9,0.49,1\n0.3,0.1\n", "line 2", "N = 1"),
-    ("febio.feb", "<Material><material id='1' type='Ogden'><c1>1</c1><k>10</k></material></Material>", "febio.feb",
+    ("febio.feb", "<Material>\n<material id='1' type='Ogden'><c1>1</c1><k>10</k></material></Material>", "line 2",
      "nonzero m_i"),
     ("febio.feb", "<Material><material id='1' type='Mooney-Rivlin'><c1>1</c1><c2>q</c2><k>1</k></material>"
-     "</Material>", "febio.feb", "'q', not a number"),
+     "</Material>", "line 1", "'q', not a number"),
     ("febio.feb", "<Material><material type='Mooney-Rivlin'>\n<c1>1</c1>\n</Material>", "line 3", "not well-formed"),
     ("felupe.py", "import felupe as fem\numat = fem.Hyperelastic(fem.ogden, mu=[1.0], alpha=[2.0, 1.0]) & "
      "fem.Volumetric(bulk=5.0)\n", "felupe.py", "same length"),

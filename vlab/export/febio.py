@@ -1,5 +1,6 @@
-"""FEBio ``<material>`` (FEBio User's Manual, "Material Parameters": uncoupled materials
-Mooney-Rivlin, Ogden, Gent, Yeoh and the compressible neo-Hookean; checked against FEBio's
+"""FEBio ``<material>`` (FEBio User's Manual 3.4, §4.1.2 uncoupled materials — §4.1.2.9 Ogden:
+``<c1>``, ``<m1>``, ``<k>`` — Mooney-Rivlin, Gent, Yeoh; §4.1.3 unconstrained materials:
+neo-Hookean with E, v; checked against FEBio's
 source, FEBioMech/FEUncoupledMaterial.h, FEMooneyRivlin, FEOgdenMaterial, FEGentMaterial,
 FEYeoh, FENeoHookean, FEArrudaBoyce).
 
@@ -30,7 +31,7 @@ from vlab.export.registry import CardFormatError, Exporter, Mapping
 
 __all__ = ["FEBIO"]
 
-_MANUAL = "FEBio User's Manual, uncoupled materials (U = k/2 ln²J) and neo-Hookean; FEBioMech sources"
+_MANUAL = "FEBio User's Manual 3.4 §4.1.2 uncoupled materials (U = k/2 ln²J), §4.1.3 neo-Hookean; FEBioMech sources"
 MAPPINGS = {
     "mooney-rivlin": Mapping("Mooney-Rivlin", "log", _MANUAL),
     "yeoh": Mapping("Yeoh", "log", _MANUAL),
@@ -113,6 +114,8 @@ def read(text: str, where: str, units) -> ExportCard:
     el = root if root.tag == "material" else root.find(".//material")
     if el is None:
         raise CardFormatError(f"{where}: no <material> element")
+    at = text.find("<material")
+    where = f"{where}, line {text.count(chr(10), 0, max(at, 0)) + 1} (<material>)"
     kind = el.get("type", "")
     if kind not in _TYPES:
         raise CardFormatError(f"{where}: FEBio material type {kind!r} is not read by vlab (allowed: {', '.join(_TYPES)})")

@@ -15,8 +15,9 @@ The bulk term is given as Poisson's ratio PR (card 1: MID, RO, PR, N, NV, G, SIG
 which LS-DYNA takes K = 2 G₀ (1 + ν)/(3 (1 − 2ν)) with the initial shear modulus G₀
 (2 (C10 + C01) for *MAT_077_H, ½ Σ μⱼ αⱼ for *MAT_077_O, both = vlab's μ0). vlab writes the ν of
 that relation exactly: ν = (3K − 2μ0)/(2 (3K + μ0)), in fixed point with 17 decimals (a stand-in
-ν = 0.4995 loses no digits of K = 2μ0(1 + ν)/(3(1 − 2ν))). Every card is in long format (the
-keyword suffix "+": 20-character fields), so the constants carry 13 significant digits.
+ν = 0.4995 loses no digits of K = 2μ0(1 + ν)/(3(1 − 2ν)) beyond what a double ν carries: about
+1e-16 · K/μ0 relative). Every card is in long format (the keyword suffix "+": 20-character
+fields, LS-DYNA 971 R7.1 onwards), so the constants carry 13 significant digits.
 
 Refused: Gent (LS-DYNA has no Gent rubber), vlab's coupled neo-hookean, and Arruda–Boyce
 (*MAT_ARRUDA_BOYCE_RUBBER's bulk term is not one vlab has been able to match to its U(J)).
