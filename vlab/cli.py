@@ -167,13 +167,15 @@ def fit(fitfile: Path = typer.Argument(..., help="Fit file (TOML): data sets, mo
         workers: Optional[int] = typer.Option(None, "--workers", "-j", min=1,
                                               help="FE-in-the-loop solves on a local Dask cluster of N processes."),
         scheduler: Optional[str] = typer.Option(None, "--scheduler",
-                                                help="FE-in-the-loop solves on an existing Dask cluster tcp://HOST:PORT.")):
+                                                help="FE-in-the-loop solves on an existing Dask cluster tcp://HOST:PORT."),
+        export: Optional[str] = typer.Option(None, "--export",
+                                             help="Also write the card for these solvers into OUT/cards/, e.g. abaqus,ansys,felupe.")):
     """Fit a material card to measured curves: parameters with intervals, stability, the card (fit.json, index.html)."""
     from vlab.identify.command import fit_command
 
     scheduler = scheduler_address(scheduler)
     execution = _execution(workers or 1, scheduler) if workers or scheduler else None
-    raise typer.Exit(fit_command(fitfile, out, models, console, force, execution))
+    raise typer.Exit(fit_command(fitfile, out, models, console, force, execution, export))
 
 
 def _print_estimate(est: Optional[dict]) -> None:
@@ -566,3 +568,28 @@ def _stability_table(results, data: dict, mode: str, total: float) -> Table:
                                   str(o.negative_eigenvalues), f"{r.seconds:.1f} s")),
                       Text("pass", "green") if r.passed else Text("FAIL", "red"))
     return table
+
+
+@app.command("export")
+def export_card(source: Path = typer.Argument(..., help="A vlab fit folder, its fit.json or card.toml, or a scene TOML."),
+                to: str = typer.Option(..., "--to", help="abaqus, calculix, ansys, lsdyna, febio or felupe (comma list)."),
+                out: Optional[Path] = typer.Option(None, "--out", "-o", help="Output file (default abaqus.inp, ansys.mac, ...)."),
+                units: str = typer.Option("mm", "--units", help="mm (N, mm, MPa, s, t/mm³) or SI (N, m, Pa, s, kg/m³)."),
+                elastic_only: bool = typer.Option(False, "--elastic-only", help="Drop a scene's viscoelastic/Mullins parts."),
+                force: bool = typer.Option(False, "--force", help="Replace a file vlab did not write.")):
+    """Write a material card for another solver, exactly in its convention (or refuse, exit 2)."""
+    from vlab.export.command import export_command
+
+    raise typer.Exit(export_command(source, to, out, units, elastic_only, force, say))
+
+
+@app.command("import-card")
+def import_card(file: Path = typer.Argument(..., help="An Abaqus/CalculiX, ANSYS, LS-DYNA, FEBio or FElupe card."),
+                out: Optional[Path] = typer.Option(None, "--out", "-o", help="The vlab card (default card.toml)."),
+                solver: Optional[str] = typer.Option(None, "--from", help="The format (default: from the content)."),
+                units: Optional[str] = typer.Option(None, "--units", help="mm or SI (default: the vlab header's, else mm)."),
+                force: bool = typer.Option(False, "--force", help="Replace a file vlab did not write.")):
+    """Read a solver's material card into a vlab [material] card."""
+    from vlab.export.command import import_command
+
+    raise typer.Exit(import_command(file, out, solver, units, force, say))

@@ -66,9 +66,10 @@ def _destination(out: Path, force: bool, spec, path: Path):
 
 
 def fit_command(path: Path, out: Path | None, models: str | None, console: Console, force: bool = False,
-                execution=None) -> int:
+                execution=None, export: str | None = None) -> int:
     """``execution`` (vlab.study.sweep.Execution, from --workers/--scheduler): the FE-in-the-loop
-    solves on Dask; refused (exit 2) for a fit without a specimen data set."""
+    solves on Dask; refused (exit 2) for a fit without a specimen data set. ``export``: solvers
+    (--export) whose cards go to OUT/cards/ (vlab.export), checked before the fit starts."""
     from vlab.identify.fitfile import load_fit, parse_model_name
     from vlab.report.folder import ReportFolderError
     from vlab.study.scheduler import SchedulerError
@@ -82,6 +83,7 @@ def fit_command(path: Path, out: Path | None, models: str | None, console: Conso
                 raise SceneError("--models must list at least one model, e.g. mooney-rivlin,ogden-3")
             for n in names:
                 parse_model_name(n, "--models")
+        targets = _export_targets(spec, export, names)
         if execution is not None and spec.fe is None:
             raise SceneError("--workers/--scheduler run the whole-test solves of an FE-in-the-loop fit; this fit "
                              "file has no data set of kind = \"specimen\"")
@@ -96,7 +98,7 @@ def fit_command(path: Path, out: Path | None, models: str | None, console: Conso
         return 2
     out = dest.path
     try:
-        return _fit_and_write(spec, names, dest, out, text, console, execution)
+        return _fit_and_write(spec, names, dest, out, text, console, execution, targets)
     except SchedulerError as exc:
         console.print(Text.assemble(("invalid option", "red"), f" {exc}"), highlight=False, soft_wrap=True)
         return 2
@@ -105,7 +107,19 @@ def fit_command(path: Path, out: Path | None, models: str | None, console: Conso
         return 2
 
 
-def _fit_and_write(spec, names, dest, out: Path, text: str, console: Console, execution=None) -> int:
+def _export_targets(spec, export: str | None, names) -> list[str]:
+    """The --export solvers, refused (SceneError) with --models or where a target lacks the card."""
+    if export is None:
+        return []
+    if names:
+        raise SceneError("--export writes the cards of one fitted model; it cannot be combined with --models")
+    from vlab.export.command import check_targets
+
+    return check_targets(spec, export)
+
+
+def _fit_and_write(spec, names, dest, out: Path, text: str, console: Console, execution=None,
+                   targets=()) -> int:
     if names:
         from vlab.identify.ranking import fit_models, write_ranking
 
@@ -123,6 +137,10 @@ def _fit_and_write(spec, names, dest, out: Path, text: str, console: Console, ex
     except SceneError as exc:  # found while fitting (e.g. the scene's test does not cover the data)
         console.print(Text.assemble(("invalid fit file", "red"), f" {exc}"), highlight=False, soft_wrap=True)
         return 2
+    if targets:
+        from vlab.export.command import fit_card_writer
+
+        outcome.extras.setdefault("writers", []).append(("cards", fit_card_writer(outcome, list(targets))))
     d = write_fit_report(outcome, dest, text)
     _print_fit(console, d)
     console.print(f"report: {out / 'index.html'}", highlight=False, soft_wrap=True)

@@ -91,6 +91,14 @@ def _fe_section(d: dict) -> str:
             + _table(["constant", "FE fit", "homogeneous fit", "difference", "difference (standard errors)"], rows))
 
 
+def _cards(d: dict) -> str:
+    """The solver cards of ``vlab fit --export`` (vlab.export), linked."""
+    if not d.get("cards"):
+        return ""
+    links = "".join(f"<li><a href='{html.escape(f)}'>{html.escape(f)}</a></li>" for f in d["cards"])
+    return f"<h2>Solver cards</h2><p>The card in each solver's own convention (vlab export):</p><ul>{links}</ul>"
+
+
 def page(d: dict, images: list[tuple[str, str]]) -> str:
     """index.html of a fit dict and its figures [(file, caption)]."""
     corr = d["correlation"]
@@ -124,7 +132,7 @@ def page(d: dict, images: list[tuple[str, str]]) -> str:
 <h2>Drucker stability</h2>
 {_table(['kind', 'tension', 'compression', 'stable over the fitted range'], _stability_rows(d['stability']))}
 {_fe_section(d)}
-<h2>Card</h2><pre>{html.escape(d['card']['toml'])}</pre><p>{html.escape(d['card']['note'])}</p>
+<h2>Card</h2><pre>{html.escape(d['card']['toml'])}</pre><p>{html.escape(d['card']['note'])}</p>{_cards(d)}
 <p>Timing: fit {d['timing']['fit_s']:.3g} s, total {d['timing']['total_s']:.3g} s.</p>
 </body></html>"""
 
@@ -183,7 +191,7 @@ def write_fit_files(outcome, tmp: Path, fit_text: str | None = None) -> dict:
                    "paths of the uniaxial, equibiaxial and planar tests, dashed where unstable."))
     for name, writer in outcome.extras.get("writers", []):
         writer(tmp / name)
-    d["files"] = ["fit.json", "index.html", "card.toml"] + [f for f, _ in images]
+    d["files"] = ["fit.json", "index.html", "card.toml"] + [f for f, _ in images] + d.get("cards", [])
     (tmp / "fit.json").write_text(json_text(d))
     (tmp / "card.toml").write_text(d["card"]["toml"])
     if fit_text is not None:
