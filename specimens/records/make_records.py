@@ -9,6 +9,8 @@ noise (seeded), so a fit of them can be checked against the constants below.
   specimens/records/block-relaxation.toml at.
 - dma.csv: the same material's tensile storage and loss moduli, 31 frequencies over 3 decades (0.01–10 Hz),
   a three-term series beta = [0.4, 0.3, 0.2], tau = [0.05, 0.5, 5] s.
+- cycles.csv: Neo-Hookean mu = 0.6 MPa with Ogden–Roxburgh softening r = 2, m = 0.3 MPa, beta = 0.1;
+  uniaxial cycles 1 → 1.5 → 1 → 2 → 1 → 2.5 → 1 in stretch steps of 0.05.
 - raw-uniaxial.csv: a machine export (force in kN, extensometer displacement in mm, gauge 25 mm, 6 × 2 mm)
   of a Neo-Hookean strip (mu = 0.6 MPa) with a 0.4 mm toe and a 2 N load-cell offset.
 """
@@ -20,7 +22,9 @@ from pathlib import Path
 import numpy as np
 
 from vlab.identify.laws import law_for
+from vlab.identify.records.cyclic import stress_along
 from vlab.identify.records.prony import PronySpec, dynamic_moduli, history_stress
+from vlab.identify.records.softening import MullinsSpec
 from vlab.identify.states import Constitutive
 
 HERE = Path(__file__).parent
@@ -48,6 +52,21 @@ def dma(rng, noise=0.005, mu=0.6, beta=(0.4, 0.3, 0.2), tau=(0.05, 0.5, 5.0)):
     return f, s[0] * (1 + noise * rng.standard_normal(len(f))), l[0] * (1 + noise * rng.standard_normal(len(f)))
 
 
+def cycle_path(amplitudes=(1.5, 2.0, 2.5), h=0.05):
+    """Stretches 1 → a1 → 1 → a2 → … → 1 in steps of h (the first row after rest)."""
+    out = []
+    for a in amplitudes:
+        n = int(round((a - 1.0) / h))
+        out += list(1.0 + h * np.arange(1, n + 1)) + list(a - h * np.arange(1, n + 1))
+    return np.array(out)
+
+
+def cycles(rng, noise=0.005, mu=0.6, r=2.0, m=0.3, beta=0.1):
+    lam = cycle_path()
+    P = stress_along(NH, {"mullins": MullinsSpec()}, np.array([[mu, r, m, beta]]), "uniaxial", lam)[0]
+    return lam, P * (1.0 + noise * rng.standard_normal(len(P)))
+
+
 def raw_uniaxial(mu=0.6, L0=25.0, area=12.0, toe=0.4, offset_N=2.0):
     """The NH curve shifted by a toe (a cubic slack before u = toe) plus the load cell's offset."""
     lam = np.linspace(1.0, 2.5, 61)
@@ -69,6 +88,7 @@ def main() -> None:
     rng = np.random.default_rng(2026)
     write(HERE / "relaxation.csv", ("t", "lambda", "P"), relaxation(rng))
     write(HERE / "dma.csv", ("f", "E1", "E2"), dma(rng))
+    write(HERE / "cycles.csv", ("lambda", "P"), cycles(rng))
     write(HERE / "raw-uniaxial.csv", ("ext_mm", "load_kN"), raw_uniaxial())
 
 

@@ -57,7 +57,8 @@ def parse(raw, i: int, base: Path) -> Dataset:
                    extra={"modulus": modulus})
 
 
-def predict(model, prony, X, d):
+def predict(model, effects, X, d):
+    prony = effects.get("viscoelastic")
     s, l = dynamic_moduli(model, prony, X, d.a, d.extra["modulus"])
     return np.concatenate([s, l], axis=-1)
 
@@ -73,5 +74,5 @@ def time_range(d) -> tuple[float, float]:
     return float(1.0 / (2 * np.pi * np.max(d.a))), float(1.0 / (2 * np.pi * np.min(d.a)))
 
 
-def curve(model, prony, x, d):
-    return d.a, np.real(predict(model, prony, np.asarray(x, float)[None, :], d)[0])
+def curve(model, effects, x, d):
+    return d.a, np.real(predict(model, effects, np.asarray(x, float)[None, :], d)[0])

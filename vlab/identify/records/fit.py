@@ -31,7 +31,7 @@ __all__ = ["fit_records", "RecordObjective", "has_records"]
 
 
 def has_records(spec) -> bool:
-    return any(d.kind in KINDS for d in spec.datasets) or spec.effects.get("viscoelastic") is not None
+    return any(d.kind in KINDS for d in spec.datasets) or any(v is not None for v in spec.effects.values())
 
 
 def _floors(d) -> np.ndarray:
@@ -44,15 +44,16 @@ def _floors(d) -> np.ndarray:
 class RecordObjective:
     """r(x) over records and homogeneous curves, and its complex-step Jacobian."""
 
-    def __init__(self, model, prony, datasets, residual: str = "relative"):
-        self.model, self.prony, self.datasets = model, prony, list(datasets)
+    def __init__(self, model, effects: dict, datasets, residual: str = "relative"):
+        self.model, self.effects, self.datasets = model, effects, list(datasets)
+        self.prony, self.mullins = effects.get("viscoelastic"), effects.get("mullins")
         self.y = np.concatenate([d.y for d in self.datasets])
         scale = [(_floors(d) if residual == "relative" else np.ones_like(d.y)) for d in self.datasets]
         self.factor = np.concatenate([np.sqrt(d.weight) / s for d, s in zip(self.datasets, scale)])
 
     def predict(self, X, d):
         if d.kind in KINDS:
-            return KINDS[d.kind].predict(self.model, self.prony, X, d)
+            return KINDS[d.kind].predict(self.model, self.effects, X, d)
         return predict(self.model, X, d)
 
     def __call__(self, X):
@@ -71,7 +72,7 @@ class RecordObjective:
 
 
 def _time_window(datasets) -> tuple[float, float]:
-    ranges = [KINDS[d.kind].time_range(d) for d in datasets if d.kind in KINDS]
+    ranges = [r for r in (KINDS[d.kind].time_range(d) for d in datasets if d.kind in KINDS) if r is not None]
     if not ranges:
         raise SceneError("model.viscoelastic needs a timed record to fit (kind = \"relaxation\" or \"dma\"): "
                          "an equilibrium curve carries no relaxation time")
@@ -88,14 +89,22 @@ def _scale(datasets) -> float:
 
 def _i1(datasets) -> float:
     out = max_I1([d for d in datasets if d.kind not in KINDS])
-    for d in (d for d in datasets if d.kind == "relaxation"):
-        l1, l2, l3, _ = principal(d.extra["test"], d.b)
+    for d in (d for d in datasets if d.kind in ("relaxation", "cyclic")):
+        l1, l2, l3, _ = principal(d.extra["test"], d.b if d.kind == "relaxation" else d.extra["stretch"])
         out = max(out, float(np.max(l1 ** 2 + l2 ** 2 + l3 ** 2)))
     return out
 
 
-def _start(rng, model, prony, scale, i1, window):
+def _start(rng, model, effects, scale, i1, window):
     x0, lo, hi = model.law.start(rng, scale, i1)
+    prony, mullins = effects.get("viscoelastic"), effects.get("mullins")
+    if mullins is not None:  # r in (1.2, 4); m a fraction of the largest energy; β small
+        w_top = 0.5 * scale * (i1 - 3.0)
+        x0 = np.r_[x0, rng.uniform(1.2, 4.0), w_top * np.exp(rng.uniform(np.log(0.05), np.log(1.0)))]
+        lo, hi = np.r_[lo, 1.0 + 1e-9, 1e-12], np.r_[hi, np.inf, np.inf]
+        if mullins.beta is None:
+            x0, lo, hi = np.r_[x0, rng.uniform(0.0, 0.3)], np.r_[lo, 0.0], np.r_[hi, np.inf]
+        return x0, lo, hi
     if prony is None:
         return x0, lo, hi
     N = prony.terms
@@ -126,7 +135,7 @@ def _one_start(obj, x0, lo, hi, max_nfev):
     x0 = np.clip(x0, inside_lo, inside_hi)
     sol = least_squares(obj.residual, x0, jac=obj.jacobian, bounds=(lo, hi), method="trf", x_scale="jac",
                         max_nfev=max_nfev, ftol=1e-12, xtol=1e-12, gtol=1e-12)
-    order = _canonical(sol.x, obj.model, obj.prony)
+    order = _canonical(sol.x, obj.model, obj.prony)  # (mullins' entries stay in place)
     return StartResult(x0, sol.x[order], float(sol.cost), int(sol.status), str(sol.message), int(sol.nfev),
                        tuple(bool(a) for a in (sol.active_mask != 0)[order]))
 
@@ -147,9 +156,13 @@ class _Flat:
         return self.T @ np.asarray(x, float)
 
 
-def _transform(model, prony) -> np.ndarray:
+def _extra_names(effects) -> list[str]:
+    return [n for k in ("viscoelastic", "mullins") if effects.get(k) is not None for n in effects[k].names]
+
+
+def _transform(model, effects) -> np.ndarray:
     T = model.law.transform
-    m = len(prony.names) if prony is not None else 0
+    m = len(_extra_names(effects))
     return np.block([[T, np.zeros((len(T), m))], [np.zeros((m, len(T))), np.eye(m)]]) if m else T
 
 
@@ -161,6 +174,8 @@ def _errors(obj, x, d) -> dict:
            "max_relative": float(np.max(np.abs(rel))), "rms_absolute_MPa": float(np.sqrt(np.mean((pred - d.y) ** 2)))}
     if d.kind == "relaxation":
         out |= {"test": d.extra["test"], "range_of": "time (s)"}
+    elif d.kind == "cyclic":
+        out |= {"test": d.extra["test"], "branch": d.extra["branch"], "range_of": "stretch"}
     elif d.kind == "dma":
         out |= {"modulus": d.extra["modulus"], "range_of": "frequency (Hz)"}
         for j, part in enumerate(("storage", "loss")):
@@ -181,17 +196,34 @@ def _prony_values(prony, x):
     return {"beta": x[-N:], "tau": np.asarray(prony.tau, float)}
 
 
-def _card(model, prony, values_law, pv) -> dict:
+def _card(model, values_law, effects_values: dict) -> dict:
+    """The [material] card and the [effects.*] tables `vlab run` reads, 6 significant digits."""
     card = card_of(model, values_law)
-    if prony is None:
+    if not effects_values:
         return card
-    ve = {"tau": [float(f"{v:.6g}") for v in pv["tau"]], "beta": [float(f"{v:.6g}") for v in pv["beta"]]}
-    text = card_toml(ve).replace("[material]", "[effects.viscoelastic]")
-    return card | {"effects": {"viscoelastic": ve}, "toml": card["toml"] + "\n" + text}
+    six = lambda v: [float(f"{x:.6g}") for x in v] if isinstance(v, (list, np.ndarray)) else float(f"{v:.6g}")  # noqa: E731
+    tables = {k: {n: six(v) for n, v in t.items()} for k, t in effects_values.items()}
+    text = "".join("\n" + card_toml(t).replace("[material]", f"[effects.{k}]") for k, t in tables.items())
+    return card | {"effects": tables, "toml": card["toml"] + text}
+
+
+def _mullins_values(mullins, values) -> dict:
+    if mullins is None:
+        return {}
+    k = len(mullins.names)
+    beta = values[-1] if mullins.beta is None else mullins.beta
+    return {"r": float(values[-k]), "m": float(values[-k + 1]), "beta": float(beta)}
 
 
 def _warnings(spec, prony, rows, best, names, pairs, starts) -> list[str]:
     out = []
+    if spec.effects.get("mullins") is None:
+        for d, r in zip(spec.datasets, rows):
+            if d.kind == "cyclic" and KINDS["cyclic"].below_maximum(d):
+                out.append(f"data set {r['name']!r} unloads and reloads below its earlier maximum, fitted without "
+                           f"[model] mullins: the ground law has no softening, rms misfit {100 * r['rms_relative']:.3g} % "
+                           f"(max {100 * r['max_relative']:.3g} %); if the reloads fall below the first loading, "
+                           "add mullins = true")
     if prony is None:
         for r in rows:
             if r["kind"] == "relaxation":
@@ -216,45 +248,52 @@ def fit_records(spec):
     from vlab.identify.records.plots import record_figures
 
     t0 = time.perf_counter()
-    model, prony = spec.model, spec.effects.get("viscoelastic")
+    model, effects = spec.model, spec.effects
+    prony, mullins = effects.get("viscoelastic"), effects.get("mullins")
     fit_sets = [d for d in spec.datasets if d.role == "fit"]
-    obj = RecordObjective(model, prony, fit_sets, spec.residual)
+    obj = RecordObjective(model, effects, fit_sets, spec.residual)
     window = _time_window(fit_sets) if prony is not None else (1.0, 1.0)
     rng = np.random.default_rng(spec.seed)
     scale, i1 = _scale(fit_sets), _i1(fit_sets)
-    results = sorted((_one_start(obj, *_start(rng, model, prony, scale, i1, window), spec.max_evaluations)
+    results = sorted((_one_start(obj, *_start(rng, model, effects, scale, i1, window), spec.max_evaluations)
                       for _ in range(spec.starts)), key=lambda r: r.cost)
     t_fit = time.perf_counter() - t0
     best = results[0]
     x = best.x
     r, J = obj.residual(x), obj.jacobian(x)
     cov_x, s2, dof, cond = unc.covariance(J, r)
-    T = _transform(model, prony)
-    names = list(model.law.names) + list(prony.names if prony is not None else ())
+    T = _transform(model, effects)
+    names = list(model.law.names) + _extra_names(effects)
     values = T @ x
     stats = unc.summarize(values, T @ cov_x @ T.T, names, dof, spec.confidence)
     n = len(model.law.names)
     mu0 = model.law.mu0(values[:n])
     converged, reason = _verdict(best, mu0, spec.max_evaluations)
     starts = summarize_starts(results, _Flat(T))
-    everything = RecordObjective(model, prony, spec.datasets, spec.residual)
+    everything = RecordObjective(model, effects, spec.datasets, spec.residual)
     rows = [_errors(everything, x, d) for d in spec.datasets]
     pv = _prony_values(prony, values)
     params = {k: v for k, v in model.law.card(values[:n]).items() if k != "model"}
     if prony is not None:
         params |= {"beta": [float(v) for v in pv["beta"]], "tau": [float(v) for v in pv["tau"]]}
+    mv = _mullins_values(mullins, values)
+    if mullins is not None:
+        params |= {"r": mv["r"], "m": mv["m"], "mullins_beta": mv["beta"]}
+    tables = ({"viscoelastic": {"tau": list(pv["tau"]), "beta": list(pv["beta"])}} if prony is not None else {}) | (
+        {"mullins": mv} if mullins is not None else {})
     hom = dataclasses.replace(spec, datasets=tuple(d for d in spec.datasets if d.kind not in KINDS))
     data = {
         "name": spec.name, "converged": bool(converged), "reason": reason,
-        "model": _model_record(model, mu0) | {"viscoelastic": None if prony is None else
-                                              {"terms": prony.terms, "tau_fixed": prony.tau}},
+        "model": _model_record(model, mu0) | {
+            "viscoelastic": None if prony is None else {"terms": prony.terms, "tau_fixed": prony.tau},
+            "mullins": None if mullins is None else {"beta_fixed": mullins.beta}},
         "parameters": params, "uncertainty": stats["uncertainty"], "confidence": spec.confidence,
         "correlation": stats["correlation"], "datasets": rows,
         "information": _information(r, len(x), s2, dof), "starts": starts,
         "identifiability": {"identifiable": bool(not stats["correlated_pairs"] and cond <= unc.COND_LIMIT),
                             "condition_number": cond, "correlated_pairs": stats["correlated_pairs"],
                             "warning": None},
-        "stability": _stability(model, x, hom), "card": _card(model, prony, values[:n], pv),
+        "stability": _stability(model, x, hom), "card": _card(model, values[:n], tables),
         "warnings": _warnings(spec, prony, rows, best, names, stats["correlated_pairs"], starts),
         "options": {"residual": spec.residual, "starts": spec.starts, "seed": spec.seed},
         "timing": {"fit_s": t_fit, "total_s": time.perf_counter() - t0},

@@ -67,7 +67,8 @@ def parse(raw, i: int, base: Path) -> Dataset:
                    extra={"test": test})
 
 
-def predict(model, prony, X, d):
+def predict(model, effects, X, d):
+    prony = effects.get("viscoelastic")
     return history_stress(model, prony, X, d.extra["test"], d.a, d.b)
 
 
@@ -86,6 +87,6 @@ def time_range(d) -> tuple[float, float]:
     return float(np.min(dt[dt > 0])), float(d.a[-1])
 
 
-def curve(model, prony, x, d):
+def curve(model, effects, x, d):
     """(x values, prediction at the data) for the figure: the record is its own grid."""
-    return d.a, np.real(predict(model, prony, np.asarray(x, float)[None, :], d)[0])
+    return d.a, np.real(predict(model, effects, np.asarray(x, float)[None, :], d)[0])
