@@ -83,6 +83,9 @@ def fit_command(path: Path, out: Path | None, models: str | None, console: Conso
                 raise SceneError("--models must list at least one model, e.g. mooney-rivlin,ogden-3")
             for n in names:
                 parse_model_name(n, "--models")
+        if names and any(d.kind in ("relaxation", "dma") for d in spec.datasets):
+            raise SceneError("--models ranks equilibrium fits; a fit file with relaxation or DMA records is fitted "
+                             "with its own [model] (leave out --models)")
         targets = _export_targets(spec, export, names)
         if execution is not None and spec.fe is None:
             raise SceneError("--workers/--scheduler run the whole-test solves of an FE-in-the-loop fit; this fit "

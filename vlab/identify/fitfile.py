@@ -46,6 +46,7 @@ class FitSpec:
     fe: dict | None = None
     source: dict = field(default_factory=dict)
     base_dir: Path = Path(".")
+    effects: dict = field(default_factory=dict)  # vlab.identify.records: {"viscoelastic": PronySpec | None}
 
 
 def parse_model_name(text: str, field_name: str = "model.name") -> tuple[str, int]:
@@ -107,6 +108,10 @@ def _columns(t: Table, kind: str) -> dict[str, str]:
 
 
 def _dataset(raw, i: int, base: Path) -> Dataset:
+    from vlab.identify.records import dataset_hook
+    record = dataset_hook(raw, i, base)  # a lab record (relaxation, dma) or a raw machine export
+    if record is not None:
+        return record
     t = Table(f"data[{i}]", raw, ("file", "kind", "columns", "stress_measure", "units", "role",
                                   "weight", "name"))
     file = t.get("file")
@@ -182,7 +187,9 @@ def parse_fit(data: dict, base_dir: Path, default_name: str = "fit") -> FitSpec:
     name = data.get("name", default_name)
     if not isinstance(name, str) or not name or "/" in name:
         raise SceneError(f"name must be a non-empty string without '/', got {fields.show(name)}")
-    model = _model(data["model"])
+    from vlab.identify.records import check_records, split_model
+    model_raw, effects = split_model(data["model"])
+    model = _model(model_raw)
     raw_data = data["data"]
     if not isinstance(raw_data, list) or not raw_data:
         raise SceneError("[[data]] must list at least one data set (file, kind, columns, ...)")
@@ -198,8 +205,9 @@ def parse_fit(data: dict, base_dir: Path, default_name: str = "fit") -> FitSpec:
         fe = parse_fe(data.get("fe"), Path(base_dir), model, datasets)
     elif "fe" in data:
         raise SceneError("[fe] is only used with a data set of kind = \"specimen\"")
+    check_records(model, effects, datasets, fe)
     opts = _options(data.get("options", {}))
-    return FitSpec(name, model, datasets, fe=fe, source=data, base_dir=Path(base_dir), **opts)
+    return FitSpec(name, model, datasets, fe=fe, source=data, base_dir=Path(base_dir), effects=effects, **opts)
 
 
 def load_fit(path: str | Path) -> FitSpec:

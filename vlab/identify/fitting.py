@@ -46,7 +46,13 @@ def _dataset_errors(model, x, d) -> dict:
     return {"name": d.name, "file": d.file, "kind": d.kind, "role": d.role, "weight": d.weight,
             "stress_measure": d.measure, "points": d.points, "range": [lo, hi],
             "rms_relative": float(np.sqrt(np.mean(rel ** 2))), "max_relative": float(np.max(np.abs(rel))),
-            "rms_absolute_MPa": float(np.sqrt(np.mean((pred - d.y) ** 2)))}
+            "rms_absolute_MPa": float(np.sqrt(np.mean((pred - d.y) ** 2)))} | _cleanup(d)
+
+
+def _cleanup(d) -> dict:
+    """A raw export's clean-up record (vlab.identify.records.raw), without the raw arrays."""
+    rec = (d.extra or {}).get("cleanup")
+    return {"cleanup": {k: v for k, v in rec.items() if k != "raw"}} if rec else {}
 
 
 def _information(r: np.ndarray, p: int, s2: float, dof: int) -> dict:
@@ -279,4 +285,8 @@ def fit_any(spec: FitSpec, execution=None) -> FitOutcome:
     if spec.fe is not None:
         from vlab.identify.fe_loop import fit_specimen
         return fit_specimen(spec, execution)
+    from vlab.identify.records.fit import has_records
+    if has_records(spec):
+        from vlab.identify.records.fit import fit_records
+        return fit_records(spec)
     return fit_homogeneous(spec)

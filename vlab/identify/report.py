@@ -186,6 +186,8 @@ def write_fit_files(outcome, tmp: Path, fit_text: str | None = None) -> dict:
         plot_curves(outcome, [curves(outcome, s) for s in sets], tmp / "curves.png")
         images.append(("curves.png", "Data (points; orange: held out, predicted only) against the fitted "
                        "model with its delta-method confidence band; below: relative residuals."))
+    from vlab.identify.records.plots import cleanup_figures
+    images += cleanup_figures(outcome.spec.datasets, tmp)  # raw machine exports against the cleaned curves
     plot_stability_map(outcome, tmp / "stability_map.png")
     images.append(("stability_map.png", "Drucker stability of the fitted card over the (λ1, λ2) plane; the "
                    "paths of the uniaxial, equibiaxial and planar tests, dashed where unstable."))
