@@ -30,6 +30,10 @@ KIND_CAPTIONS = {
                      "(dotted) on the moving plate against the gauge-mark shear γ; dashed: the analytic simple "
                      "shear F = I + γ e₁⊗e₂ where the set-up has one. Right: the normal-stress difference "
                      "N₁ = σ₁₁ − σ₂₂ of the FE centre average (Poynting effect)."),
+    "confined-compression": ("Confined compression in a frictionless rigid die: axial nominal stress F/A₀ against "
+                             "the platen stretch λ; dashed: the homogeneous state F = diag(λ, 1, 1). Right: the "
+                             "pressure p = −tr σ/3 (FE volume average) against the volume ratio J = V/V₀, "
+                             "whose initial slope is the bulk modulus K."),
 }
 
 
@@ -65,6 +69,13 @@ def _side_panel(ax, datas: list[dict], kind) -> None:
                     _with_origin(curve["thickness_strain"]), "-o", ms=2.5, color=c, label=f"{d['input']['model']} thickness")
             ax.plot(np.r_[1.0, curve["stretch"]], _with_origin(curve["transverse_strain"]), ":", color=c,
                     label=f"{d['input']['model']} transverse (held)")
+        elif kind.name == "confined-compression":
+            if curve.get("pressure"):
+                ax.plot(np.r_[1.0, curve["volume_ratio"]], _with_origin(curve["pressure"]), "-o", ms=2.5,
+                        color=c, label=f"{d['input']['model']} p (FE)")
+            ref = d.get("reference") or {}
+            if ref.get("pressure"):
+                ax.plot(np.r_[1.0, ref["volume_ratio"]], _with_origin(ref["pressure"]), "--", color="0.15", lw=0.9)
         elif "centre_cauchy_xx" in curve:
             N1 = np.asarray(curve["centre_cauchy_xx"]) - np.asarray(curve["centre_cauchy_yy"])
             ax.plot(_with_origin(curve["shear_gauge"]), _with_origin(N1), "-o", ms=2.5, color=c,
@@ -73,6 +84,10 @@ def _side_panel(ax, datas: list[dict], kind) -> None:
         ax.set_xlabel("grip stretch λ [–]")
         ax.set_ylabel("strain at the gauge centre [–]")
         ax.set_title("Thickness and transverse strain", fontsize=10)
+    elif kind.name == "confined-compression":
+        ax.set_xlabel("volume ratio J = V/V₀ [–]")
+        ax.set_ylabel("pressure p = −tr σ/3 [MPa]")
+        ax.set_title("Pressure against volume (bulk modulus)", fontsize=10)
     else:
         ax.set_xlabel("shear strain γ [–] (gauge marks)")
         ax.set_ylabel("N₁ = σ₁₁ − σ₂₂ [MPa]")
@@ -80,7 +95,7 @@ def _side_panel(ax, datas: list[dict], kind) -> None:
     ax.grid(alpha=0.3)
     if ax.get_legend_handles_labels()[0]:
         ax.legend(fontsize=7)
-    else:  # a history material ([effects]) records no FE centre stress: say so, draw nothing
+    elif kind.name != "confined-compression":  # a history material ([effects]) records no FE centre stress
         ax.text(0.5, 0.5, "no FE centre stress recorded\n(history-dependent material: [effects])",
                 ha="center", va="center", transform=ax.transAxes, fontsize=8, color="0.4")
 
@@ -91,6 +106,7 @@ def plot_kind(datas: list[dict], path: Path) -> None:
     fig, (left, right) = plt.subplots(1, 2, figsize=(11.0, 4.6), dpi=120)
     _main_panel(left, datas, kind)
     _side_panel(right, datas, kind)
-    title = {"planar": "Planar tension (pure shear)", "simple-shear": "Simple shear"}.get(kind.name, kind.name)
+    title = {"planar": "Planar tension (pure shear)", "simple-shear": "Simple shear",
+             "confined-compression": "Confined compression"}.get(kind.name, kind.name)
     left.set_title(f"{title}: {', '.join(d['input']['model'] for d in datas)}", fontsize=10)
     plt.save(fig, path)

@@ -23,7 +23,7 @@ __all__ = ["TestSpec", "PROTOCOL_KEYS", "GRIP_KINDS", "parse_test"]
 
 PROTOCOL_KEYS = ("protocol", "amplitudes", "min_stretch", "strain_rate", "ramp_time", "hold_time",
                  "hold_steps", "force")
-GRIP_KINDS = ("roller", "clamped", "kinematic", "plates")  # test.grips
+GRIP_KINDS = ("roller", "clamped", "kinematic", "plates", "die")  # test.grips
 
 
 @dataclass(frozen=True)
