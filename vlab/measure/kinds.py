@@ -7,11 +7,13 @@ it):
   gap, γ_g = (u_x(b) − u_x(a)) / (Y_b − Y_a), with width and thickness extensometers);
 - ``readers``: other readings by name, ``"normal-force"`` (the y reaction of the moving grip, N)
   , ``"centre-cauchy"`` (σ̄_xx, σ̄_yy, σ̄_zz, σ̄_xy over the centre region, MPa) and
-  ``"volume-pressure"`` (the volume ratio J̄ and the pressure p̄ over the body, measure/confined.py);
+  ``"volume-pressure"`` (the volume ratio J̄ and the pressure p̄ over the body, measure/confined.py),
+  ``"torque"`` (the torque and axial stretch of a turning grip, measure/torsion.py);
 - ``field_probe``: results.json → homogeneity, ``"gauge-section"`` (a dumb-bell's gauge section),
   ``"pure-shear"`` (the distance from pure shear) or ``"simple-shear"``;
 - ``fit``: the constants it measures over the modulus window, ``"uniaxial"`` (E, ν), ``"biaxial"``,
-  ``"planar"`` (E/(1 − ν²), ν, E), ``"shear"`` (G, N₁) or ``"confined"`` (M, K); ``crosshead_fit``: ``"crosshead"`` (the
+  ``"planar"`` (E/(1 − ν²), ν, E), ``"shear"`` (G, N₁), ``"confined"`` (M, K) or ``"torsion"``
+  (the torsional stiffness and G); ``crosshead_fit``: ``"crosshead"`` (the
   modulus from grip strain) or None.
 
 A new kind that measures as an existing one declares its names; one that needs a new instrument
@@ -26,6 +28,7 @@ from vlab.measure.homogeneity import HomogeneityProbe
 from vlab.measure.instruments import LoadCell, ShearGauge, extensometers
 from vlab.measure.planar import PureShearProbe, planar_constants
 from vlab.measure.shear import ShearFieldProbe, centre_cauchy_readers, shear_constants
+from vlab.measure.torsion import torque_readers, torsion_constants
 
 __all__ = ["GAUGES", "READERS", "PROBES", "FITS", "CROSSHEAD_FITS", "gauges", "extra_readers", "probe",
            "measure", "crosshead"]
@@ -52,12 +55,12 @@ def _normal_force(space, specimen, loading, material) -> dict:
 
 
 GAUGES = {"extensometers": _extensometers, "shear-gauge": _shear_gauge}
-READERS = {"normal-force": _normal_force, "volume-pressure": volume_pressure_readers,
+READERS = {"normal-force": _normal_force, "volume-pressure": volume_pressure_readers, "torque": torque_readers,
            "centre-cauchy": lambda space, specimen, loading, material: centre_cauchy_readers(space, specimen, material)}
 PROBES = {"gauge-section": HomogeneityProbe.build, "pure-shear": PureShearProbe.build,
           "simple-shear": ShearFieldProbe.build}
 FITS = {"uniaxial": uniaxial_constants, "biaxial": biaxial_constants, "planar": planar_constants,
-        "shear": shear_constants, "confined": confined_constants}
+        "shear": shear_constants, "confined": confined_constants, "torsion": torsion_constants}
 CROSSHEAD_FITS = {"crosshead": crosshead_modulus}
 
 

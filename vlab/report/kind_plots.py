@@ -34,6 +34,9 @@ KIND_CAPTIONS = {
                              "the platen stretch λ; dashed: the homogeneous state F = diag(λ, 1, 1). Right: the "
                              "pressure p = −tr σ/3 (FE volume average) against the volume ratio J = V/V₀, "
                              "whose initial slope is the bulk modulus K."),
+    "torsion": ("Torsion of a cylinder: torque T about the axis against the twist per unit length ψ. Right: the "
+                "axial force N on the turning grip with the length held (negative: the Poynting effect pulls "
+                "the ends together), or the axial stretch with the end free (it lengthens)."),
 }
 
 
@@ -69,6 +72,11 @@ def _side_panel(ax, datas: list[dict], kind) -> None:
                     _with_origin(curve["thickness_strain"]), "-o", ms=2.5, color=c, label=f"{d['input']['model']} thickness")
             ax.plot(np.r_[1.0, curve["stretch"]], _with_origin(curve["transverse_strain"]), ":", color=c,
                     label=f"{d['input']['model']} transverse (held)")
+        elif kind.name == "torsion":
+            free = d["scene"]["source"]["test"].get("grips") == "free"
+            ax.plot(_with_origin(curve["twist"]), np.r_[1.0 if free else 0.0,
+                                                       curve["axial_stretch" if free else "axial_force"]],
+                    "-o", ms=2.5, color=c, label=f"{d['input']['model']} {'axial stretch' if free else 'N'} (FE)")
         elif kind.name == "confined-compression":
             if curve.get("pressure"):
                 ax.plot(np.r_[1.0, curve["volume_ratio"]], _with_origin(curve["pressure"]), "-o", ms=2.5,
@@ -84,6 +92,12 @@ def _side_panel(ax, datas: list[dict], kind) -> None:
         ax.set_xlabel("grip stretch λ [–]")
         ax.set_ylabel("strain at the gauge centre [–]")
         ax.set_title("Thickness and transverse strain", fontsize=10)
+    elif kind.name == "torsion":
+        free = datas[0]["scene"]["source"]["test"].get("grips") == "free"
+        ax.set_xlabel("twist ψ [rad/mm]")
+        ax.set_ylabel("axial stretch [–]" if free else "axial force N [N]")
+        ax.set_title("Poynting effect: " + ("the free end lengthens" if free else "axial force, length held"),
+                     fontsize=10)
     elif kind.name == "confined-compression":
         ax.set_xlabel("volume ratio J = V/V₀ [–]")
         ax.set_ylabel("pressure p = −tr σ/3 [MPa]")
@@ -95,7 +109,7 @@ def _side_panel(ax, datas: list[dict], kind) -> None:
     ax.grid(alpha=0.3)
     if ax.get_legend_handles_labels()[0]:
         ax.legend(fontsize=7)
-    elif kind.name != "confined-compression":  # a history material ([effects]) records no FE centre stress
+    elif kind.name == "simple-shear":  # a history material ([effects]) records no FE centre stress
         ax.text(0.5, 0.5, "no FE centre stress recorded\n(history-dependent material: [effects])",
                 ha="center", va="center", transform=ax.transAxes, fontsize=8, color="0.4")
 
@@ -107,6 +121,6 @@ def plot_kind(datas: list[dict], path: Path) -> None:
     _main_panel(left, datas, kind)
     _side_panel(right, datas, kind)
     title = {"planar": "Planar tension (pure shear)", "simple-shear": "Simple shear",
-             "confined-compression": "Confined compression"}.get(kind.name, kind.name)
+             "confined-compression": "Confined compression", "torsion": "Torsion"}.get(kind.name, kind.name)
     left.set_title(f"{title}: {', '.join(d['input']['model'] for d in datas)}", fontsize=10)
     plt.save(fig, path)

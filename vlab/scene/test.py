@@ -23,7 +23,7 @@ __all__ = ["TestSpec", "PROTOCOL_KEYS", "GRIP_KINDS", "parse_test"]
 
 PROTOCOL_KEYS = ("protocol", "amplitudes", "min_stretch", "strain_rate", "ramp_time", "hold_time",
                  "hold_steps", "force")
-GRIP_KINDS = ("roller", "clamped", "kinematic", "plates", "die")  # test.grips
+GRIP_KINDS = ("roller", "clamped", "kinematic", "plates", "die", "fixed", "free")  # test.grips
 
 
 @dataclass(frozen=True)
@@ -36,11 +36,12 @@ class TestSpec:
     protocol: ProtocolSpec = ProtocolSpec()  # vlab.loading.protocol: monotonic unless given
     imperfection: float | None = None  # buckling-mode imperfection, amplitude / thickness
     shear: tuple[float, ...] = ()  # simple shear: (γ,) at t = 1 (cyclic: the largest amplitude)
+    twist: tuple[float, ...] = ()  # torsion: (ψ,) at t = 1, rad/mm
 
     @property
     def targets(self) -> tuple[float, ...]:
         """The control values at load parameter t = 1, whatever the kind (its ``load_key``)."""
-        return self.shear or self.stretch
+        return self.shear or self.twist or self.stretch
 
 
 def parse_test(raw: Any, shape: str = "block") -> TestSpec:
@@ -77,7 +78,8 @@ def parse_test(raw: Any, shape: str = "block") -> TestSpec:
                     steps=t.integer("steps", 1, 10000, default=10),
                     protocol=_parse_protocol(t, protocol_name, targets, kind),
                     imperfection=_imperfection(t, kind.name, targets),
-                    shear=targets if kind.load_key == "shear" else ())
+                    shear=targets if kind.load_key == "shear" else (),
+                    twist=targets if kind.load_key == "twist" else ())
 
 
 def _targets(t: fields.Table, kind, protocol_name: str) -> tuple[float, ...]:
