@@ -43,7 +43,9 @@ def _values(result) -> dict:
     stress = result.curve.column("stress", 0) if result.curve.t else []
     if not len(stress):
         return {"E": result.constants.E, "nu": result.constants.nu, "final_stress": None}
-    peak = int(np.argmax(np.abs(np.asarray(result.curve.stretch[0]) - 1.0)))
+    # the peak of the load parameter t: the peak grip stretch of a stretch kind (λ(t) = 1 + t (λ − 1)),
+    # and the peak shear or twist of the kinds whose control value is not a stretch (|γ − 1| is not)
+    peak = int(np.argmax(np.abs(np.asarray(result.curve.t))))
     return {"E": result.constants.E, "nu": result.constants.nu, "final_stress": float(stress[peak])}
 
 
