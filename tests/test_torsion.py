@@ -35,16 +35,16 @@ MODELS = {"neo-hookean": ({"mu": 1.0, "K": 1000.0}, 0.5, 0.0),
           "mooney-rivlin": ({"C10": 0.3, "C01": 0.2, "K": 500.0}, 0.3, 0.2)}
 
 
-def scene(model: str, h: float, grips: str = "fixed", twist: float = PSI) -> dict:
+def scene(model: str, h: float, axial: str = "fixed", twist: float = PSI) -> dict:
     return {"name": "torsion", "specimen": {"shape": "cylinder", "radius": A, "length": 1.0},
             "mesh": {"size": h, "cell": "hex", "formulation": "mixed"},
             "material": {"model": model} | MODELS[model][0],
-            "test": {"kind": "torsion", "grips": grips, "twist": twist, "steps": 2}}
+            "test": {"kind": "torsion", "axial": axial, "twist": twist, "steps": 2}}
 
 
 @cache
-def run(model: str, h: float, grips: str = "fixed") -> dict:
-    return result_to_dict(run_scene(parse_scene(scene(model, h, grips))))
+def run(model: str, h: float, axial: str = "fixed") -> dict:
+    return result_to_dict(run_scene(parse_scene(scene(model, h, axial))))
 
 
 def rivlin(model: str) -> tuple[float, float]:
@@ -93,10 +93,18 @@ def test_the_turning_grip_follows_the_exact_rotation_not_its_tangent():
 
 @pytest.mark.parametrize("change,field", [
     ({"twist": 0.0}, "test.twist"), ({"twist": [0.1]}, "test.twist"), ({"twist": 6.0}, "test.twist"),
-    ({"grips": "die"}, "test.grips"), ({"stretch": 1.2}, "test.stretch"),
+    ({"grips": "die"}, "test.grips"), ({"stretch": 1.2}, "test.stretch"), ({"axial": "loose"}, "test.axial"),
 ])
 def test_a_bad_torsion_scene_names_its_field(change, field):
     raw = scene("neo-hookean", A / 2)
     raw["test"] |= change
     with pytest.raises(SceneError, match=field.replace(".", r"\.")):
+        parse_scene(raw)
+
+
+def test_the_axial_key_belongs_to_torsion_only():
+    raw = {"name": "x", "specimen": {"shape": "block", "size": [2.0, 1.0, 1.0]}, "mesh": {"size": 1.0},
+           "material": {"model": "neo-hookean", "E": 1.0, "nu": 0.3},
+           "test": {"kind": "uniaxial", "stretch": 1.1, "axial": "free"}}
+    with pytest.raises(SceneError, match=r"test\.axial applies to test\.kind = 'torsion'"):
         parse_scene(raw)

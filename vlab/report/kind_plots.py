@@ -73,7 +73,7 @@ def _side_panel(ax, datas: list[dict], kind) -> None:
             ax.plot(np.r_[1.0, curve["stretch"]], _with_origin(curve["transverse_strain"]), ":", color=c,
                     label=f"{d['input']['model']} transverse (held)")
         elif kind.name == "torsion":
-            free = d["scene"]["source"]["test"].get("grips") == "free"
+            free = d["scene"]["source"]["test"].get("axial") == "free"
             ax.plot(_with_origin(curve["twist"]), np.r_[1.0 if free else 0.0,
                                                        curve["axial_stretch" if free else "axial_force"]],
                     "-o", ms=2.5, color=c, label=f"{d['input']['model']} {'axial stretch' if free else 'N'} (FE)")
@@ -93,7 +93,7 @@ def _side_panel(ax, datas: list[dict], kind) -> None:
         ax.set_ylabel("strain at the gauge centre [–]")
         ax.set_title("Thickness and transverse strain", fontsize=10)
     elif kind.name == "torsion":
-        free = datas[0]["scene"]["source"]["test"].get("grips") == "free"
+        free = datas[0]["scene"]["source"]["test"].get("axial") == "free"
         ax.set_xlabel("twist ψ [rad/mm]")
         ax.set_ylabel("axial stretch [–]" if free else "axial force N [N]")
         ax.set_title("Poynting effect: " + ("the free end lengthens" if free else "axial force, length held"),

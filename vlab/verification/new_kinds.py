@@ -39,7 +39,7 @@ def torsion_large_twist(context: CaseContext) -> Outcome:
     scene = parse_scene({"name": "torsion", "specimen": {"shape": "cylinder", "radius": a, "length": 1.0},
                          "mesh": {"size": a / 4, "cell": "hex", "formulation": "mixed"},
                          "material": {"model": "neo-hookean", "mu": mu, "K": 500.0 * mu},
-                         "test": {"kind": "torsion", "grips": "fixed", "twist": psi, "steps": 10}})
+                         "test": {"kind": "torsion", "axial": "fixed", "twist": psi, "steps": 10}})
     data = result_to_dict(run_scene(scene))
     if not data["converged"]:
         return _outcome(data, f"stopped: {data['failure']['reason'][:80]}", False)

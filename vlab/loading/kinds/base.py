@@ -69,6 +69,7 @@ class TestKind:
     measures_E = True  # measures Young's modulus (and ν): the report's E and ν rows mean something
     proportional = True  # u_p(t) = t · û_p (False: the loading's own path, e.g. a rotating grip)
     homogeneous = True  # ``state`` exists (False: torsion, whose shear grows with the radius)
+    option_keys: dict[str, tuple[str, ...]] = {}  # the kind's own [test] choice keys: allowed values, default first
     doc = ""
 
     # --- grammar -------------------------------------------------------------------------------

@@ -1,7 +1,8 @@
-"""Torsion of a cylinder: ``twist = ψ`` (the final twist per unit length, rad/mm, 0 < |ψ| a ≤ 5),
-``grips = "fixed"`` (the length held: the axial force is recorded) or ``"free"`` (the turning end
-slides along the axis: the length change is recorded). The end x = 0 is clamped, the end x = L
-turns by φ = t ψ L (vlab.loading.torsion).
+"""Torsion of a cylinder: ``twist = ψ`` (the final twist per unit length, rad/mm, 0 < |ψ| a ≤ 5)
+or ``angle`` (the end rotation, degrees: ψ = angle π / (180 L)), ``axial = "fixed"`` (the length
+held: the axial force is recorded) or ``"free"`` (the turning end slides along the axis: the
+length change is recorded), ``grips = "clamped"``. The end x = 0 is clamped, the end x = L turns by
+φ = t ψ L (vlab.loading.torsion).
 
 Records per level: the twist ψ(t) = t ψ (rad/mm), the torque T = Σ (y f_z − z f_y) over the
 turning end's reactions in the current configuration (N·mm), the axial force N = Σ f_x (N) and
@@ -44,6 +45,7 @@ class Torsion(TestKind):
                       "torque_at_end": "N·mm", "axial_force_at_end": "N", "axial_stretch_at_end": "1"}
     doc = "torsion of a cylinder: one end clamped, the other turned; length held (fixed) or free"
     readers = ("torque",)  # vlab/measure/kinds.py
+    option_keys = {"axial": ("fixed", "free")}
     fit = "torsion"
     units = {"twist": "rad/mm (end rotation / length)", "torque": "N·mm", "axial_force": "N (tension > 0)",
              "axial_stretch": "1 (turning end: 1 + mean u_x / L)", "surface_shear": "1 (twist x radius)",
@@ -60,9 +62,9 @@ class Torsion(TestKind):
 
     def check(self, test, effects: dict) -> None:
         super().check(test, effects)
-        if test.grips not in ("fixed", "free"):
-            raise SceneError(f"test.grips must be 'fixed' (length held) or 'free' (axial free) for "
-                             f"test.kind = 'torsion', got {test.grips!r}")
+        if test.grips != "clamped":
+            raise SceneError(f"test.grips must be 'clamped' for test.kind = 'torsion' (the axial condition of "
+                             f"the turning end is test.axial), got {test.grips!r}")
 
     def check_specimen(self, test, specimen) -> None:
         """The surface shear ψ a must stay ≤ SHEAR_LIMIT (SceneError naming test.twist)."""
@@ -84,7 +86,7 @@ class Torsion(TestKind):
     def loading(self, specimen, X, test):
         from vlab.loading.torsion import torsion_loading
 
-        return torsion_loading(specimen, X, test.targets[0], test.grips)
+        return torsion_loading(specimen, X, test.targets[0], test.option("axial"))
 
     def isochoric(self, values):
         import numpy as np
