@@ -37,6 +37,10 @@ KIND_CAPTIONS = {
     "torsion": ("Torsion of a cylinder: torque T about the axis against the twist per unit length ψ. Right: the "
                 "axial force N on the turning grip with the length held (negative: the Poynting effect pulls "
                 "the ends together), or the axial stretch with the end free (it lengthens)."),
+    "inflation": ("Inflation of a spherical shell under volume control: cavity pressure against the inner hoop "
+                  "stretch λ_a; dashed: the incompressible thick-sphere closed form; the marker: the pressure "
+                  "maximum (measured.limit_point), which pressure control could not pass. Right: the outer "
+                  "hoop stretch λ_b against λ_a (incompressible: λ_b³ = 1 + (λ_a³ − 1) A³/B³)."),
 }
 
 
@@ -77,6 +81,15 @@ def _side_panel(ax, datas: list[dict], kind) -> None:
             ax.plot(_with_origin(curve["twist"]), np.r_[1.0 if free else 0.0,
                                                        curve["axial_stretch" if free else "axial_force"]],
                     "-o", ms=2.5, color=c, label=f"{d['input']['model']} {'axial stretch' if free else 'N'} (FE)")
+        elif kind.name == "inflation":
+            ax.plot(np.r_[1.0, curve["stretch"]], np.r_[1.0, curve["outer_stretch"]], "-o", ms=2.5, color=c,
+                    label=f"{d['input']['model']} λ_b (FE)")
+            limit = (d.get("measured") or {}).get("limit_point")
+            if limit:
+                left = ax.figure.axes[0]
+                left.plot([limit["stretch"]], [limit["pressure"]], "v", ms=8, color=c, zorder=5,
+                          label=f"limit point λ_a = {limit['stretch']:.4g}")
+                left.legend(fontsize=7)
         elif kind.name == "confined-compression":
             if curve.get("pressure"):
                 ax.plot(np.r_[1.0, curve["volume_ratio"]], _with_origin(curve["pressure"]), "-o", ms=2.5,
@@ -98,6 +111,10 @@ def _side_panel(ax, datas: list[dict], kind) -> None:
         ax.set_ylabel("axial stretch [–]" if free else "axial force N [N]")
         ax.set_title("Poynting effect: " + ("the free end lengthens" if free else "axial force, length held"),
                      fontsize=10)
+    elif kind.name == "inflation":
+        ax.set_xlabel("inner hoop stretch λ_a [–]")
+        ax.set_ylabel("outer hoop stretch λ_b [–]")
+        ax.set_title("Wall thinning: outer against inner stretch", fontsize=10)
     elif kind.name == "confined-compression":
         ax.set_xlabel("volume ratio J = V/V₀ [–]")
         ax.set_ylabel("pressure p = −tr σ/3 [MPa]")
@@ -121,6 +138,7 @@ def plot_kind(datas: list[dict], path: Path) -> None:
     _main_panel(left, datas, kind)
     _side_panel(right, datas, kind)
     title = {"planar": "Planar tension (pure shear)", "simple-shear": "Simple shear",
-             "confined-compression": "Confined compression", "torsion": "Torsion"}.get(kind.name, kind.name)
+             "confined-compression": "Confined compression", "torsion": "Torsion",
+             "inflation": "Inflation"}.get(kind.name, kind.name)
     left.set_title(f"{title}: {', '.join(d['input']['model'] for d in datas)}", fontsize=10)
     plt.save(fig, path)
