@@ -18,8 +18,8 @@ from vlab.materials.homogeneous import InadmissibleState
 
 def inadmissible_request(material, kind, targets: tuple[float, ...]) -> str | None:
     """Why no homogeneous equilibrium of test ``kind`` exists at ``targets`` (None if one does)."""
-    if material is None or material.is_linear:  # spring network: no oracle
-        return None
+    if material is None or material.is_linear or not kind.homogeneous:  # spring network: no oracle;
+        return None  # torsion: no homogeneous state to decide it
     try:
         kind.state(material, targets)
     except InadmissibleState as exc:

@@ -357,9 +357,9 @@ def _substep(system: System, current: Evaluation, tangent: Tangent, t0, t1, step
     back; the plain grip jump (scale 0) is the last candidate.
 
     Returns the converged step (its tangent or None, and the path point of t₀)."""
-    prescribed, free, u_hat = system.prescribed, system.free, system.u_hat
+    prescribed, free = system.prescribed, system.free
     dt = t1 - t0
-    du_p = dt * u_hat[prescribed]
+    du_p = system.grip_increment(t0, t1)
     predicted = -tangent.factor.solve(tangent.Kfp @ du_p)
     here = PathPoint(t0, current.u, predicted / dt if converged_tangent is not None and dt else None)
     predicted = _extrapolated(predicted, here, previous, free, dt)

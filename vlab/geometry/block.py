@@ -96,6 +96,6 @@ SHAPE = Shape(
     "block", ("size",), parse_block,
     lambda spec, mesh, gauge: block_specimen(spec.size, mesh.size, mesh.cell, gauge, mesh.symmetry),
     tests={"uniaxial": ("roller", "clamped"), "biaxial": ("roller", "clamped"), "planar": ("roller",),
-           "simple-shear": ("kinematic",)},
+           "simple-shear": ("kinematic",), "confined-compression": ("die",)},
     symmetric=True, thickness=lambda spec: float(min(spec.size[1], spec.size[2])), count=count_block,
     doc="rectangular block; the roller block is every stretch kind's oracle, the kinematic block simple shear's")

@@ -46,7 +46,8 @@ def build_specimen(spec, mesh, gauge_length: float | None):
     return SHAPES[spec.shape].build(spec, mesh, gauge_length)
 
 
-_BUILTIN = ("block", "dogbone", "sheet", "cruciform", "imported", "planar", "shear", "double_lap", "cad_specimen")  # vlab.geometry.<module>.SHAPE
+_BUILTIN = ("block", "dogbone", "sheet", "cruciform", "imported", "planar", "shear", "double_lap", "cad_specimen",
+            "cylinder", "sphere_shell")  # vlab.geometry.<module>.SHAPE
 
 for _module in _BUILTIN:
     register(import_module(f"vlab.geometry.{_module}").SHAPE)

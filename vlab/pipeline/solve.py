@@ -64,7 +64,7 @@ def solve(prepared: Prepared, monitor: StabilityMonitor, observers: list[Observe
             observer(level)
 
     system = System(prepared.body, prepared.partition, prepared.loading.u_hat,
-                    (force_floor, specimen.length_scale))
+                    (force_floor, specimen.length_scale), prepared.loading.path)
     history = run_schedule(system, _stepping(scene, monitor, linear_solver), observe)
     # a singular unloaded tangent with the grips holding: ill-conditioning, not a free specimen
     history = restrained_but_singular(history, prepared.body, prepared.partition, prepared.space)
@@ -100,9 +100,12 @@ def _refusal(prepared: Prepared) -> str | None:
 def _watch_limit_points(scene: Scene) -> bool:
     """A falling force is a limit point only on a monotonic ramp of an elastic material, and not
     on a deliberately imperfect (post-buckled) path: unloading, relaxing, creeping and a bent
-    strip's softening are the physics asked for. Instrument noise changes no physics."""
+    strip's softening are the physics asked for. Instrument noise changes no physics. A kind whose
+    grips do not move in proportion to t (torsion's rotating grip) has no load Q = û_p · f conjugate
+    to t to watch."""
     physical = [e for e in scene.effects if EFFECTS[e.name].role != "measure"]
-    return scene.test.protocol.name == "monotonic" and not physical and scene.test.imperfection is None
+    return (scene.test.protocol.name == "monotonic" and not physical and scene.test.imperfection is None
+            and kind_of(scene.test).proportional)
 
 
 def _law_label(scene: Scene) -> str:

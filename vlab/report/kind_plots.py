@@ -30,6 +30,17 @@ KIND_CAPTIONS = {
                      "(dotted) on the moving plate against the gauge-mark shear γ; dashed: the analytic simple "
                      "shear F = I + γ e₁⊗e₂ where the set-up has one. Right: the normal-stress difference "
                      "N₁ = σ₁₁ − σ₂₂ of the FE centre average (Poynting effect)."),
+    "confined-compression": ("Confined compression in a frictionless rigid die: axial nominal stress F/A₀ against "
+                             "the platen stretch λ; dashed: the homogeneous state F = diag(λ, 1, 1). Right: the "
+                             "pressure p = −tr σ/3 (FE volume average) against the volume ratio J = V/V₀, "
+                             "whose initial slope is the bulk modulus K."),
+    "torsion": ("Torsion of a cylinder: torque T about the axis against the twist per unit length ψ. Right: the "
+                "axial force N on the turning grip with the length held (negative: the Poynting effect pulls "
+                "the ends together), or the axial stretch with the end free (it lengthens)."),
+    "inflation": ("Inflation of a spherical shell under volume control: cavity pressure against the inner hoop "
+                  "stretch λ_a; dashed: the incompressible thick-sphere closed form; the marker: the pressure "
+                  "maximum (measured.limit_point), which pressure control could not pass. Right: the outer "
+                  "hoop stretch λ_b against λ_a (incompressible: λ_b³ = 1 + (λ_a³ − 1) A³/B³)."),
 }
 
 
@@ -65,6 +76,27 @@ def _side_panel(ax, datas: list[dict], kind) -> None:
                     _with_origin(curve["thickness_strain"]), "-o", ms=2.5, color=c, label=f"{d['input']['model']} thickness")
             ax.plot(np.r_[1.0, curve["stretch"]], _with_origin(curve["transverse_strain"]), ":", color=c,
                     label=f"{d['input']['model']} transverse (held)")
+        elif kind.name == "torsion":
+            free = d["scene"]["source"]["test"].get("axial") == "free"
+            ax.plot(_with_origin(curve["twist"]), np.r_[1.0 if free else 0.0,
+                                                       curve["axial_stretch" if free else "axial_force"]],
+                    "-o", ms=2.5, color=c, label=f"{d['input']['model']} {'axial stretch' if free else 'N'} (FE)")
+        elif kind.name == "inflation":
+            ax.plot(np.r_[1.0, curve["stretch"]], np.r_[1.0, curve["outer_stretch"]], "-o", ms=2.5, color=c,
+                    label=f"{d['input']['model']} λ_b (FE)")
+            limit = (d.get("measured") or {}).get("limit_point")
+            if limit:
+                left = ax.figure.axes[0]
+                left.plot([limit["stretch"]], [limit["pressure"]], "v", ms=8, color=c, zorder=5,
+                          label=f"limit point λ_a = {limit['stretch']:.4g}")
+                left.legend(fontsize=7)
+        elif kind.name == "confined-compression":
+            if curve.get("pressure"):
+                ax.plot(np.r_[1.0, curve["volume_ratio"]], _with_origin(curve["pressure"]), "-o", ms=2.5,
+                        color=c, label=f"{d['input']['model']} p (FE)")
+            ref = d.get("reference") or {}
+            if ref.get("pressure"):
+                ax.plot(np.r_[1.0, ref["volume_ratio"]], _with_origin(ref["pressure"]), "--", color="0.15", lw=0.9)
         elif "centre_cauchy_xx" in curve:
             N1 = np.asarray(curve["centre_cauchy_xx"]) - np.asarray(curve["centre_cauchy_yy"])
             ax.plot(_with_origin(curve["shear_gauge"]), _with_origin(N1), "-o", ms=2.5, color=c,
@@ -73,6 +105,20 @@ def _side_panel(ax, datas: list[dict], kind) -> None:
         ax.set_xlabel("grip stretch λ [–]")
         ax.set_ylabel("strain at the gauge centre [–]")
         ax.set_title("Thickness and transverse strain", fontsize=10)
+    elif kind.name == "torsion":
+        free = datas[0]["scene"]["source"]["test"].get("axial") == "free"
+        ax.set_xlabel("twist ψ [rad/mm]")
+        ax.set_ylabel("axial stretch [–]" if free else "axial force N [N]")
+        ax.set_title("Poynting effect: " + ("the free end lengthens" if free else "axial force, length held"),
+                     fontsize=10)
+    elif kind.name == "inflation":
+        ax.set_xlabel("inner hoop stretch λ_a [–]")
+        ax.set_ylabel("outer hoop stretch λ_b [–]")
+        ax.set_title("Wall thinning: outer against inner stretch", fontsize=10)
+    elif kind.name == "confined-compression":
+        ax.set_xlabel("volume ratio J = V/V₀ [–]")
+        ax.set_ylabel("pressure p = −tr σ/3 [MPa]")
+        ax.set_title("Pressure against volume (bulk modulus)", fontsize=10)
     else:
         ax.set_xlabel("shear strain γ [–] (gauge marks)")
         ax.set_ylabel("N₁ = σ₁₁ − σ₂₂ [MPa]")
@@ -80,7 +126,7 @@ def _side_panel(ax, datas: list[dict], kind) -> None:
     ax.grid(alpha=0.3)
     if ax.get_legend_handles_labels()[0]:
         ax.legend(fontsize=7)
-    else:  # a history material ([effects]) records no FE centre stress: say so, draw nothing
+    elif kind.name == "simple-shear":  # a history material ([effects]) records no FE centre stress
         ax.text(0.5, 0.5, "no FE centre stress recorded\n(history-dependent material: [effects])",
                 ha="center", va="center", transform=ax.transAxes, fontsize=8, color="0.4")
 
@@ -91,6 +137,8 @@ def plot_kind(datas: list[dict], path: Path) -> None:
     fig, (left, right) = plt.subplots(1, 2, figsize=(11.0, 4.6), dpi=120)
     _main_panel(left, datas, kind)
     _side_panel(right, datas, kind)
-    title = {"planar": "Planar tension (pure shear)", "simple-shear": "Simple shear"}.get(kind.name, kind.name)
+    title = {"planar": "Planar tension (pure shear)", "simple-shear": "Simple shear",
+             "confined-compression": "Confined compression", "torsion": "Torsion",
+             "inflation": "Inflation"}.get(kind.name, kind.name)
     left.set_title(f"{title}: {', '.join(d['input']['model'] for d in datas)}", fontsize=10)
     plt.save(fig, path)

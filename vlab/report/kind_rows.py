@@ -1,4 +1,5 @@
-"""Table rows of what planar and simple-shear tests measure, from results dicts (html reports)."""
+"""Table rows of what planar, simple-shear, confined-compression and torsion tests measure, from
+results dicts (html reports)."""
 
 from __future__ import annotations
 
@@ -17,7 +18,8 @@ def _f(value, digits: int = 5) -> str:
 
 
 def kind_rows(models: list[dict]) -> list[tuple[str, list[str]]]:
-    """The table rows of what planar and simple-shear tests measure (none for other kinds)."""
+    """The table rows of what planar, simple-shear, confined-compression and torsion tests measure
+    (none for other kinds)."""
     kind = kind_of_data(models[0])
 
     def final(d, key):
@@ -43,5 +45,27 @@ def kind_rows(models: list[dict]) -> list[tuple[str, list[str]]]:
              [_f(d["measured"].get("normal_stress_difference")) for d in models]),
             ("distance from simple shear at the end (centre)", [_f(final(d, "distance_from_simple_shear"), 3) for d in models]),
             ("centre / nominal shear stress at the end", [_f(final(d, "centre_over_nominal"), 4) for d in models]),
+        ]
+    if kind.name == "confined-compression":
+        return [
+            ("bulk modulus K measured / input [MPa]",
+             [f"{_f(d['measured'].get('bulk_modulus'))} / {_f(d['input'].get('K'))}" for d in models]),
+            ("constrained modulus M = K + 4G/3 measured / input [MPa]",
+             [f"{_f(d['measured'].get('constrained_modulus'))} / {_f(d['input'].get('M'))}" for d in models]),
+            ("G, E, ν derived from M and K", [f"{_f(d['measured'].get('G_derived'))}, {_f(d['measured'].get('E_derived'))}, "
+                                             f"{_f(d['measured'].get('nu_derived'), 4)}" for d in models]),
+            ("volume ratio J and pressure p at the end [–, MPa]",
+             [f"{_f(d['measured'].get('volume_ratio_at_end'))}, {_f(d['measured'].get('pressure_at_end'))}"
+              for d in models]),
+        ]
+    if kind.name == "torsion":
+        return [
+            ("G from the torsional stiffness / μ input [MPa]",
+             [f"{_f(d['measured'].get('G'))} / {_f(d['input'].get('mu'))}" for d in models]),
+            ("torque at the end [N·mm]", [_f(d["measured"].get("torque_at_end")) for d in models]),
+            ("axial force at the end [N] (length held; Poynting: < 0)",
+             [_f(d["measured"].get("axial_force_at_end")) for d in models]),
+            ("axial stretch at the end (free end: > 1)", [_f(d["measured"].get("axial_stretch_at_end"), 7)
+                                                          for d in models]),
         ]
     return []

@@ -135,6 +135,7 @@ def _check_test(test: TestSpec, specimen: Specimen, effects: Any) -> None:
     """What the test kind refuses (vlab.loading.kinds: ``check``) and an imperfection on a shape
     without a cross-section thickness."""
     kind_of(test).check(test, effects if isinstance(effects, dict) else {})
+    kind_of(test).check_specimen(test, specimen)
     if test.imperfection is not None and SHAPES[specimen.shape].thickness is None:
         raise SceneError(f"test.imperfection needs a specimen with a cross-section thickness (specimen.shape = "
                          f"{' or '.join(repr(n) for n, sh in SHAPES.items() if sh.thickness)}), "

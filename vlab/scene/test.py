@@ -23,7 +23,7 @@ __all__ = ["TestSpec", "PROTOCOL_KEYS", "GRIP_KINDS", "parse_test"]
 
 PROTOCOL_KEYS = ("protocol", "amplitudes", "min_stretch", "strain_rate", "ramp_time", "hold_time",
                  "hold_steps", "force")
-GRIP_KINDS = ("roller", "clamped", "kinematic", "plates")  # test.grips
+GRIP_KINDS = ("roller", "clamped", "kinematic", "plates", "die", "cavity")  # test.grips
 
 
 @dataclass(frozen=True)
@@ -36,11 +36,17 @@ class TestSpec:
     protocol: ProtocolSpec = ProtocolSpec()  # vlab.loading.protocol: monotonic unless given
     imperfection: float | None = None  # buckling-mode imperfection, amplitude / thickness
     shear: tuple[float, ...] = ()  # simple shear: (γ,) at t = 1 (cyclic: the largest amplitude)
+    twist: tuple[float, ...] = ()  # torsion: (ψ,) at t = 1, rad/mm
+    options: tuple[tuple[str, str], ...] = ()  # the kind's own choice keys (TestKind.option_keys), as given
+
+    def option(self, key: str) -> str:
+        """The value of one of the kind's choice keys (its default when not given)."""
+        return dict(self.options)[key]
 
     @property
     def targets(self) -> tuple[float, ...]:
         """The control values at load parameter t = 1, whatever the kind (its ``load_key``)."""
-        return self.shear or self.stretch
+        return self.shear or self.twist or self.stretch
 
 
 def parse_test(raw: Any, shape: str = "block") -> TestSpec:
@@ -48,7 +54,9 @@ def parse_test(raw: Any, shape: str = "block") -> TestSpec:
     from vlab.loading.kinds import KINDS
 
     load_keys = tuple(dict.fromkeys(k.load_key for k in KINDS.values()))
-    t = fields.Table("test", raw, ("kind", "grips") + load_keys + ("steps", "imperfection") + PROTOCOL_KEYS)
+    option_keys = tuple(dict.fromkeys(key for k in KINDS.values() for key in k.option_keys))
+    t = fields.Table("test", raw, ("kind", "grips") + load_keys + option_keys + ("steps", "imperfection")
+                     + PROTOCOL_KEYS)
     tests = SPECIMEN_TESTS[shape]
     kind = KINDS[t.choice("kind", tuple(KINDS))]
     if kind.name not in tests:
@@ -64,6 +72,7 @@ def parse_test(raw: Any, shape: str = "block") -> TestSpec:
             owners = " or ".join(repr(k.name) for k in KINDS.values() if k.load_key == key)
             raise SceneError(f"{t.field(key)} applies to test.kind = {owners}, not {kind.name!r}; "
                              f"give test.{kind.load_key}")
+    options = _options(t, kind, option_keys)
     protocol_name = t.choice("protocol", PROTOCOLS, default="monotonic")
     if protocol_name == "cyclic" and not kind.cyclic:
         raise SceneError(f"test.protocol = 'cyclic' needs test.kind = "
@@ -77,7 +86,20 @@ def parse_test(raw: Any, shape: str = "block") -> TestSpec:
                     steps=t.integer("steps", 1, 10000, default=10),
                     protocol=_parse_protocol(t, protocol_name, targets, kind),
                     imperfection=_imperfection(t, kind.name, targets),
-                    shear=targets if kind.load_key == "shear" else ())
+                    shear=targets if kind.load_key == "shear" else (),
+                    twist=targets if kind.load_key == "twist" else (), options=options)
+
+
+def _options(t: fields.Table, kind, option_keys: tuple[str, ...]) -> tuple[tuple[str, str], ...]:
+    """The kind's own choice keys (``option_keys``: key -> (allowed values, the first the
+    default)); another kind's key is an error naming it and the kinds it applies to."""
+    from vlab.loading.kinds import KINDS
+
+    for key in option_keys:
+        if key not in kind.option_keys and key in t.raw:
+            owners = " or ".join(repr(k.name) for k in KINDS.values() if key in k.option_keys)
+            raise SceneError(f"{t.field(key)} applies to test.kind = {owners}, not {kind.name!r}")
+    return tuple((key, t.choice(key, allowed, default=allowed[0])) for key, allowed in kind.option_keys.items())
 
 
 def _targets(t: fields.Table, kind, protocol_name: str) -> tuple[float, ...]:

@@ -94,6 +94,7 @@ def select(fast_only: bool = False, names: list[str] | None = None) -> list[Case
     """The registered cases (built-ins loaded), the fast subset or those named."""
     import vlab.verification.cases  # noqa: F401  (registers the built-in cases)
     import vlab.verification.incompressible  # noqa: F401  (locking, ν = ½, the ν = 0.499 dogbone)
+    import vlab.verification.new_kinds  # noqa: F401  (torsion past a surface shear of 1, the die to 0.7)
 
     if names:
         unknown = [n for n in names if n not in CASES]

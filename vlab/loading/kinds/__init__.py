@@ -67,11 +67,14 @@ def peak_grip_strain(test) -> float:
 
 def _register_builtins() -> None:
     from vlab.loading.kinds.biaxial import BIAXIAL
+    from vlab.loading.kinds.confined import CONFINED
+    from vlab.loading.kinds.inflation import INFLATION
     from vlab.loading.kinds.planar import PLANAR
     from vlab.loading.kinds.simple_shear import SIMPLE_SHEAR
+    from vlab.loading.kinds.torsion import TORSION
     from vlab.loading.kinds.uniaxial import UNIAXIAL
 
-    for kind in (UNIAXIAL, BIAXIAL, PLANAR, SIMPLE_SHEAR):
+    for kind in (UNIAXIAL, BIAXIAL, PLANAR, SIMPLE_SHEAR, CONFINED, TORSION, INFLATION):
         register(kind)
 
 

@@ -67,6 +67,9 @@ class TestKind:
     plot: PlotSpec
     force_column, control_column = "force", "stretch"  # results.json → curve: load cell, control value
     measures_E = True  # measures Young's modulus (and ν): the report's E and ν rows mean something
+    proportional = True  # u_p(t) = t · û_p (False: the loading's own path, e.g. a rotating grip)
+    homogeneous = True  # ``state`` exists (False: torsion, whose shear grows with the radius)
+    option_keys: dict[str, tuple[str, ...]] = {}  # the kind's own [test] choice keys: allowed values, default first
     doc = ""
 
     # --- grammar -------------------------------------------------------------------------------
@@ -83,6 +86,10 @@ class TestKind:
             allowed = ", ".join(k.name for k in KINDS.values() if k.effects)
             raise SceneError(f"{name}: [effects] are not available with test.kind = {self.name!r} in this "
                              f"build (they are with test.kind = {allowed})")
+
+    def check_specimen(self, test, specimen) -> None:
+        """Refuse a load the specimen's dimensions make too large (SceneError naming the field);
+        most kinds' loads are dimensionless and need nothing here."""
 
     # --- grips ---------------------------------------------------------------------------------
     def at(self, targets: tuple[float, ...], t: float) -> list[float]:

@@ -1,0 +1,106 @@
+"""Torsion of a cylinder: ``twist = ψ`` (the final twist per unit length, rad/mm, 0 < |ψ| a ≤ 5)
+or ``angle`` (the end rotation, degrees: ψ = angle π / (180 L)), ``axial = "fixed"`` (the length
+held: the axial force is recorded) or ``"free"`` (the turning end slides along the axis: the
+length change is recorded), ``grips = "clamped"``. The end x = 0 is clamped, the end x = L turns by
+φ = t ψ L (vlab.loading.torsion).
+
+Records per level: the twist ψ(t) = t ψ (rad/mm), the torque T = Σ (y f_z − z f_y) over the
+turning end's reactions in the current configuration (N·mm), the axial force N = Σ f_x (N) and
+the axial stretch 1 + ū_x / L (ū_x the mean axial displacement of the turning end).
+
+Oracle (Rivlin 1948, incompressible Mooney–Rivlin W = C10 (I₁ − 3) + C01 (I₂ − 3), length held):
+every section turns rigidly, T = π ψ a⁴ (C10 + C01) (linear in ψ at any twist) and
+N = −(π/2) ψ² a⁴ (C10 + 2 C01) (compressive: the Poynting effect; with the end free the cylinder
+lengthens). A compressible FE model approaches them as K/μ → ∞ and the mesh is refined
+(tests/test_torsion.py states the study). Measures the torsional stiffness k = dT/dψ over the
+modulus window (ψ in rad/mm) and from it G = k / J_p, J_p = A² / (2π) of the meshed section.
+
+The schedule counts ψ (rad/mm) as its strain (``grip_strain``), so the modulus window's levels
+lie at twists in the window.
+"""
+
+from __future__ import annotations
+
+import math
+
+from vlab import fields
+from vlab.fields import SceneError
+from vlab.loading.kinds.base import PlotSpec, TestKind
+
+SHEAR_LIMIT = 5.0  # the largest surface shear ψ a a scene may ask for
+
+
+class Torsion(TestKind):
+    name = "torsion"
+    load_key = "twist"
+    axes = (0,)
+    symmetric = False
+    measures_E = False
+    proportional = False  # a turning grip: u_p(t) is not t · û_p
+    homogeneous = False  # no homogeneous state: the shear is ψ r
+    force_column, control_column = "axial_force", "twist"
+    plot = PlotSpec("twist", "torque", "twist ψ [rad/mm]", "torque T [N·mm]", (("twist", "torque", "torque"),),
+                    reference_x="twist")
+    measured_units = {"torsional_stiffness": "N·mm² (torque per twist per unit length)", "G": "MPa",
+                      "torque_at_end": "N·mm", "axial_force_at_end": "N", "axial_stretch_at_end": "1"}
+    doc = "torsion of a cylinder: one end clamped, the other turned; length held (fixed) or free"
+    readers = ("torque",)  # vlab/measure/kinds.py
+    option_keys = {"axial": ("fixed", "free")}
+    fit = "torsion"
+    units = {"twist": "rad/mm (end rotation / length)", "torque": "N·mm", "axial_force": "N (tension > 0)",
+             "axial_stretch": "1 (turning end: 1 + mean u_x / L)", "surface_shear": "1 (twist x radius)",
+             "time": "s"}
+
+    def parse_load(self, t: fields.Table, protocol: str) -> tuple[float, ...]:
+        field, v = t.field("twist"), t.get("twist")
+        if isinstance(v, list):
+            raise SceneError(f"{field} must be a single number (rad/mm) for kind = 'torsion', got {fields.show(v)}")
+        psi = fields.number(field, v, note=" (rad/mm, not 0)")
+        if psi == 0.0:
+            raise SceneError(f"{field} must not be 0 (no twist applies no load), in rad/mm")
+        return (psi,)
+
+    def check(self, test, effects: dict) -> None:
+        super().check(test, effects)
+        if test.grips != "clamped":
+            raise SceneError(f"test.grips must be 'clamped' for test.kind = 'torsion' (the axial condition of "
+                             f"the turning end is test.axial), got {test.grips!r}")
+
+    def check_specimen(self, test, specimen) -> None:
+        """The surface shear ψ a must stay ≤ SHEAR_LIMIT (SceneError naming test.twist)."""
+        gamma = abs(test.targets[0]) * specimen.radius
+        if gamma > SHEAR_LIMIT:
+            raise SceneError(f"test.twist must be <= {SHEAR_LIMIT / specimen.radius:.4g} rad/mm in magnitude "
+                             f"for specimen.radius = {specimen.radius:g} mm (surface shear twist x radius "
+                             f"<= {SHEAR_LIMIT:g}), got {test.targets[0]:g}")
+
+    def at(self, targets, t: float) -> list[float]:
+        return [t * targets[0]]
+
+    def grip_strain(self, targets) -> tuple[float, ...]:
+        return (targets[0],)
+
+    def describe(self, values) -> str:
+        return f"twist {values[0]:.4g} rad/mm"
+
+    def loading(self, specimen, X, test):
+        from vlab.loading.torsion import torsion_loading
+
+        return torsion_loading(specimen, X, test.targets[0], test.option("axial"))
+
+    def isochoric(self, values):
+        import numpy as np
+
+        return np.eye(3)  # the twist's surface shear depends on the radius: no single path to check
+
+    def areas(self, specimen) -> dict[int, float]:
+        return {0: specimen.area0[0]}
+
+    def columns(self, curve) -> dict[str, list[float]]:
+        radius = math.sqrt(curve.area0[0] / math.pi)  # of the meshed section's area
+        return {"twist": list(curve.stretch[0]), "torque": list(curve.extra.get("torque", [])),
+                "axial_force": list(curve.force[0]), "axial_stretch": list(curve.extra.get("axial_stretch", [])),
+                "surface_shear": [psi * radius for psi in curve.stretch[0]]}
+
+
+TORSION = Torsion()

@@ -1,0 +1,105 @@
+"""What an inflation test measures (vlab.loading.kinds.inflation), and its closed form.
+
+Readings per level (the inner nodes i of the octant, X_i their reference positions, f_i their
+reactions, N):
+- the pressure p = Σ f_i · X_i / (3 λ_a² V₀): the wall is driven as x_i = λ_a X_i, so Σ f_i · X_i is
+  the generalized force conjugate to λ_a, and the virtual work of a uniform pressure on the
+  facetted cavity, V = λ_a³ V₀ (V₀ the octant's cavity volume), is p dV/dλ_a = 3 λ_a² V₀ p;
+- λ_a from the wall's own displacement (|x_i| / |X_i|, the same for every inner node);
+- ``wall_ratio`` (A/B)³, the constant the closed form needs.
+Measures: the limit point (the largest pressure of a rise followed by a fall: the parabola
+through the recorded maximum and its two neighbours, its vertex's stretch and pressure), or
+None with the reason; and the initial slope dp/dλ_a over the modulus window (λ_a − 1 in it).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.integrate import quad
+
+from vlab.measure.elastic_constants import ElasticConstants
+from vlab.measure.fit import FitError, fit_line
+
+__all__ = ["cavity_pressure_readers", "inflation_constants", "thick_sphere_pressure", "limit_point"]
+
+
+def cavity_pressure_readers(space, specimen, loading, material) -> dict:
+    """Readers of p (MPa) and of (A/B)³ (module docstring)."""
+    nodes = loading.moving_dofs[0] // 3
+    X = space.node_coordinates[nodes]
+    V0 = specimen.area0[0]
+    R = np.linalg.norm(X, axis=1)
+    ratio = (specimen.grip_separation[0] / specimen.length_scale) ** 3
+
+    def pressure(level) -> float:
+        u, f = level.evaluation.u, level.evaluation.f_int
+        dofs = 3 * nodes[:, None] + np.arange(3)
+        x = X + u[dofs]
+        lam = float(np.mean(np.linalg.norm(x, axis=1) / R))
+        return float(np.sum(f[dofs] * X) / (3.0 * lam * lam * V0))
+
+    return {"pressure": pressure, "wall_ratio": lambda level: ratio}
+
+
+def _w_prime(material, lam: float) -> float:
+    """Ŵ'(λ) = 2 (P₁₁ − λ⁻³ P₃₃) at F = diag(λ, λ, λ⁻²)."""
+    P = np.asarray(material.stress(np.diag([lam, lam, lam**-2])), dtype=float)
+    return 2.0 * (P[0, 0] - lam**-3 * P[2, 2])
+
+
+def thick_sphere_pressure(material, stretch: float, wall_ratio: float | None) -> float:
+    """p(λ_a) of the incompressible thick sphere, ∫_{λ_b}^{λ_a} Ŵ'(λ)/(λ³ − 1) dλ with
+    λ_b³ = 1 + (λ_a³ − 1)(A/B)³ (``wall_ratio`` = (A/B)³); NaN without the ratio."""
+    if wall_ratio is None:
+        return float("nan")
+    lam_b = (1.0 + (stretch**3 - 1.0) * wall_ratio) ** (1.0 / 3.0)
+    if stretch == 1.0:
+        return 0.0
+
+    def integrand(lam: float) -> float:
+        if abs(lam - 1.0) < 1e-7:  # Ŵ'(λ)/(λ³ − 1) → Ŵ''(1)/3 at λ = 1 (Ŵ'(1) = 0)
+            h = 1e-5
+            return (_w_prime(material, 1.0 + h) - _w_prime(material, 1.0 - h)) / (2 * h) / 3.0
+        return _w_prime(material, lam) / (lam**3 - 1.0)
+
+    value, _ = quad(integrand, lam_b, stretch, epsabs=0.0, epsrel=1e-12, limit=200)
+    return float(value)
+
+
+def limit_point(stretch, pressure) -> dict | None:
+    """The pressure maximum of the recorded rows (module docstring), or None if p only rises or
+    peaks at the last row (the maximum may lie beyond the test)."""
+    lam, p = np.asarray(stretch, float), np.asarray(pressure, float)
+    if len(p) < 3:
+        return None
+    i = int(np.argmax(p))
+    if i == 0 or i == len(p) - 1 or not np.all(np.diff(lam[: i + 2]) > 0):
+        return None
+    x, y = lam[i - 1:i + 2], p[i - 1:i + 2]
+    a, b, c = np.polyfit(x, y, 2)
+    if a >= 0:
+        return {"stretch": float(lam[i]), "pressure": float(p[i]), "method": "recorded maximum"}
+    vertex = -b / (2 * a)
+    return {"stretch": float(vertex), "pressure": float(c - b * b / (4 * a)),
+            "method": "parabola through the recorded maximum and its neighbours",
+            "bracket": [float(x[0]), float(x[2])]}
+
+
+def inflation_constants(curve, window, method) -> ElasticConstants:
+    """The limit point and the initial slope (module docstring)."""
+    p = curve.extra.get("pressure", [])
+    found = limit_point(curve.stretch[0], p)
+    note = ("inflation: E and nu are not measured; the pressure maximum is a property of the balloon "
+            "(measured.limit_point)")
+    extra: dict = {"limit_point": found}
+    if found is None:
+        extra["limit_point_note"] = (f"no pressure maximum up to stretch {max(curve.stretch[0]):.4g}"
+                                     if curve.t else "no level recorded")
+    try:
+        fit = fit_line(np.array(curve.stretch[0]) - 1.0, np.array(p), window, method)
+        extra |= {"initial_slope": fit.slope, "initial_slope_fit": fit.as_dict()}
+    except FitError as exc:
+        extra |= {"initial_slope": None, "initial_slope_note": str(exc)}
+    if curve.t:
+        extra |= {"stretch_at_end": curve.stretch[0][-1], "pressure_at_end": p[-1] if p else None}
+    return ElasticConstants(None, None, None, None, [{"axis": "r", "limit_point": found}], note, extra)
