@@ -566,3 +566,24 @@ def _stability_table(results, data: dict, mode: str, total: float) -> Table:
                                   str(o.negative_eigenvalues), f"{r.seconds:.1f} s")),
                       Text("pass", "green") if r.passed else Text("FAIL", "red"))
     return table
+
+
+@app.command()
+def design(fitfile: Path = typer.Argument(..., help="Fit file (TOML) of homogeneous data sets and the model."),
+           candidates: Optional[str] = typer.Option(None, "--candidates", help="Test kinds to plan, e.g. "
+                                                    "uniaxial,equibiaxial,planar,simple-shear (the default)."),
+           ranges: Optional[str] = typer.Option(None, "--range", help="Ranges, e.g. uniaxial=1.05:3,planar=1.05:2.5 "
+                                                "(default: the fitted range, else the data's largest I1)."),
+           points: int = typer.Option(20, "--points", help="Points per planned test."),
+           combine: int = typer.Option(3, "--combine", help="Largest number of tests combined."),
+           noise: Optional[float] = typer.Option(None, "--noise", help="Stress scatter (relative or MPa, as the fit's "
+                                                 "residual); default: the fit's residual scatter."),
+           expect: Optional[str] = typer.Option(None, "--expect", help="Expected constants, e.g. C10=0.3,C01=0.05 "
+                                                  "(default: the fitted card)."),
+           out: Optional[Path] = typer.Option(None, "--out", "-o", help="Output folder (default reports/<name>-design)."),
+           force: bool = FORCE):
+    """Which test next: Fisher information, predicted standard errors, D/A-optimality (design.json, index.html)."""
+    from vlab.identify.design_command import design_command
+
+    raise typer.Exit(design_command(fitfile, out, candidates, ranges, points, combine, noise, console, force,
+                                    expect))
