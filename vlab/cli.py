@@ -587,3 +587,19 @@ def design(fitfile: Path = typer.Argument(..., help="Fit file (TOML) of homogene
 
     raise typer.Exit(design_command(fitfile, out, candidates, ranges, points, combine, noise, console, force,
                                     expect))
+
+
+@app.command()
+def budget(scene: Path = typer.Argument(..., help="Scene TOML file (a uniaxial block or dogbone; [uncertainty] table)."),
+           samples: Optional[int] = typer.Option(None, "--samples", help="Monte Carlo samples (default: "
+                                                 "uncertainty.samples, else 200)."),
+           workers: int = typer.Option(2, "--workers", "-j", min=1, help="Worker processes of the local Dask cluster."),
+           scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Existing Dask cluster tcp://HOST:PORT."),
+           out: Optional[Path] = typer.Option(None, "--out", "-o", help="Output folder (default reports/<name>-budget)."),
+           cache: Path = typer.Option(Path("reports") / ".cache", "--cache", help="Cache folder of run summaries."),
+           quiet: bool = QUIET,
+           force: bool = FORCE):
+    """Uncertainty budget of E and ν: Monte Carlo of virtual tests, GUM sensitivities, Sobol indices."""
+    from vlab.uncertainty.command import budget_command
+
+    budget_command(scene, samples, workers, scheduler, out, cache, quiet, force)
