@@ -1,174 +1,153 @@
-"""`vlab budget`: the [uncertainty] table's validation and the budget against the analytic GUM of
-E = F L0 / (A ΔL) on a homogeneous block (every FE run exact, so E is a known product of the
-perturbations)."""
+"""The size budget (#16 item 9): nodes, DOFs and memory estimated from the geometry before meshing;
+a mesh beyond mesh.max_dofs or the machine's memory is refused at once, with the numbers."""
 
-import json
-import math
-from pathlib import Path
-from types import SimpleNamespace
+from __future__ import annotations
 
-import numpy as np
+import time
+
 import pytest
-from typer.testing import CliRunner
 
-from vlab.cli import app
-from vlab.fields import SceneError
-from vlab.scene import parse_scene
-from vlab.study.summary import RunKnobs, summarize
-from vlab.uncertainty.analysis import monte_carlo, sobol_first_order
-from vlab.uncertainty.budget import compute_budget
-from vlab.uncertainty.model import lab_values, sample_deltas
-from vlab.uncertainty.spec import parse_uncertainty
-
-BLOCK = {"name": "block-budget", "specimen": {"shape": "block", "size": [10.0, 10.0, 10.0]},
-         "mesh": {"size": 10.0, "cell": "hex"}, "material": {"model": "neo-hookean", "E": 10.0, "nu": 0.3},
-         "test": {"kind": "uniaxial", "grips": "roller", "stretch": 1.003, "steps": 2}}
-UNC = {"samples": 16, "width": 0.1, "thickness": 0.05, "load_cell_class": 1, "extensometer_class": 0.5,
-       "resolution": False}
+from vlab.fe.space import DisplacementSpace
+from vlab.run import build_specimen
+from vlab.scene import SceneError, parse_scene
 
 
-def _scene(unc=None, base=BLOCK):
-    return parse_scene(dict(base, uncertainty=dict(unc if unc is not None else UNC)))
+def _block(size=2.5, cell="hex", order=1, dims=(10.0, 8.0, 6.0), **mesh):
+    return parse_scene({"name": "b", "specimen": {"shape": "block", "size": list(dims)},
+                        "mesh": {"size": size, "cell": cell, "order": order, **mesh},
+                        "material": {"model": "linear", "E": 10.0, "nu": 0.3},
+                        "test": {"kind": "uniaxial", "grips": "roller", "stretch": 1.01, "steps": 1}})
 
 
-def _in_process(points, what):
-    """The sweep's contract without a Dask cluster (the CLI test below runs the real one)."""
-    s = [summarize(p.source, RunKnobs(), p.label, p.base_dir) | {"cache_hit": False} for p in points]
-    return SimpleNamespace(summaries=s, cache_hits=0, computed=len(s), seconds={})
+def _shape(shape: dict, size, cell, order, **mesh):
+    return parse_scene({"name": "s", "specimen": shape, "mesh": {"size": size, "cell": cell, "order": order, **mesh},
+                        "material": {"model": "linear", "E": 10.0, "nu": 0.3},
+                        "test": {"kind": "uniaxial", "stretch": 1.01, "steps": 1}})
 
 
-def _analytic_relative_u(spec) -> float:
-    """u(E)/E of E = F L0/(A ΔL): √Σ relative variances (width, thickness, load cell, extensometer, gauge)."""
-    n = spec.nominal
-    rel = {"width": 1 / n["width"], "thickness": 1 / n["thickness"], "load_cell": 1.0, "extensometer": 1.0,
-           "gauge_rel": 1.0}
-    return math.sqrt(sum((s.u * rel[s.kind]) ** 2 for s in spec.sources if s.kind in rel))
+def _actual_dofs(scene) -> int:
+    spec = build_specimen(scene)
+    thickness = getattr(spec, "sheet_thickness", None) or 1.0
+    return DisplacementSpace.build(spec.mesh, scene.mesh.order, thickness).n_dofs
 
 
-def test_block_budget_reproduces_the_analytic_gum_combination():
-    scene = _scene()
-    spec = parse_uncertainty(scene.source["uncertainty"], scene)
-    budget, runs = compute_budget(scene.source, spec, ".", _in_process, scene.measure.modulus_window[0])
-    E0 = budget["E"]["nominal"]
-    expect = _analytic_relative_u(spec)
-    # the linearised budget from paired runs is the analytic combination (up to the O(u²) of the
-    # central difference of 1/L_e)
-    assert budget["E"]["gum"]["u"] / E0 == pytest.approx(expect, rel=1e-4)
-    shares = {r["input"]: r["share"] for r in budget["E"]["contributions"]}
-    assert shares["load cell"] == pytest.approx((spec.sources[2].u / expect) ** 2, rel=1e-4)
-    assert shares["extensometer (transverse)"] == pytest.approx(0.0, abs=1e-12)
-    # every virtual test is exact (a homogeneous block), so each sample's E is the product formula
-    n = spec.nominal
-    for d, s, E in zip(runs.deltas, runs.summaries, runs.E):
-        assert s["measured"]["E"] == pytest.approx(E0, rel=1e-8)
-        W, T = n["width"] + d["specimen width"], n["thickness"] + d["specimen thickness"]
-        Le = n["gauge_length"] * (1 + d["extensometer gauge length (class)"])
-        assert E == pytest.approx(s["measured"]["E"] * W * T / (n["width"] * n["thickness"]) * n["gauge_length"] / Le
-                                  * (1 + d["load cell"]) / (1 + d["extensometer (axial)"]), rel=1e-12)
-    # the 16 FE samples' spread agrees within 4 of its own stated statistical errors
-    q = budget["E"]
-    assert abs(q["u"] / (expect * E0) - 1) < 4 * q["statistical_error"]["u_relative"]
-    assert q["U"] == 2 * q["u"] and q["quantiles"]["2.5%"] < q["mean"] < q["quantiles"]["97.5%"]
 
 
-def test_the_monte_carlo_of_the_lab_model_converges_to_the_gum_and_sobol_to_the_shares():
-    """E_run is the same for every sample of the block (checked above), so the distribution of E is
-    that of the lab's analysis over the draws: 5000 of them pin u to ~1 %."""
-    scene = _scene()
-    spec = parse_uncertainty(scene.source["uncertainty"], scene)
-    measured = {"E": 10.0, "nu": 0.3}
-    deltas = [sample_deltas(spec, i) for i in range(5000)]
-    y = np.array([lab_values(measured, spec, d)[0] for d in deltas])
-    mc = monte_carlo(y)
-    expect = _analytic_relative_u(spec) * 10.0
-    assert abs(mc["u"] / expect - 1) < 3 * mc["statistical_error"]["u_relative"]
-    assert mc["statistical_error"]["u_relative"] < 0.012
-    X = np.array([[d[s.name] for s in spec.sources] for d in deltas])
-    rel = {"width": 0.1, "thickness": 0.1, "load_cell": 1.0, "extensometer": 1.0, "gauge_rel": 1.0, "transverse": 0}
-    for (S, err), s in zip(sobol_first_order(X, y), spec.sources):
-        share = (s.u * rel[s.kind] * 10.0 / expect) ** 2
-        assert abs(S - share) < max(4 * err, 0.01), s.name
+@pytest.mark.parametrize("cell", ["hex", "tet"])
+@pytest.mark.parametrize("order", [1, 2])
+def test_the_block_estimate_is_the_mesh_exactly(cell, order):
+    from vlab.geometry.budget import estimate
+
+    for scene in (_block(2.5, cell, order), _block(3.0, cell, order, symmetry="quarter")):
+        assert estimate(scene).dofs == _actual_dofs(scene)
 
 
-def test_defaults_come_from_the_specimen_standard():
-    base = {"name": "d", "specimen": {"shape": "dogbone", "standard": "ISO 527-2 1BA"}, "mesh": {"size": 1.25},
-            "material": {"model": "stvk-volumetric", "E": 2500.0, "nu": 0.35},
-            "test": {"kind": "uniaxial", "stretch": 1.005}}
-    scene = _scene({}, base)
-    spec = parse_uncertainty({}, scene)
-    by = {s.name: s for s in spec.sources}
-    assert by["specimen width"].half_width == 0.5 and "ISO 527-2 1BA" in by["specimen width"].source
-    assert "specimen thickness" not in by  # the standard gives h >= 2 only
-    assert by["load cell"].half_width == 0.01 and by["extensometer (axial)"].half_width == 0.01
-    assert spec.samples == 200 and spec.nominal == {"width": 5.0, "thickness": 2.0, "gauge_length": 25.0}
+@pytest.mark.parametrize("cell, order", [("hex", 1), ("tet", 2)])
+def test_the_dogbone_estimate_is_within_15_percent_of_its_mesh(cell, order):
+    from vlab.geometry.budget import estimate
+
+    for standard in ("ISO 37 2", "ISO 527-2 1A", "ASTM D412 C"):
+        for size, extra in ((3.0, {}), (3.0, {"gauge_size": 1.5}), (3.0, {"symmetry": "eighth"})):
+            scene = _shape({"shape": "dogbone", "standard": standard}, size, cell, order, **extra)
+            ratio = estimate(scene).dofs / _actual_dofs(scene)
+            assert 0.85 <= ratio <= 1.15, (standard, size, extra, ratio)
 
 
-@pytest.mark.parametrize("unc,needle", [
-    ({"width": -0.1}, "uncertainty.width must be >= 0"),
-    ({"load_cell_class": 1.5}, "uncertainty.load_cell_class must be a ISO 7500-1 class (0.5, 1, 2, 3)"),
-    ({"extensometer_class": 3}, "uncertainty.extensometer_class must be a ISO 9513 class (0.2, 0.5, 1, 2)"),
-    ({"samples": 0}, "uncertainty.samples"),
-    ({"thickness": 10.0}, "uncertainty.thickness = 10 mm is not smaller than the dimension itself (10 mm)"),
-    ({"micrometer": 20.0}, "uncertainty.micrometer = 20 mm is not smaller than the width"),
-    ({"window_shift": 0.001}, "uncertainty.window_shift = 0.001 must be below the window's start"),
-    ({"material": {"mu": 0.1}}, "uncertainty.material"),
-    ({"material": {"E": 0.7}}, "uncertainty.material.E"),
-    ({"widht": 0.1}, "widht"),
-])
-def test_bad_uncertainty_tables_are_refused_naming_the_field(unc, needle):
-    with pytest.raises(SceneError) as exc:
-        _scene(unc)
-    assert needle in str(exc.value)
+def test_sheet_cruciform_and_imported_estimates_bound_their_meshes_within_stated_factors():
+    from pathlib import Path
+
+    from vlab.geometry.budget import estimate
+    from vlab.scene import load_scene
+
+    sheet = _shape({"shape": "sheet", "size": [40.0, 10.0], "thickness": 1.0}, 2.0, "quad", 2)
+    assert estimate(sheet).dofs == _actual_dofs(sheet)
+    specimens = Path(__file__).parent.parent / "specimens"
+    for name in ("cruciform-slotted", "cruciform-thinned"):  # breakpoints over-counted: an upper bound
+        cruciform = load_scene(specimens / f"{name}.toml")
+        ratio = estimate(cruciform).dofs / _actual_dofs(cruciform)
+        assert 1.0 <= ratio < 2.5, (name, ratio)
+    bar = load_scene(specimens / "mesh-import-bar.toml")
+    assert estimate(bar).dofs == _actual_dofs(bar)
 
 
-def _toml_value(v) -> str:
-    return json.dumps(v) if not isinstance(v, dict) else "{" + ", ".join(f"{k} = {_toml_value(x)}" for k, x in v.items()) + "}"
+def test_a_micron_mesh_on_a_100_mm_block_is_refused_in_under_a_second_with_the_numbers():
+    scene = _block(1e-6, dims=(100.0, 100.0, 100.0))
+    start = time.perf_counter()
+    with pytest.raises(SceneError) as info:
+        build_specimen(scene)
+    assert time.perf_counter() - start < 1.0
+    message = str(info.value)
+    assert "mesh.size = 1e-06" in message and "DOFs" in message and "mesh.max_dofs" in message
+    assert "1e+24 elements" in message
 
 
-def _write_scene(tmp_path: Path, unc: dict) -> Path:
-    lines = [f'name = "{BLOCK["name"]}"']
-    for section, table in list(BLOCK.items())[1:] + [("uncertainty", unc)]:
-        lines.append(f"[{section}]")
-        lines += [f"{k} = {_toml_value(v)}" for k, v in table.items()]
-    f = tmp_path / "s.toml"
-    f.write_text("\n".join(lines) + "\n")
-    return f
+def test_max_dofs_refuses_a_mesh_above_it_and_the_memory_check_one_the_machine_cannot_hold(monkeypatch):
+    import vlab.geometry.budget as budget
+
+    scene = _block(1.0, max_dofs=1000)
+    with pytest.raises(SceneError, match=r"more than mesh.max_dofs = 1,000 DOFs"):
+        build_specimen(scene)
+    monkeypatch.setattr(budget, "available_memory", lambda: 1e8)  # 100 MB free
+    with pytest.raises(SceneError, match=r"more than the 0.1 GB of memory available"):
+        build_specimen(_block(2.5))
 
 
-@pytest.mark.parametrize("unc,args,needle", [
-    ({"width": -0.1}, [], "uncertainty.width must be >= 0"),
-    ({"load_cell_class": 7}, [], "ISO 7500-1 class"),
-    ({"samples": 0}, [], "uncertainty.samples"),
-    ({"width": 12.0}, [], "not smaller than the dimension itself"),
-    ({}, ["--samples", "0"], "--samples 0: must be 1..100000"),
-    ({"load_cell_class": "none", "extensometer_class": "none"}, [], "there is nothing to budget"),
-])
-def test_cli_bad_input_exits_2_and_writes_nothing(tmp_path, unc, args, needle):
-    f = _write_scene(tmp_path, unc)
-    res = CliRunner().invoke(app, ["budget", str(f), "--out", str(tmp_path / "out"),
-                                   "--cache", str(tmp_path / "c"), *args])
-    assert res.exit_code == 2, res.output
-    assert needle in " ".join(res.output.split())
-    assert not (tmp_path / "out").exists()
+def test_a_huge_mesh_size_ratio_does_not_overflow_the_message():
+    scene = _block(1e-300, dims=(100.0, 100.0, 100.0))
+    with pytest.raises(SceneError, match=r"10\^9\d\d elements"):
+        build_specimen(scene)
 
 
-def test_vlab_run_validates_the_table_too(tmp_path):
-    f = _write_scene(tmp_path, {"extensometer_class": 0.3})
-    res = CliRunner().invoke(app, ["run", str(f), "--out", str(tmp_path / "out")])
-    assert res.exit_code == 2 and "ISO 9513 class" in " ".join(res.output.split())
+def test_above_the_crossover_the_memory_estimate_is_the_linear_iterative_one_and_fits_a_64_cube():
+    from vlab.fe.iterative import choose
+    from vlab.geometry.budget import BASE_BYTES, estimate
+
+    cube = _block(1.0, dims=(64.0, 64.0, 64.0))
+    path = lambda dofs: choose("auto", dofs, "pardiso")  # noqa: E731
+    direct, iterative = estimate(cube), estimate(cube, path)
+    assert iterative.dofs == direct.dofs == 3 * 65**3 and iterative.iterative and not direct.iterative
+    assert iterative.memory_bytes < 10e9 < direct.memory_bytes  # 830k DOFs: ~6 GB without a factor
+    half = estimate(_block(1.0, dims=(32.0, 64.0, 64.0)), path)
+    slope = (iterative.memory_bytes - BASE_BYTES) / (half.memory_bytes - BASE_BYTES)
+    assert slope == pytest.approx(iterative.dofs / half.dofs)  # linear in the DOFs
+    assert "CG + AMG, no factorization" in iterative.describe()
 
 
-@pytest.mark.slow
-def test_cli_budget_on_dask_writes_the_folder_and_resumes_from_the_cache(tmp_path):
-    f = _write_scene(tmp_path, dict(UNC, samples=6))
-    args = ["budget", str(f), "--out", str(tmp_path / "out"), "--cache", str(tmp_path / "c"), "-j", "2", "-q"]
-    res = CliRunner().invoke(app, args)
-    assert res.exit_code == 0, res.output
-    d = json.loads((tmp_path / "out" / "budget.json").read_text())
-    assert d["runs"]["computed"] == d["runs"]["paired"] + 6
-    for name in ("samples.csv", "index.html", "tornado_E.png", "tornado_nu.png", "histogram.png"):
-        assert (tmp_path / "out" / name).is_file()
-    again = CliRunner().invoke(app, args + ["--force"])
-    assert again.exit_code == 0
-    d2 = json.loads((tmp_path / "out" / "budget.json").read_text())
-    assert d2["runs"]["computed"] == 0 and d2["E"]["mean"] == d["E"]["mean"]
+def test_a_request_beyond_the_machine_s_memory_exits_2_naming_the_mesh_and_the_estimate(tmp_path, monkeypatch):
+    from typer.testing import CliRunner
+
+    import vlab.geometry.budget as budget
+    from vlab.cli import app
+
+    scene = tmp_path / "cube.toml"
+    scene.write_text('name = "cube"\n[specimen]\nshape = "block"\nsize = [40.0, 40.0, 40.0]\n'
+                     '[mesh]\nsize = 1.0\n[material]\nmodel = "neo-hookean"\nE = 10.0\nnu = 0.3\n'
+                     '[test]\nkind = "uniaxial"\nstretch = 1.5\nsteps = 10\n')
+    monkeypatch.setattr(budget, "available_memory", lambda: 1e9)  # 1 GB free
+    out = tmp_path / "out"
+    result = CliRunner().invoke(app, ["run", str(scene), "--out", str(out), "--no-render"])
+    assert result.exit_code == 2, result.output
+    text = " ".join(result.output.split())
+    assert "mesh.size = 1" in text and "206,763 DOFs" in text and "CG + AMG" in text and "1 GB" in text
+    assert not out.exists()
+
+
+def test_every_registered_shape_counts_its_own_mesh_for_the_budget():
+    from vlab.geometry.shapes import SHAPES
+
+    assert [name for name, shape in SHAPES.items() if shape.count is None] == []
+
+
+def test_a_new_shape_gets_a_budget_from_its_registry_entry_alone(monkeypatch):
+    """The budget asks the shape's entry, never its name: a shape it has not heard of is counted."""
+    from dataclasses import replace
+
+    from vlab.geometry import shapes
+    from vlab.geometry.budget import estimate
+    from vlab.geometry.counts import MeshCount
+
+    scene = _block(2.5)
+    monkeypatch.setitem(shapes.SHAPES, "slab", replace(shapes.SHAPES["block"], name="slab",
+                                                       count=lambda spec, mesh: MeshCount(7, 11, 3, "slab rule")))
+    est = estimate(replace(scene, specimen=replace(scene.specimen, shape="slab")))
+    assert (est.elements, est.nodes, est.dofs, est.how) == (7, 11, 33, "slab rule")
