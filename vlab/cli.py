@@ -593,3 +593,38 @@ def import_card(file: Path = typer.Argument(..., help="An Abaqus/CalculiX, ANSYS
     from vlab.export.command import import_command
 
     raise typer.Exit(import_command(file, out, solver, units, force, say))
+@app.command()
+def design(fitfile: Path = typer.Argument(..., help="Fit file (TOML) of homogeneous data sets and the model."),
+           candidates: Optional[str] = typer.Option(None, "--candidates", help="Test kinds to plan, e.g. "
+                                                    "uniaxial,equibiaxial,planar,simple-shear (the default)."),
+           ranges: Optional[str] = typer.Option(None, "--range", help="Ranges, e.g. uniaxial=1.05:3,planar=1.05:2.5 "
+                                                "(default: the fitted range, else the data's largest I1)."),
+           points: int = typer.Option(20, "--points", help="Points per planned test."),
+           combine: int = typer.Option(3, "--combine", help="Largest number of tests combined."),
+           noise: Optional[float] = typer.Option(None, "--noise", help="Stress scatter (relative or MPa, as the fit's "
+                                                 "residual); default: the fit's residual scatter."),
+           expect: Optional[str] = typer.Option(None, "--expect", help="Expected constants, e.g. C10=0.3,C01=0.05 "
+                                                  "(default: the fitted card)."),
+           out: Optional[Path] = typer.Option(None, "--out", "-o", help="Output folder (default reports/<name>-design)."),
+           force: bool = FORCE):
+    """Which test next: Fisher information, predicted standard errors, D/A-optimality (design.json, index.html)."""
+    from vlab.identify.design_command import design_command
+
+    raise typer.Exit(design_command(fitfile, out, candidates, ranges, points, combine, noise, console, force,
+                                    expect))
+
+
+@app.command()
+def budget(scene: Path = typer.Argument(..., help="Scene TOML file (a uniaxial block or dogbone; [uncertainty] table)."),
+           samples: Optional[int] = typer.Option(None, "--samples", help="Monte Carlo samples (default: "
+                                                 "uncertainty.samples, else 200)."),
+           workers: int = typer.Option(2, "--workers", "-j", min=1, help="Worker processes of the local Dask cluster."),
+           scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Existing Dask cluster tcp://HOST:PORT."),
+           out: Optional[Path] = typer.Option(None, "--out", "-o", help="Output folder (default reports/<name>-budget)."),
+           cache: Path = typer.Option(Path("reports") / ".cache", "--cache", help="Cache folder of run summaries."),
+           quiet: bool = QUIET,
+           force: bool = FORCE):
+    """Uncertainty budget of E and ν: Monte Carlo of virtual tests, GUM sensitivities, Sobol indices."""
+    from vlab.uncertainty.command import budget_command
+
+    budget_command(scene, samples, workers, scheduler, out, cache, quiet, force)

@@ -38,7 +38,7 @@ __all__ = ["Scene", "SECTIONS", "TOP_KEYS", "parse_scene", "load_scene", "load_s
 SECTIONS = ("specimen", "mesh", "material", "test", "measure", "solver", "effects", "compare")
 
 
-TOP_KEYS = ("name", "description") + SECTIONS
+TOP_KEYS = ("name", "description") + SECTIONS + ("uncertainty",)  # [uncertainty]: `vlab budget` only
 
 
 _NAME_RE = re.compile(r"[A-Za-z0-9._-]+")
@@ -88,12 +88,17 @@ def _parse(data: Mapping[str, Any]) -> Scene:
         check_path(material, kind_of(test), [test.targets])
     check_symmetry(mesh, test, specimen)
     check_effects_scope(data.get("effects", {}), specimen.shape, mesh, material.model)
-    return Scene(name=name, description=description, specimen=specimen,
-                 mesh=mesh, material=material, test=test,
-                 measure=parse_measure(data.get("measure", {}), specimen),
-                 solver=parse_solver(data.get("solver", {})),
-                 source=copy.deepcopy(dict(data)), base_dir=str(SCENE_DIR.get()),
-                 effects=parse_effects(data.get("effects", {}), material, test))
+    scene = Scene(name=name, description=description, specimen=specimen,
+                  mesh=mesh, material=material, test=test,
+                  measure=parse_measure(data.get("measure", {}), specimen),
+                  solver=parse_solver(data.get("solver", {})),
+                  source=copy.deepcopy(dict(data)), base_dir=str(SCENE_DIR.get()),
+                  effects=parse_effects(data.get("effects", {}), material, test))
+    if "uncertainty" in data:  # validated with the scene it perturbs (a run ignores it)
+        from vlab.uncertainty.spec import parse_uncertainty
+
+        parse_uncertainty(data["uncertainty"], scene)
+    return scene
 
 
 def _header(data: Any) -> tuple[str, str]:
