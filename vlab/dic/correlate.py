@@ -10,7 +10,12 @@ from vlab.dic import icgn, seed, strain
 
 
 class DICError(ValueError):
-    """Settings or images DIC cannot use (exit 2); the message names the setting or image."""
+    """Settings or images DIC cannot use (exit 2); the message names the setting or image
+    (``setting``: the name of the bad setting, if one is)."""
+
+    def __init__(self, message: str, setting: str | None = None):
+        super().__init__(message)
+        self.setting = setting
 
 
 @dataclass(frozen=True)
@@ -32,7 +37,7 @@ class Settings:
     def check(self, shape: tuple[int, int] | None = None) -> None:
         def need(ok, name, allowed):
             if not ok:
-                raise DICError(f"{name} = {getattr(self, name)!r}: {allowed}")
+                raise DICError(f"{name} = {getattr(self, name)!r}: {allowed}", name)
 
         need(isinstance(self.subset, int) and self.subset >= 7 and self.subset % 2 == 1, "subset",
              "must be an odd integer ≥ 7 (px)")
