@@ -628,3 +628,18 @@ def budget(scene: Path = typer.Argument(..., help="Scene TOML file (a uniaxial b
     from vlab.uncertainty.command import budget_command
 
     budget_command(scene, samples, workers, scheduler, out, cache, quiet, force)
+@app.command()
+def dic(reference: Path = typer.Argument(..., help="The reference grey image (8- or 16-bit PNG or TIFF)."),
+        deformed: list[Path] = typer.Argument(..., help="The deformed image(s), in sequence order."),
+        subset: int = typer.Option(31, "--subset", help="Subset side (px, odd)."),
+        step: int = typer.Option(10, "--step", help="Step between subset centres (px)."),
+        strain_window: int = typer.Option(5, "--strain-window", help="Strain window (grid points, odd)."),
+        search: int = typer.Option(20, "--search", help="Integer search radius (px)."),
+        out: Path = typer.Option(Path("reports") / "dic", "--out", "-o", help="Report folder."),
+        quiet: bool = QUIET, force: bool = FORCE):
+    """Subset-based 2-D DIC of an image pair or sequence: DIR/fields/<stem>.csv, DIR/dic.json and
+    index.html with the maps (docs/dic.md)."""
+    from vlab.dic.cli import run_dic
+
+    run_dic(reference, deformed, dict(subset=subset, step=step, strain_window=strain_window, search=search),
+            report_destination(out, force), quiet)
