@@ -69,3 +69,12 @@ def test_a_bad_scene_names_the_field():
         vlab.Scene.from_dict({"name": "bad", "specimen": {"shape": "block", "size": [1.0, 1.0, 1.0]},
                               "mesh": {"size": 1.0}, "material": {"model": "linear", "E": 1.0, "nu": 0.5},
                               "test": {"kind": "uniaxial", "stretch": 1.1}})
+
+
+def test_a_simple_shear_result_has_its_own_columns_and_shows():
+    result = vlab.Scene.from_file(ROOT / "specimens" / "shear-plates-neo-hookean.toml").with_values(
+        {"mesh.size": 2.0, "test.steps": 2}).run()
+    curve = result.curve
+    assert {"shear", "shear_stress", "normal_force"} <= set(curve)
+    assert curve.levels == len(curve["shear"]) > 0
+    assert "E, nu not measured" in repr(result) and f"{curve.levels} levels" in repr(result)
