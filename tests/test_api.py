@@ -1,4 +1,5 @@
-"""The Python API: its docstring examples and the README's python blocks run as written."""
+"""The Python API: its docstring examples and the python blocks of the README and the docs' API page
+run as written."""
 
 import doctest
 import re
@@ -21,9 +22,14 @@ def test_the_api_docstring_examples_run(monkeypatch):
     assert outcome.attempted > 10 and outcome.failed == 0
 
 
-def test_the_readme_python_blocks_run(tmp_path):
-    blocks = re.findall(r"```python\n(.*?)```", (ROOT / "README.md").read_text(encoding="utf-8"), re.S)
-    assert blocks, "the README has python examples"
+#: the pages whose python blocks are examples a reader runs as written
+EXAMPLE_PAGES = ("README.md", "docs/reference/python-api.md")
+
+
+@pytest.mark.parametrize("page", EXAMPLE_PAGES)
+def test_the_python_blocks_of_the_readme_and_the_api_page_run(page, tmp_path):
+    blocks = re.findall(r"```python\n(.*?)```", (ROOT / page).read_text(encoding="utf-8"), re.S)
+    assert blocks, f"{page} has python examples"
     (tmp_path / "specimens").symlink_to(ROOT / "specimens")
     script = tmp_path / "readme_examples.py"
     script.write_text("\n\n".join(blocks), encoding="utf-8")
@@ -63,3 +69,12 @@ def test_a_bad_scene_names_the_field():
         vlab.Scene.from_dict({"name": "bad", "specimen": {"shape": "block", "size": [1.0, 1.0, 1.0]},
                               "mesh": {"size": 1.0}, "material": {"model": "linear", "E": 1.0, "nu": 0.5},
                               "test": {"kind": "uniaxial", "stretch": 1.1}})
+
+
+def test_a_simple_shear_result_has_its_own_columns_and_shows():
+    result = vlab.Scene.from_file(ROOT / "specimens" / "shear-plates-neo-hookean.toml").with_values(
+        {"mesh.size": 2.0, "test.steps": 2}).run()
+    curve = result.curve
+    assert {"shear", "shear_stress", "normal_force"} <= set(curve)
+    assert curve.levels == len(curve["shear"]) > 0
+    assert "E, nu not measured" in repr(result) and f"{curve.levels} levels" in repr(result)

@@ -52,7 +52,9 @@ class Curve(Mapping):
     included): ``curve["strain"]`` (extensometer, engineering), ``"stress"`` (force / A0, MPa),
     ``"force"`` (N), ``"transverse_strain"``, ``"thickness_strain"``, ``"true_strain"``,
     ``"true_stress"``, ``"stretch"`` (grip), ``"time"`` (s, timed tests) — along x; ``curve.y``
-    holds a biaxial test's y axis under the same names."""
+    holds a biaxial test's y axis under the same names. A kind's own columns keep their
+    results.json names (simple shear: ``"shear"``, ``"shear_stress"`` (MPa), ``"normal_force"`` (N),
+    …; a cruciform: ``"centre_stress_x"``, …)."""
 
     def __init__(self, columns: dict, axis: str = "x"):
         self._raw, self.axis = columns, axis
@@ -61,6 +63,11 @@ class Curve(Mapping):
                          for name in AXIS_COLUMNS if name + sfx in columns}
         self._columns |= {name: np.asarray(columns[name], dtype=float) for name in SHARED_COLUMNS
                           if columns.get(name) is not None}
+        if axis == "x":  # the kind's own columns by their results.json names (a shear test's shear,
+            # shear_stress, normal_force, …; a cruciform's centre_stress_x, …), never the y axis'
+            y_names = {name + "_y" for name in AXIS_COLUMNS}
+            self._columns |= {name: np.asarray(values, dtype=float) for name, values in columns.items()
+                              if isinstance(values, list) and name not in y_names and name not in self._columns}
         self.units = columns.get("units", {})
 
     def __getitem__(self, name: str) -> np.ndarray:
@@ -76,6 +83,11 @@ class Curve(Mapping):
         return len(self._columns)
 
     @property
+    def levels(self) -> int:
+        """The number of recorded load levels."""
+        return len(next(iter(self._columns.values()), []))
+
+    @property
     def axes(self) -> tuple[str, ...]:
         return ("x", "y") if "strain_y" in self._raw else ("x",)
 
@@ -86,7 +98,7 @@ class Curve(Mapping):
         return Curve(self._raw, "y")
 
     def __repr__(self) -> str:
-        return f"Curve(axis {self.axis!r}: {', '.join(self._columns)}; {len(next(iter(self._columns.values()), []))} levels)"
+        return f"Curve(axis {self.axis!r}: {', '.join(self._columns)}; {self.levels} levels)"
 
 
 class Result:
@@ -157,7 +169,7 @@ class Result:
         state = "completed" if self.converged else "stopped"
         E, nu = self.E, self.nu
         fitted = f"E = {E:.6g} MPa, nu = {nu:.6g}" if E is not None else "E, nu not measured"
-        return f"Result({self.data['scene']['name']!r}: {state}, {fitted}, {len(self.curve['strain'])} levels)"
+        return f"Result({self.data['scene']['name']!r}: {state}, {fitted}, {self.curve.levels} levels)"
 
 
 class Scene:
