@@ -18,8 +18,8 @@ def _curve(kind, control, stress):
 
 @pytest.mark.parametrize("kind", sorted(KINDS))
 def test_the_final_stress_is_read_at_the_largest_deformation_of_every_kind(kind):
-    if kind == "simple-shear":
-        control, peak = [0.1, 0.4, 0.8, 1.2], 3     # γ: |γ − 1| is largest at the first level
+    if KINDS[kind].rest == 0.0:
+        control, peak = [0.1, 0.4, 0.8, 1.2], 3     # γ or ψ: |γ − 1| is largest at the first level
     else:
         control, peak = [1.05, 1.3, 1.8, 1.2], 2    # a load-unload record ends below its peak
     stress = [10.0 * (i + 1) for i in range(len(control))]
@@ -27,6 +27,11 @@ def test_the_final_stress_is_read_at_the_largest_deformation_of_every_kind(kind)
     assert peak_level(curve) == peak
     values = _values(SimpleNamespace(curve=curve, constants=SimpleNamespace(E=1.0, nu=0.3)))
     assert values["final_stress"] == stress[peak]
+
+
+def test_a_cyclic_record_peaks_at_its_largest_stretch_not_its_last_load_parameter():
+    curve = _curve("uniaxial", [1.2, 1.5, 1.1, 1.8, 1.0], [0] * 5)
+    assert curve.t == [0, 1, 2, 3, 4] and peak_level(curve) == 3
 
 
 def test_a_compression_test_peaks_at_its_smallest_stretch():

@@ -5,15 +5,19 @@ Layers, bottom to top (a module may import its own layer and any layer below):
 
     0 foundation   vlab (package), fields, tensor, moduli, jit, settings, data
     1 registries   materials, geometry, loading, effects   (pure specs, laws, shapes, kinds, effects)
-    2 scene        the file format; delegates to the registries below it
+    2 scene        the file format; delegates to the registries below it (and the grammar of the
+                   [uncertainty] table, vlab.uncertainty.spec and .classes, checked with the scene)
     3 fe           spaces, bodies, assembly, Newton, stepping, linear solvers
     4 checks       run-time admissibility, stability monitor, buckling, imperfection
-    5 measure      instruments, recorder, fits
+    5 measure      instruments, recorder, fits; dic (the image-correlation engine: an instrument)
     6 post, render cell fields, snapshots, VTU; off-screen renders
     7 report       results.json, CSV, PNG, HTML
     8 run          the one sequencer, and its stages (vlab.pipeline: prepare, solve, measure)
-    9 compare, study, verification, identify
-   10 cli          (and vlab.cli_io, vlab.__main__, cli_progress: the terminal display; api: the Python API)
+    9 compare, study, verification, identify, export (solver cards), uncertainty (budgets),
+      dic.command (a DIC job's report folder)
+   10 cli          (and vlab.cli_io, vlab.__main__, cli_progress: the terminal display; api: the Python API;
+      the command modules that speak the CLI's exit codes: identify.command, identify.design_command,
+      uncertainty.command, dic.cli)
 
 The scene sits above the registries (not at the very bottom) because its parts delegate to them:
 the shape, kind, model and effect registries own their grammar. Function-level imports (lazy, to
@@ -36,14 +40,17 @@ LAYERS = {
     "vlab": 0, "vlab.fields": 0, "vlab.tensor": 0, "vlab.moduli": 0, "vlab.jit": 0, "vlab.settings": 0,
     "vlab.data": 0,
     "vlab.materials": 1, "vlab.geometry": 1, "vlab.loading": 1, "vlab.effects": 1,
-    "vlab.scene": 2, "vlab.scenes": 2,
+    "vlab.scene": 2, "vlab.scenes": 2, "vlab.uncertainty.spec": 2, "vlab.uncertainty.classes": 2,
     "vlab.fe": 3,
     "vlab.checks": 4,
-    "vlab.measure": 5,
+    "vlab.measure": 5, "vlab.dic": 5,
     "vlab.post": 6, "vlab.render": 6,
     "vlab.report": 7,
     "vlab.run": 8, "vlab.pipeline": 8,
     "vlab.compare": 9, "vlab.study": 9, "vlab.verification": 9, "vlab.identify": 9,
+    "vlab.export": 9, "vlab.uncertainty": 9, "vlab.dic.command": 9,
+    "vlab.identify.command": 10, "vlab.identify.design_command": 10, "vlab.uncertainty.command": 10,
+    "vlab.dic.cli": 10,
     "vlab.cli": 10, "vlab.cli_io": 10, "vlab.cli_progress": 10, "vlab.api": 10, "vlab.__main__": 10,
 }
 

@@ -179,9 +179,11 @@ def test_cyclic_simple_shear_runs_fully_reversed_cycles():
 
 
 def test_every_registered_kind_names_its_load_key_and_axes():
-    assert set(KINDS) == {"uniaxial", "biaxial", "planar", "simple-shear"}
+    assert set(KINDS) == {"uniaxial", "biaxial", "planar", "simple-shear", "confined-compression", "torsion",
+                          "inflation"}
     for kind in KINDS.values():
-        assert kind.load_key in ("stretch", "shear") and kind.axes and kind.plot.series
+        assert kind.load_key in ("stretch", "shear", "twist") and kind.axes and kind.plot.series
+        assert kind.rest == (1.0 if kind.load_key == "stretch" else 0.0)
 
 
 LEN_DISPATCH = re.compile(r"len\(\s*[\w.\[\]]*(stretch|axes|targets)\s*\)")

@@ -87,20 +87,20 @@ def export_command(source: Path, to: str, out: Path | None, units: str, elastic_
     from vlab.export import card as cards
 
     try:
-        targets, u = parse_targets(to), _units(units)
-        if out is not None and len(targets) > 1:
+        solvers, u = parse_targets(to), _units(units)
+        if out is not None and len(solvers) > 1:
             raise SceneError("--out names one file; give one solver with --to, or no --out")
         card = cards.load_source(source)
         if elastic_only:
             card = cards.elastic_only(card)
-        texts = {t: card_text(card, t, u) for t in targets}  # every refusal before any file
-        paths = {t: Path(out) if out is not None else Path(EXPORTERS[t].default_file) for t in targets}
-        for t in targets:
+        texts = {t: card_text(card, t, u) for t in solvers}  # every refusal before any file
+        paths = {t: Path(out) if out is not None else Path(EXPORTERS[t].default_file) for t in solvers}
+        for t in solvers:
             write_file(paths[t], texts[t], force)
     except (SceneError, ExportError) as exc:
         say(("cannot export", "red"), f" {exc}")
         return 2
-    for t in targets:
+    for t in solvers:
         say(f"{t}: {paths[t]}")
     return 0
 

@@ -1,5 +1,7 @@
 """What an inflation test measures (vlab.loading.kinds.inflation), and its closed form.
 
+The closed form p(λ_a) lives with the loading, in vlab.loading.thick_sphere.
+
 Readings per level (the inner nodes i of the octant, X_i their reference positions, f_i their
 reactions, N):
 - the pressure p = Σ f_i · X_i / (3 λ_a² V₀): the wall is driven as x_i = λ_a X_i, so Σ f_i · X_i is
@@ -15,8 +17,8 @@ None with the reason; and the initial slope dp/dλ_a over the modulus window (λ
 from __future__ import annotations
 
 import numpy as np
-from scipy.integrate import quad
 
+from vlab.loading.thick_sphere import thick_sphere_pressure
 from vlab.measure.elastic_constants import ElasticConstants
 from vlab.measure.fit import FitError, fit_line
 
@@ -39,31 +41,6 @@ def cavity_pressure_readers(space, specimen, loading, material) -> dict:
         return float(np.sum(f[dofs] * X) / (3.0 * lam * lam * V0))
 
     return {"pressure": pressure, "wall_ratio": lambda level: ratio}
-
-
-def _w_prime(material, lam: float) -> float:
-    """Ŵ'(λ) = 2 (P₁₁ − λ⁻³ P₃₃) at F = diag(λ, λ, λ⁻²)."""
-    P = np.asarray(material.stress(np.diag([lam, lam, lam**-2])), dtype=float)
-    return 2.0 * (P[0, 0] - lam**-3 * P[2, 2])
-
-
-def thick_sphere_pressure(material, stretch: float, wall_ratio: float | None) -> float:
-    """p(λ_a) of the incompressible thick sphere, ∫_{λ_b}^{λ_a} Ŵ'(λ)/(λ³ − 1) dλ with
-    λ_b³ = 1 + (λ_a³ − 1)(A/B)³ (``wall_ratio`` = (A/B)³); NaN without the ratio."""
-    if wall_ratio is None:
-        return float("nan")
-    lam_b = (1.0 + (stretch**3 - 1.0) * wall_ratio) ** (1.0 / 3.0)
-    if stretch == 1.0:
-        return 0.0
-
-    def integrand(lam: float) -> float:
-        if abs(lam - 1.0) < 1e-7:  # Ŵ'(λ)/(λ³ − 1) → Ŵ''(1)/3 at λ = 1 (Ŵ'(1) = 0)
-            h = 1e-5
-            return (_w_prime(material, 1.0 + h) - _w_prime(material, 1.0 - h)) / (2 * h) / 3.0
-        return _w_prime(material, lam) / (lam**3 - 1.0)
-
-    value, _ = quad(integrand, lam_b, stretch, epsabs=0.0, epsrel=1e-12, limit=200)
-    return float(value)
 
 
 def limit_point(stretch, pressure) -> dict | None:

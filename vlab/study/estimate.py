@@ -19,6 +19,7 @@ import time
 
 import numpy as np
 
+from vlab.loading.kinds import KINDS
 from vlab.scene import Scene, SceneError, apply_overrides, parse_scene
 
 log = logging.getLogger(__name__)
@@ -48,13 +49,11 @@ def _values(result) -> dict:
 
 
 def peak_level(curve) -> int:
-    """The level of the largest deformation: the largest |λ − 1| of the grip stretch, or for simple
-    shear (whose control column is the shear γ, at rest 0) the largest |γ|."""
-    # the load parameter t peaks there for every kind (λ(t) = 1 + t (λ − 1), γ(t) = t γ, the twist
-    # ψ(t) = t ψ): it also serves the kinds whose control value is neither a stretch nor a shear
-    if getattr(curve, "t", None):
-        return int(np.argmax(np.abs(np.asarray(curve.t, dtype=float))))
-    rest = 0.0 if curve.kind == "simple-shear" else 1.0
+    """The level of the largest deformation: the largest |c − c₀| of the kind's control column
+    (the grip stretch, at rest 1; the shear γ or the twist ψ, at rest 0)."""
+    # not the load parameter t: a load-unload or cyclic record's t rises while the stretch falls
+    kind = KINDS.get(curve.kind)
+    rest = kind.rest if kind is not None else 1.0
     return int(np.argmax(np.abs(np.asarray(curve.stretch[0], dtype=float) - rest)))
 
 

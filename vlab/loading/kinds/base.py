@@ -58,6 +58,7 @@ class TestKind:
     __test__ = False  # not a pytest class
     name = ""
     load_key = "stretch"
+    rest = 1.0  # the control column's value at rest (a stretch 1; a shear γ or a twist ψ: 0)
     axes: tuple[int, ...] = (0,)
     oracle_setups: dict[str, str] = {}  # specimen shape -> grips on which ``state`` is the exact answer
     cyclic = False  # may run test.protocol = "cyclic"

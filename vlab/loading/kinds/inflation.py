@@ -83,7 +83,7 @@ class Inflation(TestKind):
         return HomogeneousState(F=F, P=P, lateral_stretch=float(values[0]) ** -2)
 
     def reference(self, material, curve) -> dict:
-        from vlab.measure.inflation import thick_sphere_pressure
+        from vlab.loading.thick_sphere import thick_sphere_pressure
 
         ratio = curve.extra["wall_ratio"][0] if curve.extra.get("wall_ratio") else None
         out = {"pressure": [thick_sphere_pressure(material, lam, ratio) for lam in curve.stretch[0]],

@@ -34,6 +34,7 @@ SHEAR_LIMIT = 5.0  # largest |γ| a scene may ask for
 class SimpleShear(TestKind):
     name = "simple-shear"
     load_key = "shear"
+    rest = 0.0
     axes = (0,)
     oracle_setups = {"block": "kinematic"}
     cyclic = True

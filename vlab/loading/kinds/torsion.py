@@ -33,6 +33,7 @@ SHEAR_LIMIT = 5.0  # the largest surface shear ψ a a scene may ask for
 class Torsion(TestKind):
     name = "torsion"
     load_key = "twist"
+    rest = 0.0
     axes = (0,)
     symmetric = False
     measures_E = False
