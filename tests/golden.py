@@ -1,7 +1,7 @@
 """Golden results: the measured quantities of every specimen file on its coarse test mesh.
 
 Recorded once from the code before the package restructuring of issue #17
-(`python tests/golden.py` rewrites them; do that only for a deliberate change of results and say
+(`python tests/golden.py [STEM ...]` rewrites them, or those of the files named; do that only for a deliberate change of results and say
 so in the commit). Kept: curve columns, E, nu and their fits, forces, the analytic reference,
 homogeneity, cruciform factors, mesh size and quality, stability records and verdicts, effects
 summaries, warnings, failure cause. Left out: the inertia back end's name, and what legitimately changes without a change of
@@ -104,8 +104,8 @@ def golden_path(scene_file: Path) -> Path:
     return FOLDER / f"{scene_file.stem}.json"
 
 
-def record() -> None:
-    """Rewrite every golden file from the current code."""
+def record(stems: list[str] | None = None) -> None:
+    """Rewrite every golden file from the current code (or only those of the scene files named)."""
     sys.path.insert(0, str(Path(__file__).parent))
     import tempfile
 
@@ -114,10 +114,12 @@ def record() -> None:
     FOLDER.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory() as tmp:
         for path in FILES:
+            if stems and path.stem not in stems:
+                continue
             data = run_coarse(path, Path(tmp))[2]
             golden_path(path).write_text(json.dumps(golden_view(data), indent=1) + "\n", encoding="utf-8")
             print("recorded", golden_path(path).name)
 
 
 if __name__ == "__main__":
-    record()
+    record(sys.argv[1:])

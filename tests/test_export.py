@@ -199,10 +199,11 @@ def test_import_card_on_a_malformed_card_names_the_line_and_exits_2(tmp_path, na
 
 # --- vlab fit --export ---------------------------------------------------------------------------
 def test_fit_export_writes_the_cards_and_lists_them_on_the_fit_page(tmp_path):
-    fit = ROOT / "specimens" / "treloar1944" / "treloar-uniaxial.toml"
+    # all three modes: Ogden-3 on uniaxial data alone leaves constants undetermined (exit 3)
+    fit = ROOT / "specimens" / "treloar1944" / "treloar-all.toml"
     out = tmp_path / "fit"
     res = runner.invoke(app, ["fit", str(fit), "--out", str(out), "--export", "abaqus,ansys,felupe"])
-    assert res.exit_code in (0, 1), res.output
+    assert res.exit_code == 0, res.output
     for name in ("abaqus.inp", "ansys.mac", "felupe.py"):
         assert (out / "cards" / name).is_file()
         assert f"cards/{name}" in (out / "index.html").read_text()

@@ -101,17 +101,22 @@ def test_cli_exit_codes_valid_invalid_and_not_converged(tmp_path):
     assert "NOT converged" in r.stderr and "max_evaluations" in r.stderr
 
 
-def test_cli_ranks_several_models_held_out_error_first(tmp_path):
+def test_cli_ranks_trustworthy_cards_first_on_the_worse_of_fit_and_held_out_error(tmp_path):
     src = Path(__file__).resolve().parents[1] / "specimens" / "treloar1944"
     for f in ("uniaxial.csv", "equibiaxial.csv", "pure_shear.csv"):
         (tmp_path / f).write_text((src / f).read_text())
     trel = tmp_path / "treloar.toml"  # the shipped example with fewer starts, to keep the test fast
     trel.write_text((src / "treloar-uniaxial.toml").read_text().replace("starts = 20", "starts = 4"))
     r = _cli(trel, "--models", "neo-hookean,mooney-rivlin,ogden-3", "--out", tmp_path / "rank", cwd=tmp_path)
-    assert r.returncode == 0, r.stderr
     rows = json.loads((tmp_path / "rank" / "ranking.json").read_text())["ranking"]
-    held = [row["held_out_rms_relative"] for row in rows]
-    assert held == sorted(held) and {row["model"] for row in rows} == {"neo-hookean", "mooney-rivlin", "ogden-3"}
+    assert {row["model"] for row in rows} == {"neo-hookean", "mooney-rivlin", "ogden-3"}
+    trusted = [row["trustworthy"] for row in rows]
+    assert trusted == sorted(trusted, reverse=True) and trusted[0]  # Neo-Hookean's card is usable
+    for group in (True, False):
+        errs = [row["criterion"] for row in rows if row["trustworthy"] is group]
+        assert errs == sorted(errs)
+    assert all(row["criterion"] == max(row["fit_rms_relative"], row["held_out_rms_relative"]) for row in rows)
+    assert r.returncode == 0, r.stderr  # the code of the model ranked first
     for row in rows:
         assert (tmp_path / "rank" / row["model"] / "fit.json").is_file()
     r = _cli(trel, "--models", "neo-hookean,mooney", "--out", tmp_path / "rank2", cwd=tmp_path)

@@ -146,10 +146,11 @@ def test_mixed_is_refused_on_linear_tets_with_the_reason():
 
 def test_the_locking_warning_recommends_the_mixed_formulation():
     raw = _scene()
+    raw["test"]["grips"] = "clamped"  # the roller block's uniform field does not lock (no warning)
     raw["material"]["nu"] = 0.499
     (text,) = _warnings(parse_scene(raw))
     assert 'mesh.formulation = "mixed"' in text and "0.4999" in text
-    assert _warnings(parse_scene(_scene(formulation="mixed") | {"material": raw["material"]})) == []
+    assert _warnings(parse_scene(_scene(formulation="mixed") | {"material": raw["material"], "test": raw["test"]})) == []
     raw["material"]["model"] = "stvk"
     (text,) = _warnings(parse_scene(raw))
     assert "needs material.model in linear, neo-hookean, mooney-rivlin" in text

@@ -28,7 +28,8 @@ def coarse(raw: dict) -> dict:
               "sheet": lambda: spec.size[1],
               "cruciform": lambda: spec.dimensions.gauge_region / 2,
               "planar-tension": lambda: spec.thickness, "shear": lambda: spec.gap,
-              "double-lap": lambda: spec.gap}[spec.shape]()
+              "double-lap": lambda: spec.gap, "cylinder": lambda: spec.radius,
+              "sphere-shell": lambda: spec.thickness}[spec.shape]()
     size = raw["mesh"]["size"]
     if "gauge_size" not in raw["mesh"]:
         overrides["mesh.size"] = max(size, min(2 * size, narrow / 2))
@@ -78,10 +79,20 @@ def test_specimen_file_runs_on_a_coarse_mesh(path, folder):
     if apparent is not None:  # a ramp measures the rate-dependent moduli, which the report states
         E_in, nu_in = apparent["E"], apparent["nu"]
     rel = 0.005 if scene.specimen.shape == "cad" else 0.03  # a CAD dumb-bell: like vlab's own, within 0.5 %
-    if scene.test.kind == "simple-shear":
+    kind = scene.test.kind
+    if kind == "simple-shear":
         # the free ends of the layer carry no shear: the nominal stress over the plate reads G a few % low
         assert measured["G"] == pytest.approx(moduli.mu, rel=0.05)
         assert measured["G_fit"]["r2"] > 0.999
+    elif kind == "torsion":  # G = (dT/dψ) / J_p, the small-twist slope
+        assert measured["G"] == pytest.approx(moduli.mu, rel=rel)
+    elif kind == "confined-compression":  # M = K + 4μ/3 and K from the die's homogeneous state
+        assert measured["constrained_modulus"] == pytest.approx(moduli.K + 4 * moduli.mu / 3, rel=rel)
+        assert measured["bulk_modulus"] == pytest.approx(moduli.K, rel=rel)
+    elif kind == "inflation":  # thick incompressible sphere: dp/dλ_a = 4μ (1 − (A/B)³) at λ_a = 1
+        a, b = scene.specimen.inner_radius, scene.specimen.inner_radius + scene.specimen.thickness
+        assert measured["initial_slope"] == pytest.approx(4 * moduli.mu * (1 - (a / b) ** 3), rel=rel)
+        assert data["reference"]["max_relative_error_pressure"] < 0.01
     else:
         assert measured["E"] == pytest.approx(E_in, rel=rel)
         assert measured["nu"] == pytest.approx(nu_in, rel=rel)

@@ -38,7 +38,8 @@ def _print_fit(console: Console, d: dict) -> None:
 def _print_ranking(console: Console, rows: list[dict]) -> None:
     def pct(v):
         return "—" if v is None else f"{100 * v:.3g} %"
-    console.print("  ranked on the worse of the fit and held-out rms errors (then BIC)", highlight=False)
+    console.print("  trustworthy cards first, each group ranked on the worse of the fit and held-out rms errors "
+                  "(then BIC)", highlight=False)
     for r in rows:
         flags = ("" if r["converged"] else "  NOT converged") + \
             ("" if r["stable_over_fitted_ranges"] else "  unstable in the data ranges") + \

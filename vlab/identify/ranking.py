@@ -4,8 +4,11 @@ The fit error of a model is the mean rms relative error over the data sets with 
 its held-out error the same over those with role = "validate" (predicted, never fitted). The
 criterion is the worse of the two (the fit error alone without held-out data), so a model that
 misses the data it was fitted to cannot rank first on its predictions, nor one that fits but
-predicts badly; ties go to the lower BIC. A model that did not converge, or whose card is not
-Drucker-stable over the fitted ranges, ranks after every one that is.
+predicts badly; ties go to the lower BIC. A model that did not converge ranks after every one
+that did, and a converged card that is not trustworthy (vlab.identify.fitting.trust_of: a constant
+the data leave undetermined or on a bound, a card not Drucker-stable over the fitted ranges, or one
+`vlab run` refuses) after every trustworthy one: such a card is never recommended first while a
+usable one exists.
 """
 
 from __future__ import annotations
@@ -43,8 +46,7 @@ def criterion(d: dict) -> float:
 
 
 def rank_key(d: dict) -> tuple:
-    return (not d["converged"], not d["stability"]["stable_over_all_fitted_ranges"], criterion(d),
-            d["information"]["BIC"])
+    return (not d["converged"], not d["trust"]["trustworthy"], criterion(d), d["information"]["BIC"])
 
 
 def fit_models(spec: FitSpec, names: list[str]) -> list[tuple[str, FitOutcome]]:
@@ -59,7 +61,8 @@ def ranking_rows(ranked) -> list[dict]:
         d = o.data
         rows.append({"rank": i, "model": name, "converged": d["converged"], "held_out_rms_relative":
                      held_out_error(d), "fit_rms_relative": fit_error(d), "criterion": criterion(d),
-                     "trustworthy": d["trust"]["trustworthy"], "fitted_rms_relative": {x["name"]: x["rms_relative"] for x in d["datasets"]},
+                     "trustworthy": d["trust"]["trustworthy"],
+                     "fitted_rms_relative": {x["name"]: x["rms_relative"] for x in d["datasets"]},
                      "BIC": d["information"]["BIC"], "AIC": d["information"]["AIC"],
                      "parameters": d["parameters"], "identifiable": d["identifiability"]["identifiable"],
                      "stable_over_fitted_ranges": d["stability"]["stable_over_all_fitted_ranges"],

@@ -244,7 +244,7 @@ def _warnings(spec, prony, rows, best, names, pairs, starts) -> list[str]:
 
 def fit_records(spec):
     """The FitOutcome of a fit file with records (and/or [model] viscoelastic)."""
-    from vlab.identify.fitting import FitOutcome, _information, _model_record, _stability, _verdict
+    from vlab.identify.fitting import FitOutcome, _information, _model_record, _stability, _verdict, trust_of
     from vlab.identify.records.plots import record_figures
 
     t0 = time.perf_counter()
@@ -298,6 +298,7 @@ def fit_records(spec):
         "options": {"residual": spec.residual, "starts": spec.starts, "seed": spec.seed},
         "timing": {"fit_s": t_fit, "total_s": time.perf_counter() - t0},
     }
+    data["trust"] = trust_of(data)
     records = [d for d in spec.datasets if d.kind in KINDS]
     outcome = FitOutcome(data, hom, x, cov_x, stats["t_quantile"])
     outcome.extras["records"] = (everything, records)
