@@ -112,66 +112,98 @@ class Correlator:
         subsets about one subset apart; IC-GN there; every other subset starts from the affine
         prediction of its nearest converged coarse subset; a subset that fails from there gets
         its own integer search and a second IC-GN."""
-        s = self.settings
+        self._check_match(deformed)
+        shape = (self.ys.size, self.xs.size)
+        run = _Run(self, deformed, guess)
+        coarse = _coarse_subsets(shape, self.settings)
+        run.refine(coarse, run.searched(coarse))
+        good = np.zeros(run.n, bool)
+        good[coarse] = run.status[coarse] == icgn.OK
+        rest = np.setdiff1d(np.arange(run.n), coarse)
+        if good.any() and rest.size:
+            run.refine(rest, _predicted(run.p, good, rest, shape, self.cx, self.cy))
+        elif rest.size:
+            run.refine(rest, run.searched(rest))
+        retry = np.flatnonzero((run.status == icgn.NOT_CONVERGED) | (run.status == icgn.LEFT_IMAGE))
+        retry = retry[~np.isin(retry, coarse)] if good.any() else np.array([], dtype=int)
+        if retry.size:
+            run.refine(retry, run.searched(retry))
+        return self._field(run, shape)
+
+    def _check_match(self, deformed: np.ndarray) -> None:
         if deformed.shape != self.reference.shape:
             raise DICError(f"the deformed image is {deformed.shape[1]} × {deformed.shape[0]} px, the "
                            f"reference {self.reference.shape[1]} × {self.reference.shape[0]} px: they must match")
-        n = self.cx.size
-        shape = (self.ys.size, self.xs.size)
-        gu, gv = np.zeros(n), np.zeros(n)
-        if guess is not None:
-            ok = (guess.status == icgn.OK).ravel()
-            gu[ok], gv[ok] = guess.u.ravel()[ok], guess.v.ravel()[ok]
-        coeffs = icgn.coefficients(deformed, s.interpolation)
-        p = np.zeros((n, 6))
-        zncc, its = np.full(n, np.nan), np.zeros(n, dtype=np.int64)
-        status = np.full(n, icgn.NOT_CONVERGED, dtype=np.int64)
 
-        def run(idx, p0):
-            p[idx], zncc[idx], its[idx], status[idx] = icgn.refine(
-                self.refd, coeffs, p0, idx, s.interpolation, s.tolerance, s.max_iterations, self.compiled)
-
-        def searched(idx):
-            u0, v0, _ = seed.integer_seeds(self.reference, deformed, self.cx[idx], self.cy[idx], s.subset // 2,
-                                           gu[idx], gv[idx], s.search)
-            p0 = np.zeros((idx.size, 6))
-            p0[:, 0], p0[:, 3] = u0, v0
-            return p0
-
-        stride = max(1, int(round(s.subset / s.step)))
-        rows, cols = np.meshgrid(np.arange(shape[0]), np.arange(shape[1]), indexing="ij")
-        coarse_mask = (rows % stride == stride // 2) | (rows == shape[0] - 1)
-        coarse_mask &= (cols % stride == stride // 2) | (cols == shape[1] - 1)
-        coarse = np.flatnonzero(coarse_mask.ravel())
-        run(coarse, searched(coarse))
-        good = np.zeros(n, bool)
-        good[coarse] = status[coarse] == icgn.OK
-        rest = np.setdiff1d(np.arange(n), coarse)
-        if good.any() and rest.size:
-            from scipy import ndimage
-
-            _, (ni, nj) = ndimage.distance_transform_edt(~good.reshape(shape), return_indices=True)
-            near = (ni * shape[1] + nj).ravel()[rest]
-            pn = p[near]
-            dx, dy = (self.cx[rest] - self.cx[near]).astype(float), (self.cy[rest] - self.cy[near]).astype(float)
-            p0 = pn.copy()
-            p0[:, 0] += pn[:, 1] * dx + pn[:, 2] * dy
-            p0[:, 3] += pn[:, 4] * dx + pn[:, 5] * dy
-            run(rest, p0)
-        elif rest.size:
-            run(rest, searched(rest))
-        retry = np.flatnonzero((status == icgn.NOT_CONVERGED) | (status == icgn.LEFT_IMAGE))
-        retry = retry[~np.isin(retry, coarse)] if good.any() else np.array([], dtype=int)
-        if retry.size:
-            run(retry, searched(retry))
-        status[(status == icgn.OK) & ~(zncc >= s.min_zncc)] = icgn.LOW_CORRELATION
-        bad = status != icgn.OK
-        p[bad] = np.nan
+    def _field(self, run: _Run, shape: tuple[int, int]) -> Field:
+        """The Field of a finished run: a converged subset below ``min_zncc`` is refused
+        (LOW_CORRELATION), every refused subset NaN; strains from the strain window."""
+        s, p, status = self.settings, run.p, run.status
+        status[(status == icgn.OK) & ~(run.zncc >= s.min_zncc)] = icgn.LOW_CORRELATION
+        p[status != icgn.OK] = np.nan
         U, V = p[:, 0].reshape(shape), p[:, 3].reshape(shape)
         exx, eyy, exy = strain.strain_window(U, V, s.step, s.strain_window)
         X, Y = self.cx.reshape(shape), self.cy.reshape(shape)
-        return Field(X, Y, U, V, exx, eyy, exy, zncc.reshape(shape), its.reshape(shape),
+        return Field(X, Y, U, V, exx, eyy, exy, run.zncc.reshape(shape), run.its.reshape(shape),
                      status.reshape(shape), p.reshape(*shape, 6))
+
+
+class _Run:
+    """One deformed image's correlation in progress: the affine parameters p (n, 6) of every
+    subset, their ZNCC, iterations and status, and the integer-search guesses (gu, gv)."""
+
+    def __init__(self, correlator: Correlator, deformed: np.ndarray, guess: Field | None):
+        self.c, self.deformed, s = correlator, deformed, correlator.settings
+        self.n = n = correlator.cx.size
+        self.gu, self.gv = np.zeros(n), np.zeros(n)
+        if guess is not None:  # the guess counts only where it converged
+            ok = (guess.status == icgn.OK).ravel()
+            self.gu[ok], self.gv[ok] = guess.u.ravel()[ok], guess.v.ravel()[ok]
+        self.coeffs = icgn.coefficients(deformed, s.interpolation)
+        self.p = np.zeros((n, 6))
+        self.zncc, self.its = np.full(n, np.nan), np.zeros(n, dtype=np.int64)
+        self.status = np.full(n, icgn.NOT_CONVERGED, dtype=np.int64)
+
+    def refine(self, idx: np.ndarray, p0: np.ndarray) -> None:
+        """IC-GN of the subsets idx from p0, their results stored."""
+        c, s = self.c, self.c.settings
+        self.p[idx], self.zncc[idx], self.its[idx], self.status[idx] = icgn.refine(
+            c.refd, self.coeffs, p0, idx, s.interpolation, s.tolerance, s.max_iterations, c.compiled)
+
+    def searched(self, idx: np.ndarray) -> np.ndarray:
+        """Starts p0 of the subsets idx from the integer search about their guesses (gradients 0)."""
+        c, s = self.c, self.c.settings
+        u0, v0, _ = seed.integer_seeds(c.reference, self.deformed, c.cx[idx], c.cy[idx], s.subset // 2,
+                                       self.gu[idx], self.gv[idx], s.search)
+        p0 = np.zeros((idx.size, 6))
+        p0[:, 0], p0[:, 3] = u0, v0
+        return p0
+
+
+def _coarse_subsets(shape: tuple[int, int], s: Settings) -> np.ndarray:
+    """Flat indices of the coarse grid: every ``stride`` ≈ subset/step grid points from stride//2,
+    plus the last row and column (so the coarse grid reaches every edge)."""
+    stride = max(1, int(round(s.subset / s.step)))
+    rows, cols = np.meshgrid(np.arange(shape[0]), np.arange(shape[1]), indexing="ij")
+    mask = (rows % stride == stride // 2) | (rows == shape[0] - 1)
+    mask &= (cols % stride == stride // 2) | (cols == shape[1] - 1)
+    return np.flatnonzero(mask.ravel())
+
+
+def _predicted(p: np.ndarray, good: np.ndarray, rest: np.ndarray, shape: tuple[int, int], cx, cy) -> np.ndarray:
+    """Starts of the subsets ``rest`` from the nearest converged (``good``) subset n, carried
+    affinely over the centre offset (dx, dy): u0 = u + u_x dx + u_y dy, v0 = v + v_x dx + v_y dy,
+    the gradients kept (p = [u, u_x, u_y, v, v_x, v_y])."""
+    from scipy import ndimage
+
+    _, (ni, nj) = ndimage.distance_transform_edt(~good.reshape(shape), return_indices=True)
+    near = (ni * shape[1] + nj).ravel()[rest]
+    pn = p[near]
+    dx, dy = (cx[rest] - cx[near]).astype(float), (cy[rest] - cy[near]).astype(float)
+    p0 = pn.copy()
+    p0[:, 0] += pn[:, 1] * dx + pn[:, 2] * dy
+    p0[:, 3] += pn[:, 4] * dx + pn[:, 5] * dy
+    return p0
 
 
 def settings_dict(settings: Settings) -> dict:

@@ -107,15 +107,7 @@ def _need(el, keys, where: str, kind: str) -> list[float]:
 def read(text: str, where: str, units) -> ExportCard:
     from vlab.export.card import card_from_table, material_table
 
-    try:
-        root = ET.fromstring(text)
-    except ET.ParseError as exc:
-        raise CardFormatError(f"{where}, line {exc.position[0]}: not well-formed XML ({exc})") from None
-    el = root if root.tag == "material" else root.find(".//material")
-    if el is None:
-        raise CardFormatError(f"{where}: no <material> element")
-    at = text.find("<material")
-    where = f"{where}, line {text.count(chr(10), 0, max(at, 0)) + 1} (<material>)"
+    el, where = _material_element(text, where)
     kind = el.get("type", "")
     if kind not in _TYPES:
         raise CardFormatError(f"{where}: FEBio material type {kind!r} is not read by vlab (allowed: {', '.join(_TYPES)})")
@@ -126,28 +118,49 @@ def read(text: str, where: str, units) -> ExportCard:
         base = ExportCard(model, {"mu": mu, "lambda": lm}, None, None)
     else:
         (k,) = _need(el, ("k",), where, kind)
-        if model == "mooney-rivlin":
-            c1, c2 = _need(el, ("c1", "c2"), where, kind)
-            params = {"C10": c1 / s, "C01": c2 / s}
-        elif model == "yeoh":
-            c = [(_value(el, f"c{i}", where) or 0.0) / s for i in range(1, 7)]
-            if any(c[3:]):
-                raise CardFormatError(f"{where}: FEBio Yeoh with c4 … c6 ≠ 0: vlab's Yeoh has three terms")
-            params = {"C10": c[0], "C20": c[1], "C30": c[2]}
-        elif model == "gent":
-            G, Jm = _need(el, ("G", "Jm"), where, kind)
-            params = {"mu": G / s, "Jm": Jm}
-        else:
-            c = [_value(el, f"c{i}", where) for i in range(1, 7)]
-            mm = [_value(el, f"m{i}", where) for i in range(1, 7)]
-            terms = [(ci, mi) for ci, mi in zip(c, mm) if ci not in (None, 0.0)]
-            if not terms or any(mi in (None, 0.0) for _, mi in terms):
-                raise CardFormatError(f"{where}: FEBio Ogden needs c_i with a nonzero m_i for each term")
-            params = {"mu": tuple(ci / 2.0 / s for ci, _ in terms), "alpha": tuple(mi for _, mi in terms)}
-        base = ExportCard(model, params, k / s, "log")
+        base = ExportCard(model, _uncoupled_params(el, model, where, kind, s), k / s, "log")
     rho = _value(el, "density", where)
     base = ExportCard(base.model, base.params, base.K, base.volumetric, None if rho is None else rho / units.density)
     return card_from_table(material_table(base), where, name=el.get("name") or "vlab", source=Source("import", where))
+
+
+def _material_element(text: str, where: str):
+    """(the first <material> element, ``where`` with its line) of an FEBio file."""
+    try:
+        root = ET.fromstring(text)
+    except ET.ParseError as exc:
+        raise CardFormatError(f"{where}, line {exc.position[0]}: not well-formed XML ({exc})") from None
+    el = root if root.tag == "material" else root.find(".//material")
+    if el is None:
+        raise CardFormatError(f"{where}: no <material> element")
+    at = text.find("<material")
+    return el, f"{where}, line {text.count(chr(10), 0, max(at, 0)) + 1} (<material>)"
+
+
+def _uncoupled_params(el, model: str, where: str, kind: str, s: float) -> dict:
+    """vlab's constants of an uncoupled FEBio material (the inverse of _params; stress / s)."""
+    if model == "mooney-rivlin":
+        c1, c2 = _need(el, ("c1", "c2"), where, kind)
+        return {"C10": c1 / s, "C01": c2 / s}
+    if model == "yeoh":
+        c = [(_value(el, f"c{i}", where) or 0.0) / s for i in range(1, 7)]
+        if any(c[3:]):
+            raise CardFormatError(f"{where}: FEBio Yeoh with c4 … c6 ≠ 0: vlab's Yeoh has three terms")
+        return {"C10": c[0], "C20": c[1], "C30": c[2]}
+    if model == "gent":
+        G, Jm = _need(el, ("G", "Jm"), where, kind)
+        return {"mu": G / s, "Jm": Jm}
+    return _ogden_params(el, where, s)
+
+
+def _ogden_params(el, where: str, s: float) -> dict:
+    """μᵢ = cᵢ/2, αᵢ = mᵢ of the terms with cᵢ ≠ 0 (each needs mᵢ ≠ 0)."""
+    c = [_value(el, f"c{i}", where) for i in range(1, 7)]
+    mm = [_value(el, f"m{i}", where) for i in range(1, 7)]
+    terms = [(ci, mi) for ci, mi in zip(c, mm) if ci not in (None, 0.0)]
+    if not terms or any(mi in (None, 0.0) for _, mi in terms):
+        raise CardFormatError(f"{where}: FEBio Ogden needs c_i with a nonzero m_i for each term")
+    return {"mu": tuple(ci / 2.0 / s for ci, _ in terms), "alpha": tuple(mi for _, mi in terms)}
 
 
 FEBIO = Exporter("febio", "febio.feb", "", MAPPINGS, write, read, notes=NOTES, doc=__doc__)

@@ -135,6 +135,11 @@ def _find(text: str, where: str):
     raise CardFormatError(f"{where}: no *MAT_HYPERELASTIC_RUBBER or *MAT_OGDEN_RUBBER keyword")
 
 
+_OGDEN_NOTE = ("LS-DYNA's *MAT_OGDEN_RUBBER has U = K (J − 1 − ln J), which vlab does not have: the card keeps K "
+               "with vlab's quadratic U, so it equals the LS-DYNA card in every incompressible state and in "
+               "its initial bulk modulus, not in a finite volume change")
+
+
 def read(text: str, where: str, units) -> ExportCard:
     from vlab.export.card import card_from_table, material_table
 
@@ -142,7 +147,20 @@ def read(text: str, where: str, units) -> ExportCard:
     need = 3 if kind == "O" else 2
     if len(cards) < need:
         raise CardFormatError(f"{where}, line {n}: the keyword needs {need} data cards (with N = 0), got {len(cards)}")
-    (l1, c1) = cards[0]
+    rho, nu = _first_card(cards[0], where)
+    if kind == "O":
+        model, params, mu0 = _ogden_params(cards[1], cards[2], where, units.stress)
+    else:
+        model, params, mu0 = _rubber_params(cards[1], where, units.stress)
+    note = _OGDEN_NOTE if kind == "O" else None
+    base = ExportCard(model, params, bulk_of(nu, mu0), "quadratic", rho / units.density if rho > 0 else None)
+    return card_from_table(material_table(base), where, stand_in=kind == "O",
+                           source=Source("import", where, note=note))
+
+
+def _first_card(card, where: str) -> tuple[float, float]:
+    """(RO, PR) of card 1 (MID, RO, PR, N, …); N must be 0 and PR in (−1, 0.5)."""
+    l1, c1 = card
     c1 = c1 + [""] * 8
     rho, nu, N = _num(c1[1], l1, where), _num(c1[2], l1, where, 0.0), _num(c1[3], l1, where)
     if N != 0:
@@ -150,36 +168,33 @@ def read(text: str, where: str, units) -> ExportCard:
                               "vlab reads given constants only (N = 0)")
     if not -1.0 < nu < 0.5:
         raise CardFormatError(f"{where}, line {l1}: PR = {nu:g} must be in (−1, 0.5) for a compressible card")
-    s = units.stress
-    if kind == "O":
-        (lm, mu_f), (la, al_f) = cards[1], cards[2]
-        mu_ls = [_num(x, lm, where) for x in mu_f if x]
-        alpha = [_num(x, la, where) for x in al_f if x]
-        terms = [(m, a) for m, a in zip(mu_ls + [0.0] * 8, alpha + [0.0] * 8) if m != 0.0 or a != 0.0]
-        if not terms or len(mu_ls) != len(alpha) or any(a == 0.0 for _, a in terms):
-            raise CardFormatError(f"{where}, line {lm}: MU and ALPHA need the same number of terms, each α ≠ 0 "
-                                  f"(got {len(mu_ls)} μ and {len(alpha)} α)")
-        params = {"mu": tuple(m * a / 2.0 / s for m, a in terms), "alpha": tuple(a for _, a in terms)}
-        model, mu0 = "ogden", sum(params["mu"])
-    else:
-        lc, cf = cards[1]
-        c = [_num(x, lc, where) / s for x in (cf + [""] * 6)[:6]]
-        C10, C01, C11, C20, C02, C30 = c
-        if C11 or C02 or (C01 and (C20 or C30)):
-            raise CardFormatError(f"{where}, line {lc}: C11, C02 or C01 with C20/C30: not a vlab model "
-                                  "(Mooney–Rivlin: C10, C01; Yeoh: C10, C20, C30)")
-        model = "yeoh" if (C20 or C30) else "mooney-rivlin"
-        params = {"C10": C10, "C20": C20, "C30": C30} if model == "yeoh" else {"C10": C10, "C01": C01}
-        mu0 = 2.0 * (C10 + C01)
-    K = bulk_of(nu, mu0)
-    note = None
-    if kind == "O":
-        note = ("LS-DYNA's *MAT_OGDEN_RUBBER has U = K (J − 1 − ln J), which vlab does not have: the card keeps K "
-                "with vlab's quadratic U, so it equals the LS-DYNA card in every incompressible state and in "
-                "its initial bulk modulus, not in a finite volume change")
-    base = ExportCard(model, params, K, "quadratic", rho / units.density if rho > 0 else None)
-    return card_from_table(material_table(base), where, stand_in=kind == "O",
-                           source=Source("import", where, note=note))
+    return rho, nu
+
+
+def _ogden_params(mu_card, alpha_card, where: str, s: float):
+    """("ogden", params, μ0) of cards 2 and 3 (MU1 …, ALPHA1 …): μ(vlab) = μ(LS-DYNA) α/2."""
+    (lm, mu_f), (la, al_f) = mu_card, alpha_card
+    mu_ls = [_num(x, lm, where) for x in mu_f if x]
+    alpha = [_num(x, la, where) for x in al_f if x]
+    terms = [(m, a) for m, a in zip(mu_ls + [0.0] * 8, alpha + [0.0] * 8) if m != 0.0 or a != 0.0]
+    if not terms or len(mu_ls) != len(alpha) or any(a == 0.0 for _, a in terms):
+        raise CardFormatError(f"{where}, line {lm}: MU and ALPHA need the same number of terms, each α ≠ 0 "
+                              f"(got {len(mu_ls)} μ and {len(alpha)} α)")
+    params = {"mu": tuple(m * a / 2.0 / s for m, a in terms), "alpha": tuple(a for _, a in terms)}
+    return "ogden", params, sum(params["mu"])
+
+
+def _rubber_params(card, where: str, s: float):
+    """(model, params, μ0 = 2 (C10 + C01)) of card 2 (C10, C01, C11, C20, C02, C30): Yeoh when C20
+    or C30 is given, else Mooney–Rivlin; C11, C02 or C01 with C20/C30 are refused."""
+    lc, cf = card
+    C10, C01, C11, C20, C02, C30 = [_num(x, lc, where) / s for x in (cf + [""] * 6)[:6]]
+    if C11 or C02 or (C01 and (C20 or C30)):
+        raise CardFormatError(f"{where}, line {lc}: C11, C02 or C01 with C20/C30: not a vlab model "
+                              "(Mooney–Rivlin: C10, C01; Yeoh: C10, C20, C30)")
+    model = "yeoh" if (C20 or C30) else "mooney-rivlin"
+    params = {"C10": C10, "C20": C20, "C30": C30} if model == "yeoh" else {"C10": C10, "C01": C01}
+    return model, params, 2.0 * (C10 + C01)
 
 
 LSDYNA = Exporter("lsdyna", "lsdyna.k", "$", MAPPINGS, write, read, notes=NOTES, doc=__doc__)

@@ -71,44 +71,61 @@ def fit_command(path: Path, out: Path | None, models: str | None, console: Conso
     """``execution`` (vlab.study.sweep.Execution, from --workers/--scheduler): the FE-in-the-loop
     solves on Dask; refused (exit 2) for a fit without a specimen data set. ``export``: solvers
     (--export) whose cards go to OUT/cards/ (vlab.export), checked before the fit starts."""
-    from vlab.identify.fitfile import load_fit, parse_model_name
     from vlab.report.folder import ReportFolderError
     from vlab.study.scheduler import SchedulerError
 
     try:
-        spec = load_fit(path)
-        names = None
-        if models is not None:
-            names = [m.strip() for m in models.split(",") if m.strip()]
-            if not names:
-                raise SceneError("--models must list at least one model, e.g. mooney-rivlin,ogden-3")
-            for n in names:
-                parse_model_name(n, "--models")
-        if names and any(d.kind in ("relaxation", "dma") for d in spec.datasets):
-            raise SceneError("--models ranks equilibrium fits; a fit file with relaxation or DMA records is fitted "
-                             "with its own [model] (leave out --models)")
-        targets = _export_targets(spec, export, names)
-        if execution is not None and spec.fe is None:
-            raise SceneError("--workers/--scheduler run the whole-test solves of an FE-in-the-loop fit; this fit "
-                             "file has no data set of kind = \"specimen\"")
+        spec, names, targets = _checked_fit(path, models, execution, export)
     except SceneError as exc:
-        console.print(Text.assemble(("invalid fit file", "red"), f" {exc}"), highlight=False, soft_wrap=True)
-        return 2
+        return _refused(console, "invalid fit file", exc)
     text = Path(path).read_text(encoding="utf-8")
     try:
         dest = _destination(out or Path("reports") / f"{spec.name}-fit", force, spec, path)
     except ReportFolderError as exc:
-        console.print(Text.assemble(("invalid output folder", "red"), f" {exc}"), highlight=False, soft_wrap=True)
-        return 2
-    out = dest.path
+        return _refused(console, "invalid output folder", exc)
     try:
-        return _fit_and_write(spec, names, dest, out, text, console, execution, targets)
+        return _fit_and_write(spec, names, dest, dest.path, text, console, execution, targets)
     except SchedulerError as exc:
-        console.print(Text.assemble(("invalid option", "red"), f" {exc}"), highlight=False, soft_wrap=True)
-        return 2
+        return _refused(console, "invalid option", exc)
     except ReportFolderError as exc:
-        console.print(Text.assemble(("cannot write report", "red"), f" {exc}"), highlight=False, soft_wrap=True)
-        return 2
+        return _refused(console, "cannot write report", exc)
+
+
+def _refused(console: Console, what: str, exc: Exception) -> int:
+    """Print what was refused (red) and why; the exit code of invalid input (2)."""
+    console.print(Text.assemble((what, "red"), f" {exc}"), highlight=False, soft_wrap=True)
+    return 2
+
+
+def _checked_fit(path: Path, models: str | None, execution, export: str | None):
+    """(spec, the --models names or None, the --export targets) of a fit file and the options,
+    each checked before anything is fitted; SceneError names what is refused."""
+    from vlab.identify.fitfile import load_fit
+
+    spec = load_fit(path)
+    names = _model_names(models)
+    if names and any(d.kind in ("relaxation", "dma") for d in spec.datasets):
+        raise SceneError("--models ranks equilibrium fits; a fit file with relaxation or DMA records is fitted "
+                         "with its own [model] (leave out --models)")
+    targets = _export_targets(spec, export, names)
+    if execution is not None and spec.fe is None:
+        raise SceneError("--workers/--scheduler run the whole-test solves of an FE-in-the-loop fit; this fit "
+                         "file has no data set of kind = \"specimen\"")
+    return spec, names, targets
+
+
+def _model_names(models: str | None) -> list[str] | None:
+    """The model names of --models (comma-separated, each one vlab fits), None without it."""
+    from vlab.identify.fitfile import parse_model_name
+
+    if models is None:
+        return None
+    names = [m.strip() for m in models.split(",") if m.strip()]
+    if not names:
+        raise SceneError("--models must list at least one model, e.g. mooney-rivlin,ogden-3")
+    for n in names:
+        parse_model_name(n, "--models")
+    return names
 
 
 def _export_targets(spec, export: str | None, names) -> list[str]:
@@ -139,8 +156,7 @@ def _fit_and_write(spec, names, dest, out: Path, text: str, console: Console, ex
     try:
         outcome = fit_any(spec, execution)
     except SceneError as exc:  # found while fitting (e.g. the scene's test does not cover the data)
-        console.print(Text.assemble(("invalid fit file", "red"), f" {exc}"), highlight=False, soft_wrap=True)
-        return 2
+        return _refused(console, "invalid fit file", exc)
     if targets:
         from vlab.export.command import fit_card_writer
 

@@ -210,17 +210,11 @@ def _fit_specimen(spec, run, t0):
     datasets = [_dataset_errors(sim, d) for d in spec.datasets if d.kind == "specimen"]
     data = {
         "name": spec.name, "converged": bool(converged), "reason": reason,
-        "model": {"name": model.law.model, "terms": model.law.terms, "bulk": "fit" if "K" in names else "fixed",
-                  "K": values["K"], "volumetric": spec.fe.get("volumetric") or "vlab neo-hookean",
-                  "mu0": model.law.mu0([values[n] for n in model.law.names])},
+        "model": _model_entry(spec, model, values, names),
         "parameters": {n: float(v) for n, v in zip(names, p)}, "uncertainty": stats["uncertainty"],
         "confidence": spec.confidence, "correlation": stats["correlation"], "datasets": datasets,
         "information": _information(r, len(p), s2, dof),
-        "starts": {"count": 1, "reached_best": 1, "agree": True, "others_objective_ratio": None,
-                   "note": "FE-in-the-loop fits start once, from fe.start"},
-        "identifiability": {"identifiable": not stats["correlated_pairs"] and not reasons and cond <= unc.COND_LIMIT,
-                            "condition_number": cond, "correlated_pairs": stats["correlated_pairs"],
-                            "not_determined": reasons},
+        "starts": _one_start(), "identifiability": _identifiability(stats, reasons, cond),
         "stability": _specimen_stability(model, x, spec),
         "card": card_of(model, model.card_vector(x), None if "K" in names else "K held at the scene's value"),
         "fe": _fe_record(spec, prob, run, trail, _homogeneous_comparison(spec, sim, p, se, names)),
@@ -232,6 +226,25 @@ def _fit_specimen(spec, run, t0):
     outcome = FitOutcome(data, dataclasses.replace(spec, model=model), x, cov_x, stats["t_quantile"])
     _attach_figure(outcome, lambda path: _plot(spec, sim, J, cov, stats["t_quantile"], path))
     return outcome
+
+
+def _model_entry(spec, model: Constitutive, values: dict, names) -> dict:
+    """fit.json's model entry: the law, its terms, the bulk term (fitted or the scene's K), μ0."""
+    return {"name": model.law.model, "terms": model.law.terms, "bulk": "fit" if "K" in names else "fixed",
+            "K": values["K"], "volumetric": spec.fe.get("volumetric") or "vlab neo-hookean",
+            "mu0": model.law.mu0([values[n] for n in model.law.names])}
+
+
+def _one_start() -> dict:
+    """fit.json's starts entry of an FE-in-the-loop fit (one start, from fe.start)."""
+    return {"count": 1, "reached_best": 1, "agree": True, "others_objective_ratio": None,
+            "note": "FE-in-the-loop fits start once, from fe.start"}
+
+
+def _identifiability(stats: dict, reasons, cond: float) -> dict:
+    """Identifiable: no correlated pair, no undetermined constant, κ(J, unit-norm columns) ≤ unc.COND_LIMIT."""
+    return {"identifiable": not stats["correlated_pairs"] and not reasons and cond <= unc.COND_LIMIT,
+            "condition_number": cond, "correlated_pairs": stats["correlated_pairs"], "not_determined": reasons}
 
 
 def _attach_figure(outcome, writer) -> None:

@@ -69,66 +69,92 @@ def _main_panel(ax, datas: list[dict], kind) -> None:
 
 
 def _side_panel(ax, datas: list[dict], kind) -> None:
+    """The kind's side quantity (module docstring) for every model, labelled."""
+    draw = _SIDE_CURVES.get(kind.name, _shear_side)
     for d in datas:
-        c, curve = colour(d["input"]["model"]), d["curve"]
-        if kind.name == "planar":
-            ax.plot(np.r_[1.0, curve["stretch"]],
-                    _with_origin(curve["thickness_strain"]), "-o", ms=2.5, color=c, label=f"{d['input']['model']} thickness")
-            ax.plot(np.r_[1.0, curve["stretch"]], _with_origin(curve["transverse_strain"]), ":", color=c,
-                    label=f"{d['input']['model']} transverse (held)")
-        elif kind.name == "torsion":
-            free = d["scene"]["source"]["test"].get("axial") == "free"
-            ax.plot(_with_origin(curve["twist"]), np.r_[1.0 if free else 0.0,
-                                                       curve["axial_stretch" if free else "axial_force"]],
-                    "-o", ms=2.5, color=c, label=f"{d['input']['model']} {'axial stretch' if free else 'N'} (FE)")
-        elif kind.name == "inflation":
-            ax.plot(np.r_[1.0, curve["stretch"]], np.r_[1.0, curve["outer_stretch"]], "-o", ms=2.5, color=c,
-                    label=f"{d['input']['model']} λ_b (FE)")
-            limit = (d.get("measured") or {}).get("limit_point")
-            if limit:
-                left = ax.figure.axes[0]
-                left.plot([limit["stretch"]], [limit["pressure"]], "v", ms=8, color=c, zorder=5,
-                          label=f"limit point λ_a = {limit['stretch']:.4g}")
-                left.legend(fontsize=7)
-        elif kind.name == "confined-compression":
-            if curve.get("pressure"):
-                ax.plot(np.r_[1.0, curve["volume_ratio"]], _with_origin(curve["pressure"]), "-o", ms=2.5,
-                        color=c, label=f"{d['input']['model']} p (FE)")
-            ref = d.get("reference") or {}
-            if ref.get("pressure"):
-                ax.plot(np.r_[1.0, ref["volume_ratio"]], _with_origin(ref["pressure"]), "--", color="0.15", lw=0.9)
-        elif "centre_cauchy_xx" in curve:
-            N1 = np.asarray(curve["centre_cauchy_xx"]) - np.asarray(curve["centre_cauchy_yy"])
-            ax.plot(_with_origin(curve["shear_gauge"]), _with_origin(N1), "-o", ms=2.5, color=c,
-                    label=f"{d['input']['model']} N₁ (FE centre)")
-    if kind.name == "planar":
-        ax.set_xlabel("grip stretch λ [–]")
-        ax.set_ylabel("strain at the gauge centre [–]")
-        ax.set_title("Thickness and transverse strain", fontsize=10)
-    elif kind.name == "torsion":
-        free = datas[0]["scene"]["source"]["test"].get("axial") == "free"
-        ax.set_xlabel("twist ψ [rad/mm]")
-        ax.set_ylabel("axial stretch [–]" if free else "axial force N [N]")
-        ax.set_title("Poynting effect: " + ("the free end lengthens" if free else "axial force, length held"),
-                     fontsize=10)
-    elif kind.name == "inflation":
-        ax.set_xlabel("inner hoop stretch λ_a [–]")
-        ax.set_ylabel("outer hoop stretch λ_b [–]")
-        ax.set_title("Wall thinning: outer against inner stretch", fontsize=10)
-    elif kind.name == "confined-compression":
-        ax.set_xlabel("volume ratio J = V/V₀ [–]")
-        ax.set_ylabel("pressure p = −tr σ/3 [MPa]")
-        ax.set_title("Pressure against volume (bulk modulus)", fontsize=10)
-    else:
-        ax.set_xlabel("shear strain γ [–] (gauge marks)")
-        ax.set_ylabel("N₁ = σ₁₁ − σ₂₂ [MPa]")
-        ax.set_title("Normal-stress difference (Poynting)", fontsize=10)
+        draw(ax, d, colour(d["input"]["model"]), d["curve"])
+    xlabel, ylabel, title = _side_labels(datas, kind)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title, fontsize=10)
     ax.grid(alpha=0.3)
     if ax.get_legend_handles_labels()[0]:
         ax.legend(fontsize=7)
     elif kind.name == "simple-shear":  # a history material ([effects]) records no FE centre stress
         ax.text(0.5, 0.5, "no FE centre stress recorded\n(history-dependent material: [effects])",
                 ha="center", va="center", transform=ax.transAxes, fontsize=8, color="0.4")
+
+
+def _free_end(d: dict) -> bool:
+    """Whether a torsion test leaves the axial end free (else the length is held)."""
+    return d["scene"]["source"]["test"].get("axial") == "free"
+
+
+def _planar_side(ax, d: dict, c, curve: dict) -> None:
+    """Thickness and (held) transverse strain at the gauge centre against the grip stretch."""
+    ax.plot(np.r_[1.0, curve["stretch"]],
+            _with_origin(curve["thickness_strain"]), "-o", ms=2.5, color=c, label=f"{d['input']['model']} thickness")
+    ax.plot(np.r_[1.0, curve["stretch"]], _with_origin(curve["transverse_strain"]), ":", color=c,
+            label=f"{d['input']['model']} transverse (held)")
+
+
+def _torsion_side(ax, d: dict, c, curve: dict) -> None:
+    """The axial stretch (free end, from 1) or the axial force N (length held, from 0) against ψ."""
+    free = _free_end(d)
+    ax.plot(_with_origin(curve["twist"]), np.r_[1.0 if free else 0.0,
+                                               curve["axial_stretch" if free else "axial_force"]],
+            "-o", ms=2.5, color=c, label=f"{d['input']['model']} {'axial stretch' if free else 'N'} (FE)")
+
+
+def _inflation_side(ax, d: dict, c, curve: dict) -> None:
+    """λ_b against λ_a; the pressure maximum (measured.limit_point) marked on the main panel."""
+    ax.plot(np.r_[1.0, curve["stretch"]], np.r_[1.0, curve["outer_stretch"]], "-o", ms=2.5, color=c,
+            label=f"{d['input']['model']} λ_b (FE)")
+    limit = (d.get("measured") or {}).get("limit_point")
+    if limit:
+        left = ax.figure.axes[0]
+        left.plot([limit["stretch"]], [limit["pressure"]], "v", ms=8, color=c, zorder=5,
+                  label=f"limit point λ_a = {limit['stretch']:.4g}")
+        left.legend(fontsize=7)
+
+
+def _confined_side(ax, d: dict, c, curve: dict) -> None:
+    """The pressure p against J (FE, and the homogeneous reference dashed where there is one)."""
+    if curve.get("pressure"):
+        ax.plot(np.r_[1.0, curve["volume_ratio"]], _with_origin(curve["pressure"]), "-o", ms=2.5,
+                color=c, label=f"{d['input']['model']} p (FE)")
+    ref = d.get("reference") or {}
+    if ref.get("pressure"):
+        ax.plot(np.r_[1.0, ref["volume_ratio"]], _with_origin(ref["pressure"]), "--", color="0.15", lw=0.9)
+
+
+def _shear_side(ax, d: dict, c, curve: dict) -> None:
+    """N₁ = σ₁₁ − σ₂₂ of the FE centre average against the gauge-mark γ (where it was recorded)."""
+    if "centre_cauchy_xx" in curve:
+        N1 = np.asarray(curve["centre_cauchy_xx"]) - np.asarray(curve["centre_cauchy_yy"])
+        ax.plot(_with_origin(curve["shear_gauge"]), _with_origin(N1), "-o", ms=2.5, color=c,
+                label=f"{d['input']['model']} N₁ (FE centre)")
+
+
+_SIDE_CURVES = {"planar": _planar_side, "torsion": _torsion_side, "inflation": _inflation_side,
+                "confined-compression": _confined_side}
+_SIDE_LABELS = {
+    "planar": ("grip stretch λ [–]", "strain at the gauge centre [–]", "Thickness and transverse strain"),
+    "inflation": ("inner hoop stretch λ_a [–]", "outer hoop stretch λ_b [–]",
+                  "Wall thinning: outer against inner stretch"),
+    "confined-compression": ("volume ratio J = V/V₀ [–]", "pressure p = −tr σ/3 [MPa]",
+                             "Pressure against volume (bulk modulus)"),
+    "simple-shear": ("shear strain γ [–] (gauge marks)", "N₁ = σ₁₁ − σ₂₂ [MPa]", "Normal-stress difference (Poynting)"),
+}
+
+
+def _side_labels(datas: list[dict], kind) -> tuple[str, str, str]:
+    """(x label, y label, title) of the side panel (torsion's depend on its axial end)."""
+    if kind.name == "torsion":
+        free = _free_end(datas[0])
+        return ("twist ψ [rad/mm]", "axial stretch [–]" if free else "axial force N [N]",
+                "Poynting effect: " + ("the free end lengthens" if free else "axial force, length held"))
+    return _SIDE_LABELS.get(kind.name, _SIDE_LABELS["simple-shear"])
 
 
 def plot_kind(datas: list[dict], path: Path) -> None:

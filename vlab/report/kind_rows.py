@@ -20,52 +20,73 @@ def _f(value, digits: int = 5) -> str:
 def kind_rows(models: list[dict]) -> list[tuple[str, list[str]]]:
     """The table rows of what planar, simple-shear, confined-compression and torsion tests measure
     (none for other kinds)."""
-    kind = kind_of_data(models[0])
+    rows = _ROWS.get(kind_of_data(models[0]).name)
+    return rows(models) if rows else []
 
-    def final(d, key):
-        return ((d.get("homogeneity") or {}).get("final") or {}).get(key)
 
-    if kind.name == "planar":
-        return [
-            ("planar modulus measured / E/(1−ν²) input [MPa]",
-             [f"{_f(d['measured'].get('planar_modulus'))} / {_f(d['input']['E'] / (1 - d['input']['nu'] ** 2))}"
-              for d in models]),
-            ("distance from pure shear at the end (max |ε_yy| / ε_xx, gauge centre)",
-             [_f(final(d, "distance_from_pure_shear"), 3) for d in models]),
-            ("nominal stress / pure-shear stress at the end", [_f(final(d, "nominal_over_pure_shear"), 4) for d in models]),
-        ]
-    if kind.name == "simple-shear":
-        return [
-            ("G measured (gauge marks) / μ input [MPa]", [f"{_f(d['measured'].get('G'))} / {_f(d['input']['mu'])}"
-                                                          for d in models]),
-            ("G from plate travel [MPa]", [_f(d["measured"].get("G_plate")) for d in models]),
-            ("G fit R²", [_f((d["measured"].get("G_fit") or {}).get("r2"), 8) for d in models]),
-            ("normal stress σ_n at the largest |γ| [MPa]", [_f(d["measured"].get("normal_stress_at_peak")) for d in models]),
-            ("N₁ = σ₁₁ − σ₂₂ at the largest |γ| (FE centre) [MPa]",
-             [_f(d["measured"].get("normal_stress_difference")) for d in models]),
-            ("distance from simple shear at the end (centre)", [_f(final(d, "distance_from_simple_shear"), 3) for d in models]),
-            ("centre / nominal shear stress at the end", [_f(final(d, "centre_over_nominal"), 4) for d in models]),
-        ]
-    if kind.name == "confined-compression":
-        return [
-            ("bulk modulus K measured / input [MPa]",
-             [f"{_f(d['measured'].get('bulk_modulus'))} / {_f(d['input'].get('K'))}" for d in models]),
-            ("constrained modulus M = K + 4G/3 measured / input [MPa]",
-             [f"{_f(d['measured'].get('constrained_modulus'))} / {_f(d['input'].get('M'))}" for d in models]),
-            ("G, E, ν derived from M and K", [f"{_f(d['measured'].get('G_derived'))}, {_f(d['measured'].get('E_derived'))}, "
-                                             f"{_f(d['measured'].get('nu_derived'), 4)}" for d in models]),
-            ("volume ratio J and pressure p at the end [–, MPa]",
-             [f"{_f(d['measured'].get('volume_ratio_at_end'))}, {_f(d['measured'].get('pressure_at_end'))}"
-              for d in models]),
-        ]
-    if kind.name == "torsion":
-        return [
-            ("G from the torsional stiffness / μ input [MPa]",
-             [f"{_f(d['measured'].get('G'))} / {_f(d['input'].get('mu'))}" for d in models]),
-            ("torque at the end [N·mm]", [_f(d["measured"].get("torque_at_end")) for d in models]),
-            ("axial force at the end [N] (length held; Poynting: < 0)",
-             [_f(d["measured"].get("axial_force_at_end")) for d in models]),
-            ("axial stretch at the end (free end: > 1)", [_f(d["measured"].get("axial_stretch_at_end"), 7)
-                                                          for d in models]),
-        ]
-    return []
+def _final(d: dict, key: str):
+    """The homogeneity measure ``key`` at the last level (None where not recorded)."""
+    return ((d.get("homogeneity") or {}).get("final") or {}).get(key)
+
+
+def _planar_rows(models: list[dict]) -> list[tuple[str, list[str]]]:
+    """Planar tension: the planar modulus against E/(1 − ν²), the distance from pure shear and the
+    nominal over the pure-shear stress at the end."""
+    return [
+        ("planar modulus measured / E/(1−ν²) input [MPa]",
+         [f"{_f(d['measured'].get('planar_modulus'))} / {_f(d['input']['E'] / (1 - d['input']['nu'] ** 2))}"
+          for d in models]),
+        ("distance from pure shear at the end (max |ε_yy| / ε_xx, gauge centre)",
+         [_f(_final(d, "distance_from_pure_shear"), 3) for d in models]),
+        ("nominal stress / pure-shear stress at the end", [_f(_final(d, "nominal_over_pure_shear"), 4) for d in models]),
+    ]
+
+
+def _shear_rows(models: list[dict]) -> list[tuple[str, list[str]]]:
+    """Simple shear: G (gauge marks, plate travel, fit R²), the normal stress and N₁ at the largest
+    |γ|, the distance from simple shear and the centre over the nominal shear stress at the end."""
+    return [
+        ("G measured (gauge marks) / μ input [MPa]", [f"{_f(d['measured'].get('G'))} / {_f(d['input']['mu'])}"
+                                                      for d in models]),
+        ("G from plate travel [MPa]", [_f(d["measured"].get("G_plate")) for d in models]),
+        ("G fit R²", [_f((d["measured"].get("G_fit") or {}).get("r2"), 8) for d in models]),
+        ("normal stress σ_n at the largest |γ| [MPa]", [_f(d["measured"].get("normal_stress_at_peak")) for d in models]),
+        ("N₁ = σ₁₁ − σ₂₂ at the largest |γ| (FE centre) [MPa]",
+         [_f(d["measured"].get("normal_stress_difference")) for d in models]),
+        ("distance from simple shear at the end (centre)", [_f(_final(d, "distance_from_simple_shear"), 3) for d in models]),
+        ("centre / nominal shear stress at the end", [_f(_final(d, "centre_over_nominal"), 4) for d in models]),
+    ]
+
+
+def _confined_rows(models: list[dict]) -> list[tuple[str, list[str]]]:
+    """Confined compression: K and M = K + 4G/3 against the input, G, E, ν derived from them, J and
+    p at the end."""
+    return [
+        ("bulk modulus K measured / input [MPa]",
+         [f"{_f(d['measured'].get('bulk_modulus'))} / {_f(d['input'].get('K'))}" for d in models]),
+        ("constrained modulus M = K + 4G/3 measured / input [MPa]",
+         [f"{_f(d['measured'].get('constrained_modulus'))} / {_f(d['input'].get('M'))}" for d in models]),
+        ("G, E, ν derived from M and K", [f"{_f(d['measured'].get('G_derived'))}, {_f(d['measured'].get('E_derived'))}, "
+                                         f"{_f(d['measured'].get('nu_derived'), 4)}" for d in models]),
+        ("volume ratio J and pressure p at the end [–, MPa]",
+         [f"{_f(d['measured'].get('volume_ratio_at_end'))}, {_f(d['measured'].get('pressure_at_end'))}"
+          for d in models]),
+    ]
+
+
+def _torsion_rows(models: list[dict]) -> list[tuple[str, list[str]]]:
+    """Torsion: G from the torsional stiffness against μ, the torque, axial force and axial stretch
+    at the end."""
+    return [
+        ("G from the torsional stiffness / μ input [MPa]",
+         [f"{_f(d['measured'].get('G'))} / {_f(d['input'].get('mu'))}" for d in models]),
+        ("torque at the end [N·mm]", [_f(d["measured"].get("torque_at_end")) for d in models]),
+        ("axial force at the end [N] (length held; Poynting: < 0)",
+         [_f(d["measured"].get("axial_force_at_end")) for d in models]),
+        ("axial stretch at the end (free end: > 1)", [_f(d["measured"].get("axial_stretch_at_end"), 7)
+                                                      for d in models]),
+    ]
+
+
+_ROWS = {"planar": _planar_rows, "simple-shear": _shear_rows, "confined-compression": _confined_rows,
+         "torsion": _torsion_rows}

@@ -128,6 +128,31 @@ def _material(t: Table, scene) -> list[Source]:
     return out
 
 
+def _micrometer(t: Table, nominal: dict) -> tuple[float | None, list[Source]]:
+    """(the micrometer's resolution, the rectangular sources of reading width and thickness with
+    it: half-width resolution / 2), none without a micrometer."""
+    micrometer = t.number("micrometer", None, gt=0, note=" (mm, resolution)")
+    out = []
+    if micrometer is not None:
+        for k in ("width", "thickness"):
+            if micrometer >= nominal[k]:
+                raise SceneError(f"{t.field('micrometer')} = {micrometer:g} mm is not smaller than the {k} "
+                                 f"({nominal[k]:g} mm)")
+            out.append(Source(f"micrometer reading of the {k}", f"micrometer_{k}", "rectangular", micrometer / 2,
+                              "mm", "resolution / 2 (GUM F.2.2.1)"))
+    return micrometer, out
+
+
+def _window(t: Table, scene) -> list[Source]:
+    """The rectangular shift of the modulus window (strain), below the window's start; none at 0."""
+    shift = t.number("window_shift", 0.0, ge=0, note=" (strain)")
+    lo = scene.measure.modulus_window[0]
+    if shift >= lo and shift > 0:
+        raise SceneError(f"{t.field('window_shift')} = {shift:g} must be below the window's start "
+                         f"measure.modulus_window[0] = {lo:g} (the shifted window must stay at strain >= 0)")
+    return [Source("modulus window position", "window", "rectangular", shift, "strain", "scene")] if shift > 0 else []
+
+
 def parse_uncertainty(raw, scene) -> UncertaintySpec:
     """The validated [uncertainty] table of a parsed scene (raw: the table's dict)."""
     t = Table("uncertainty", raw, KEYS)
@@ -138,14 +163,8 @@ def parse_uncertainty(raw, scene) -> UncertaintySpec:
     tol = standard_tolerances(standard) if standard else {}
     src = [s for s in (_dimension(t, k, nominal[k], tol.get(k) if k != "gauge_length" else None, dist, standard)
                        for k in ("width", "thickness", "gauge_length")) if s is not None]
-    micrometer = t.number("micrometer", None, gt=0, note=" (mm, resolution)")
-    if micrometer is not None:
-        for k in ("width", "thickness"):
-            if micrometer >= nominal[k]:
-                raise SceneError(f"{t.field('micrometer')} = {micrometer:g} mm is not smaller than the {k} "
-                                 f"({nominal[k]:g} mm)")
-            src.append(Source(f"micrometer reading of the {k}", f"micrometer_{k}", "rectangular", micrometer / 2,
-                              "mm", "resolution / 2 (GUM F.2.2.1)"))
+    micrometer, readings = _micrometer(t, nominal)
+    src += readings
     lc_class, lc = _class(t, "load_cell_class", LOAD_CELL, "ISO 7500-1")
     ex_class, ex = _class(t, "extensometer_class", EXTENSOMETER, "ISO 9513")
     if lc is not None:
@@ -158,14 +177,7 @@ def parse_uncertainty(raw, scene) -> UncertaintySpec:
     resolution = t.get("resolution", True)
     if not isinstance(resolution, bool):
         raise SceneError(f"{t.field('resolution')} must be true or false, got {fields.show(resolution)}")
-    shift = t.number("window_shift", 0.0, ge=0, note=" (strain)")
-    lo = scene.measure.modulus_window[0]
-    if shift >= lo and shift > 0:
-        raise SceneError(f"{t.field('window_shift')} = {shift:g} must be below the window's start "
-                         f"measure.modulus_window[0] = {lo:g} (the shifted window must stay at strain >= 0)")
-    if shift > 0:
-        src.append(Source("modulus window position", "window", "rectangular", shift, "strain", "scene"))
-    src += _material(t, scene)
+    src += _window(t, scene) + _material(t, scene)
     return UncertaintySpec(samples, seed, tuple(src), nominal,
                            None if lc is None else lc | {"class": lc_class},
                            None if ex is None else ex | {"class": ex_class}, resolution, micrometer)

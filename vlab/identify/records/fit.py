@@ -245,18 +245,12 @@ def _warnings(spec, prony, rows, best, names, pairs, starts) -> list[str]:
 def fit_records(spec):
     """The FitOutcome of a fit file with records (and/or [model] viscoelastic)."""
     from vlab.identify.fitting import FitOutcome, _information, _model_record, _stability, _verdict, trust_of
-    from vlab.identify.records.plots import record_figures
 
     t0 = time.perf_counter()
     model, effects = spec.model, spec.effects
-    prony, mullins = effects.get("viscoelastic"), effects.get("mullins")
     fit_sets = [d for d in spec.datasets if d.role == "fit"]
     obj = RecordObjective(model, effects, fit_sets, spec.residual)
-    window = _time_window(fit_sets) if prony is not None else (1.0, 1.0)
-    rng = np.random.default_rng(spec.seed)
-    scale, i1 = _scale(fit_sets), _i1(fit_sets)
-    results = sorted((_one_start(obj, *_start(rng, model, effects, scale, i1, window), spec.max_evaluations)
-                      for _ in range(spec.starts)), key=lambda r: r.cost)
+    results = _run_starts(spec, obj, fit_sets)
     t_fit = time.perf_counter() - t0
     best = results[0]
     x = best.x
@@ -272,6 +266,40 @@ def fit_records(spec):
     starts = summarize_starts(results, _Flat(T))
     everything = RecordObjective(model, effects, spec.datasets, spec.residual)
     rows = [_errors(everything, x, d) for d in spec.datasets]
+    params, tables = _card_entries(model, effects, values)
+    hom = dataclasses.replace(spec, datasets=tuple(d for d in spec.datasets if d.kind not in KINDS))
+    data = {
+        "name": spec.name, "converged": bool(converged), "reason": reason,
+        "model": _model_record(model, mu0) | _effects_record(effects),
+        "parameters": params, "uncertainty": stats["uncertainty"], "confidence": spec.confidence,
+        "correlation": stats["correlation"], "datasets": rows,
+        "information": _information(r, len(x), s2, dof), "starts": starts,
+        "identifiability": _identifiability(stats, cond),
+        "stability": _stability(model, x, hom), "card": _card(model, values[:n], tables),
+        "warnings": _warnings(spec, effects.get("viscoelastic"), rows, best, names, stats["correlated_pairs"], starts),
+        "options": {"residual": spec.residual, "starts": spec.starts, "seed": spec.seed},
+        "timing": {"fit_s": t_fit, "total_s": time.perf_counter() - t0},
+    }
+    data["trust"] = trust_of(data)
+    return _with_figures(FitOutcome(data, hom, x, cov_x, stats["t_quantile"]), everything, spec)
+
+
+def _run_starts(spec, obj: RecordObjective, fit_sets) -> list:
+    """The StartResult of every start (spec.starts of them, drawn in turn from default_rng(spec.seed)),
+    the lowest cost first."""
+    model, effects = spec.model, spec.effects
+    window = _time_window(fit_sets) if effects.get("viscoelastic") is not None else (1.0, 1.0)
+    rng = np.random.default_rng(spec.seed)
+    scale, i1 = _scale(fit_sets), _i1(fit_sets)
+    return sorted((_one_start(obj, *_start(rng, model, effects, scale, i1, window), spec.max_evaluations)
+                   for _ in range(spec.starts)), key=lambda r: r.cost)
+
+
+def _card_entries(model, effects: dict, values) -> tuple[dict, dict]:
+    """(fit.json's parameters: the law's card constants, then Prony β and τ, then Mullins r, m and
+    mullins_beta; the [effects.*] tables of the card) of the fitted card values."""
+    prony, mullins = effects.get("viscoelastic"), effects.get("mullins")
+    n = len(model.law.names)
     pv = _prony_values(prony, values)
     params = {k: v for k, v in model.law.card(values[:n]).items() if k != "model"}
     if prony is not None:
@@ -281,26 +309,27 @@ def fit_records(spec):
         params |= {"r": mv["r"], "m": mv["m"], "mullins_beta": mv["beta"]}
     tables = ({"viscoelastic": {"tau": list(pv["tau"]), "beta": list(pv["beta"])}} if prony is not None else {}) | (
         {"mullins": mv} if mullins is not None else {})
-    hom = dataclasses.replace(spec, datasets=tuple(d for d in spec.datasets if d.kind not in KINDS))
-    data = {
-        "name": spec.name, "converged": bool(converged), "reason": reason,
-        "model": _model_record(model, mu0) | {
-            "viscoelastic": None if prony is None else {"terms": prony.terms, "tau_fixed": prony.tau},
-            "mullins": None if mullins is None else {"beta_fixed": mullins.beta}},
-        "parameters": params, "uncertainty": stats["uncertainty"], "confidence": spec.confidence,
-        "correlation": stats["correlation"], "datasets": rows,
-        "information": _information(r, len(x), s2, dof), "starts": starts,
-        "identifiability": {"identifiable": bool(not stats["correlated_pairs"] and cond <= unc.COND_LIMIT),
-                            "condition_number": cond, "correlated_pairs": stats["correlated_pairs"],
-                            "warning": None},
-        "stability": _stability(model, x, hom), "card": _card(model, values[:n], tables),
-        "warnings": _warnings(spec, prony, rows, best, names, stats["correlated_pairs"], starts),
-        "options": {"residual": spec.residual, "starts": spec.starts, "seed": spec.seed},
-        "timing": {"fit_s": t_fit, "total_s": time.perf_counter() - t0},
-    }
-    data["trust"] = trust_of(data)
+    return params, tables
+
+
+def _effects_record(effects: dict) -> dict:
+    """fit.json's model entries of the effects: the Prony terms (and fixed τ), the fixed Mullins β."""
+    prony, mullins = effects.get("viscoelastic"), effects.get("mullins")
+    return {"viscoelastic": None if prony is None else {"terms": prony.terms, "tau_fixed": prony.tau},
+            "mullins": None if mullins is None else {"beta_fixed": mullins.beta}}
+
+
+def _identifiability(stats: dict, cond: float) -> dict:
+    """Identifiable: no correlated pair and κ(J, unit-norm columns) ≤ unc.COND_LIMIT."""
+    return {"identifiable": bool(not stats["correlated_pairs"] and cond <= unc.COND_LIMIT),
+            "condition_number": cond, "correlated_pairs": stats["correlated_pairs"], "warning": None}
+
+
+def _with_figures(outcome, everything: RecordObjective, spec):
+    """The outcome with its records (the objective over every data set) and their figures."""
+    from vlab.identify.records.plots import record_figures
+
     records = [d for d in spec.datasets if d.kind in KINDS]
-    outcome = FitOutcome(data, hom, x, cov_x, stats["t_quantile"])
     outcome.extras["records"] = (everything, records)
     outcome.extras["figures"], outcome.extras["writers"] = record_figures(outcome, everything, records)
     return outcome

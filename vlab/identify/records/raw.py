@@ -178,55 +178,79 @@ def _toe(u, F, window: int):
 
 
 def clean(u, F, L0: float, A0: float, opts: dict, fname: str, wanted: dict, lines):
-    """(λ, P MPa, record) of displacements u (mm) and forces F (N) after the clean-up in opts."""
+    """(λ, P MPa, record) of displacements u (mm) and forces F (N) after the clean-up in opts:
+    zero, then λ = 1 + u/L0 and P = F/A0, then trim, resample and smooth (module docstring)."""
     steps = []
-    u, F = np.array(u, float), np.array(F, float)
-    if opts["zero"] == "first":
-        steps.append({"step": "zero", "method": "first", "displacement_offset_mm": float(u[0]),
-                      "force_offset_N": float(F[0])})
-        u, F = u - u[0], F - F[0]
-    elif opts["zero"] == "toe":
-        f0 = float(F[0])
-        F = F - f0
-        found = _toe(u, F, opts["toe_window"])
-        if found is None:
-            raise SceneError(f"{fname} column {wanted['force']!r}: zero = \"toe\" found no rising straight part "
-                             "(the force never increases with displacement)")
-        u0, s, k = found
-        keep = u > u0
-        steps.append({"step": "zero", "method": "toe", "force_offset_N": f0, "toe_end_mm": float(u0),
-                      "toe_extent_mm": float(u0 - u[0]), "slope_N_per_mm": s,
-                      "line_rows": [int(lines[k]), int(lines[min(k + opts["toe_window"], len(lines)) - 1])],
-                      "points_removed": int(np.sum(~keep))})
-        u, F = np.r_[0.0, u[keep] - u0], np.r_[0.0, F[keep]]
-    else:
-        u = u - u[0]  # the stretch counts from the first reading (no force correction)
+    u, F = _zeroed(np.array(u, float), np.array(F, float), opts, fname, wanted, lines, steps)
     lam, P = 1.0 + u / L0, F / A0
     if opts["trim"] is not None:
-        lo, hi = opts["trim"]
-        keep = (lam >= lo) & (lam <= hi)
-        steps.append({"step": "trim", "range": [lo, hi], "points_removed": int(np.sum(~keep)),
-                      "points_kept": int(np.sum(keep))})
-        lam, P = lam[keep], P[keep]
-        if len(lam) < 3:
-            raise SceneError(f"{fname}: trim = [{lo:g}, {hi:g}] keeps {len(lam)} points (stretch of the record "
-                             f"{float(np.min(1 + u / L0)):g} … {float(np.max(1 + u / L0)):g}); at least 3 are needed")
+        lam, P = _trimmed(lam, P, opts["trim"], fname, steps)
     if opts["resample"] is not None:
-        n = opts["resample"]
-        grid = np.linspace(lam[0], lam[-1], n)
-        steps.append({"step": "resample", "points_before": int(len(lam)), "points": n,
-                      "spacing": float(grid[1] - grid[0])})
-        lam, P = grid, np.interp(grid, lam, P)
+        lam, P = _resampled(lam, P, opts["resample"], steps)
     if opts["smooth"] != "none":
-        from scipy.signal import savgol_filter
-
-        w = opts["smooth"]
-        if w > len(P):
-            raise SceneError(f"{fname}: smooth = {w} is longer than the {len(P)} points left after the clean-up")
-        Ps = savgol_filter(P, w, 3, mode="interp")
-        steps.append({"step": "smooth", "method": "savitzky-golay", "window": w, "order": 3,
-                      "largest_change_MPa": float(np.max(np.abs(Ps - P)))})
-        P = Ps
+        P = _smoothed(P, opts["smooth"], fname, steps)
     if np.any(lam <= 0):
         raise SceneError(f"{fname}: a displacement below -gauge_length gives a stretch ≤ 0")
     return lam, P, {"steps": steps, "points": int(len(lam))}
+
+
+def _zeroed(u, F, opts: dict, fname: str, wanted: dict, lines, steps: list):
+    """(u, F) after opts["zero"]: "first" subtracts the first row, "toe" compensates the toe,
+    "none" only counts u from the first reading; the step is appended to ``steps``."""
+    if opts["zero"] == "first":
+        steps.append({"step": "zero", "method": "first", "displacement_offset_mm": float(u[0]),
+                      "force_offset_N": float(F[0])})
+        return u - u[0], F - F[0]
+    if opts["zero"] == "toe":
+        return _toe_zeroed(u, F, opts["toe_window"], fname, wanted, lines, steps)
+    return u - u[0], F  # the stretch counts from the first reading (no force correction)
+
+
+def _toe_zeroed(u, F, window: int, fname: str, wanted: dict, lines, steps: list):
+    """Toe compensation: F − F₀, then u − u0 with u0 the zero-force intercept of the steepest
+    line (_toe), the toe (u ≤ u0) dropped and (0, 0) put first."""
+    f0 = float(F[0])
+    F = F - f0
+    found = _toe(u, F, window)
+    if found is None:
+        raise SceneError(f"{fname} column {wanted['force']!r}: zero = \"toe\" found no rising straight part "
+                         "(the force never increases with displacement)")
+    u0, s, k = found
+    keep = u > u0
+    steps.append({"step": "zero", "method": "toe", "force_offset_N": f0, "toe_end_mm": float(u0),
+                  "toe_extent_mm": float(u0 - u[0]), "slope_N_per_mm": s,
+                  "line_rows": [int(lines[k]), int(lines[min(k + window, len(lines)) - 1])],
+                  "points_removed": int(np.sum(~keep))})
+    return np.r_[0.0, u[keep] - u0], np.r_[0.0, F[keep]]
+
+
+def _trimmed(lam, P, trim, fname: str, steps: list):
+    """The points with lo ≤ λ ≤ hi (at least 3 must be left)."""
+    lo, hi = trim
+    keep = (lam >= lo) & (lam <= hi)
+    steps.append({"step": "trim", "range": [lo, hi], "points_removed": int(np.sum(~keep)),
+                  "points_kept": int(np.sum(keep))})
+    if np.sum(keep) < 3:
+        raise SceneError(f"{fname}: trim = [{lo:g}, {hi:g}] keeps {int(np.sum(keep))} points (stretch of the record "
+                         f"{float(np.min(lam)):g} … {float(np.max(lam)):g}); at least 3 are needed")
+    return lam[keep], P[keep]
+
+
+def _resampled(lam, P, n: int, steps: list):
+    """n points evenly spaced in λ over the kept range, P linearly interpolated."""
+    grid = np.linspace(lam[0], lam[-1], n)
+    steps.append({"step": "resample", "points_before": int(len(lam)), "points": n,
+                  "spacing": float(grid[1] - grid[0])})
+    return grid, np.interp(grid, lam, P)
+
+
+def _smoothed(P, w: int, fname: str, steps: list):
+    """P through a Savitzky–Golay filter (window w, order 3, "interp" ends)."""
+    from scipy.signal import savgol_filter
+
+    if w > len(P):
+        raise SceneError(f"{fname}: smooth = {w} is longer than the {len(P)} points left after the clean-up")
+    Ps = savgol_filter(P, w, 3, mode="interp")
+    steps.append({"step": "smooth", "method": "savitzky-golay", "window": w, "order": 3,
+                  "largest_change_MPa": float(np.max(np.abs(Ps - P)))})
+    return Ps
