@@ -15,8 +15,8 @@ from rich.console import Console
 from rich.table import Table
 from rich.text import Text
 
-from vlab.cli_io import (EXIT_FAILED, EXIT_INVALID, EXIT_OK, cache_folder, console, fail, report_destination,
-                         say, scheduler_address)
+from vlab.cli_io import (EXIT_FAILED, EXIT_INVALID, EXIT_OK, cache_folder, console, fail, local_workers,
+                         report_destination, say, scheduler_address)
 from vlab.moduli import ModuliError, from_pair
 from vlab.scene import SceneError, load_scene_text
 
@@ -29,6 +29,8 @@ FORCE = typer.Option(False, "--force", help=FORCE_HELP)
 QUIET = typer.Option(False, "--quiet", "-q", help="No progress output.")
 TRUE_MEASURES = typer.Option(False, "--true", help="Plot true instead of engineering stress and strain.")
 FIELD = typer.Option("von-mises", "--field", help="Render colouring: von-mises, max-stretch or J.")
+WORKERS_HELP = ("Worker processes of the local Dask cluster (default 2, at most the cores); not with "
+                "--scheduler.")
 SINGLE_FILE = typer.Option(False, "--single-file", help="Inline the images in index.html.")
 
 
@@ -173,8 +175,7 @@ def fit(fitfile: Path = typer.Argument(..., help="Fit file (TOML): data sets, mo
     """Fit a material card to measured curves: parameters with intervals, stability, the card (fit.json, index.html)."""
     from vlab.identify.command import fit_command
 
-    scheduler = scheduler_address(scheduler)
-    execution = _execution(workers or 1, scheduler) if workers or scheduler else None
+    execution = _execution(workers, scheduler, default=None)
     raise typer.Exit(fit_command(fitfile, out, models, console, force, execution, export))
 
 
@@ -191,14 +192,17 @@ def _print_estimate(est: Optional[dict]) -> None:
 
 
 def _print_summary(data: dict) -> None:
-    m = data["measured"]
+    from vlab.report.kind_rows import kind_of_data
+
+    m, kind = data["measured"], kind_of_data(data)
+    key = kind.load_key  # the control the test drives: stretch, shear or twist
     if data["converged"]:
         say(("completed", "green"), f" in {data['timing']['total_s']:.2f} s, "
             f"{sum(data['solver']['newton_iterations'])} Newton iterations, {data['mesh']['dofs']} DOFs")
     else:
         f = data["failure"]
-        say(("test stopped", "red"), f" at step {f['step']}, stretch {f['stretch']}: {f['reason']}; "
-            f"last converged stretch {f['last_converged_stretch']}; "
+        say(("test stopped", "red"), f" at step {f['step']}, {key} {f['stretch']}: {f['reason']}; "
+            f"last converged {key} {f['last_converged_stretch']}; "
             f"residual history {[f'{r:.2e}' for r in f['residual_history']]}")
     if m["E"] is not None:
         say(f"measured E = {m['E']:.6g} MPa, nu = {m['nu']:.6g} "
@@ -207,8 +211,10 @@ def _print_summary(data: dict) -> None:
 
         for key, note in by_design_notes(data).items():  # a difference by design, said where it shows
             say(f"  {key}: {note}")
-    else:
+    elif kind.measures_E:
         say(f"E and nu {m['note']}")
+    else:  # the kind's own sentence: "G not measured: …", "simple shear: E and nu are not measured; …"
+        say(m["note"])
 
 
 @app.command()
@@ -319,7 +325,7 @@ def compare(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (
     chosen = _checked_models(models, parsed, gif)
     options = _report_options(true, field, single_file, gif, render)
     dest = report_destination(out or Path("reports") / f"{parsed.name}-compare", force, scene or None)  # not the run's
-    outcomes = _compared(parsed, chosen, workers, quiet)
+    outcomes = _compared(parsed, chosen, local_workers(workers, None, default=None), quiet)
     _write(write_report, outcomes, dest, parsed, text, options)
     for outcome in outcomes:
         if not quiet:
@@ -359,10 +365,17 @@ def _compared(parsed, chosen: list[str], workers: Optional[int], quiet: bool) ->
 
 # --- studies over many runs: sweep (parameter grid) and cost (accuracy against time) -----------
 
-def _execution(workers: int, scheduler: Optional[str]):
+def _execution(workers: Optional[int], scheduler: Optional[str], default: Optional[int] = 2):
+    """Where the runs execute (vlab.study.sweep.Execution): a local cluster of --workers processes
+    (else ``default``; capped at the cores) or the --scheduler (checked); None when neither is
+    given and ``default`` is None. Both given: exit 2 (vlab.cli_io.local_workers)."""
     from vlab.study.sweep import Execution
 
-    return Execution(workers=workers, scheduler=scheduler)
+    scheduler = scheduler_address(scheduler)
+    n = local_workers(workers, scheduler, default)
+    if scheduler is None and n is None:
+        return None
+    return Execution(workers=n or 1, scheduler=scheduler)
 
 
 def _sweep_with_progress(points, knobs, cache_dir: Path, execution, quiet: bool, what: str):
@@ -405,7 +418,7 @@ def sweep(scene: Path = typer.Argument(..., help="Scene TOML file."),
           sets: list[str] = typer.Option(..., "--set", help="Grid axis section.key=v1,v2,... (repeatable)."),
           out: Optional[Path] = typer.Option(None, "--out", "-o", help="Output folder (default reports/<name>-sweep)."),
           cache: Path = typer.Option(Path("reports") / ".cache", "--cache", help="Cache folder of run summaries."),
-          workers: int = typer.Option(2, "--workers", "-j", min=1, help="Worker processes of the local Dask cluster."),
+          workers: Optional[int] = typer.Option(None, "--workers", "-j", min=1, help=WORKERS_HELP),
           scheduler: Optional[str] = typer.Option(None, "--scheduler",
                                                   help="Use an existing Dask cluster, e.g. tcp://HOST:8786."),
           quiet: bool = QUIET,
@@ -416,13 +429,14 @@ def sweep(scene: Path = typer.Argument(..., help="Scene TOML file."),
     from vlab.study.table import write_sweep_report
 
     parsed, _ = _load(scene)
+    execution = _execution(workers, scheduler)
     try:
         points = expand_grid(parsed.source, [parse_axis(s) for s in sets], parsed.base_dir)
     except SceneError as exc:
         fail("invalid option", exc)
-    cache, scheduler = cache_folder(cache), scheduler_address(scheduler)
+    cache = cache_folder(cache)
     dest = report_destination(out or Path("reports") / f"{parsed.name}-sweep", force, scene, [cache])
-    outcome = _sweep_with_progress(points, RunKnobs(), cache, _execution(workers, scheduler), quiet, "sweep")
+    outcome = _sweep_with_progress(points, RunKnobs(), cache, execution, quiet, "sweep")
     meta = {"scene": str(scene), "grid": sets, "cache_hits": outcome.cache_hits, "computed": outcome.computed,
             "seconds": outcome.seconds}
     index = _write(write_sweep_report, dest, f"{parsed.name}: sweep", outcome.summaries, meta)
@@ -465,7 +479,7 @@ def cost(scene: Path = typer.Argument(..., help="Scene TOML file."),
                                    "gmsh-tet: a dogbone's tetrahedra from Gmsh (the cad extra)."),
          out: Optional[Path] = typer.Option(None, "--out", "-o", help="Output folder (default reports/<name>-cost)."),
          cache: Path = typer.Option(Path("reports") / ".cache", "--cache", help="Cache folder of run summaries."),
-         workers: int = typer.Option(2, "--workers", "-j", min=1, help="Worker processes of the local Dask cluster."),
+         workers: Optional[int] = typer.Option(None, "--workers", "-j", min=1, help=WORKERS_HELP),
          scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Existing Dask cluster tcp://HOST:PORT."),
          render: bool = typer.Option(False, "--render/--no-render", help="Time the 3D renders in each run's report."),
          quiet: bool = QUIET,
@@ -476,14 +490,14 @@ def cost(scene: Path = typer.Argument(..., help="Scene TOML file."),
     from vlab.study.summary import RunKnobs
 
     parsed, _ = _load(scene)
+    execution = _execution(workers, scheduler)
     options = _cost_options(scene, parsed, levels, ratio, target, orders, cells)
     points = knob_points(parsed, options)
     if fixed_mesh_note(parsed) is not None and not quiet:
         say(fixed_mesh_note(parsed))
-    cache, scheduler = cache_folder(cache), scheduler_address(scheduler)
+    cache = cache_folder(cache)
     dest = report_destination(out or Path("reports") / f"{parsed.name}-cost", force, scene, [cache])
-    outcome = _sweep_with_progress(points, RunKnobs(time_report=True, render=render), cache,
-                                   _execution(workers, scheduler), quiet, "cost")
+    outcome = _sweep_with_progress(points, RunKnobs(time_report=True, render=render), cache, execution, quiet, "cost")
     analysis = analyse(parsed, outcome.summaries, options)
     memory = next((s["memory"]["method"] for s in outcome.summaries if s.get("memory")), "")
     meta = {"scene": str(scene), "target": options.target, "levels": levels, "ratio": ratio,
@@ -618,7 +632,7 @@ def design(fitfile: Path = typer.Argument(..., help="Fit file (TOML) of homogene
 def budget(scene: Path = typer.Argument(..., help="Scene TOML file (a uniaxial block or dogbone; [uncertainty] table)."),
            samples: Optional[int] = typer.Option(None, "--samples", help="Monte Carlo samples (default: "
                                                  "uncertainty.samples, else 200)."),
-           workers: int = typer.Option(2, "--workers", "-j", min=1, help="Worker processes of the local Dask cluster."),
+           workers: Optional[int] = typer.Option(None, "--workers", "-j", min=1, help=WORKERS_HELP),
            scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Existing Dask cluster tcp://HOST:PORT."),
            out: Optional[Path] = typer.Option(None, "--out", "-o", help="Output folder (default reports/<name>-budget)."),
            cache: Path = typer.Option(Path("reports") / ".cache", "--cache", help="Cache folder of run summaries."),

@@ -7,6 +7,7 @@ labels are ``rich.text.Text`` spans, not markup strings.
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 from typing import Iterable, Optional
 
@@ -65,3 +66,33 @@ def scheduler_address(address: Optional[str]) -> Optional[str]:
     except SchedulerError as exc:
         fail("invalid option", exc)
     return address
+
+
+def usable_cores() -> int:
+    """The cores this process may run on (its CPU affinity where the OS has one, else all)."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except (AttributeError, OSError):
+        return max(1, os.cpu_count() or 1)
+
+
+def local_workers(workers: Optional[int], scheduler: Optional[str], default: Optional[int] = 2) -> Optional[int]:
+    """The worker processes of the local Dask cluster: ``--workers`` (else ``default``) capped at
+    usable_cores(), said on the console when --workers asked for more: one-thread workers beyond
+    the cores only compete for them, and dozens of them on a small machine time out starting
+    (Dask tracebacks, no run done). None with ``--scheduler``: an existing cluster's workers are
+    its own, so ``--workers`` beside it is an error (exit 2 naming both)."""
+    if scheduler is not None:
+        if workers is not None:
+            fail("invalid option", f"--workers {workers} and --scheduler {scheduler} exclude each other: "
+                                   f"--workers starts a local Dask cluster of that many processes, --scheduler "
+                                   f"uses an existing cluster with its own workers; give one of them")
+        return None
+    cores = usable_cores()
+    if workers is None:
+        return None if default is None else min(default, cores)
+    if workers > cores:
+        say(f"--workers {workers}: capped at {cores}, the cores this machine gives vlab (one single-thread "
+            f"worker process per core; more would only compete for them)")
+        return cores
+    return workers

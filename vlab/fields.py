@@ -30,12 +30,37 @@ def suggest(word: str, options) -> str:
     return f" — did you mean {close[0]!r}?" if close else ""
 
 
+SHOWN_ITEMS = 5    # the items of an array (keys of a table) an error echoes before "…"
+SHOWN_CHARS = 60   # the characters of a string it echoes
+SHOWN_DEPTH = 3    # nested arrays and tables shown to this depth
+
+
+def _brief(v: Any, depth: int = 0) -> str:
+    """repr(v), abbreviated: an error quotes enough of a value to recognise it, never a
+    1000-item array, a 100 kB string or a 500-deep nesting whole."""
+    if isinstance(v, list):
+        if depth >= SHOWN_DEPTH:
+            return "[…]"
+        text = ", ".join(_brief(x, depth + 1) for x in v[:SHOWN_ITEMS])
+        return "[" + text + (f", … ({len(v)} items)" if len(v) > SHOWN_ITEMS else "") + "]"
+    if isinstance(v, dict):
+        if depth >= SHOWN_DEPTH:
+            return "{…}"
+        pairs = list(v.items())[:SHOWN_ITEMS]
+        text = ", ".join(f"{_brief(k, depth + 1)}: {_brief(x, depth + 1)}" for k, x in pairs)
+        return "{" + text + (f", … ({len(v)} keys)" if len(v) > SHOWN_ITEMS else "") + "}"
+    if isinstance(v, str) and len(v) > SHOWN_CHARS:
+        return repr(v[:SHOWN_CHARS]) + f"… ({len(v)} characters)"
+    return repr(v)
+
+
 def show(v: Any) -> str:
-    """An input value as written, with its TOML type where the type is the error."""
+    """An input value as written (abbreviated: _brief), with its TOML type where the type is the
+    error."""
     kind = {bool: "boolean", str: "string", list: "array", dict: "table"}.get(type(v))
     if isinstance(v, bool):
         return f"{str(v).lower()} (boolean)"
-    return f"{v!r} ({kind})" if kind else f"{v:g}" if isinstance(v, (int, float)) else repr(v)
+    return f"{_brief(v)} ({kind})" if kind else f"{v:g}" if isinstance(v, (int, float)) else _brief(v)
 
 
 def bounds(gt=None, ge=None, lt=None, le=None) -> str:

@@ -234,6 +234,7 @@ class StabilityMonitor:
             load - last.path_load < -LIMIT_TOL * abs(last.path_load)
 
     def _fmt(self, values: list[float]) -> str:
+        """The control values named by the kind: "stretch 1.2", "shear 0.5", "twist 0.1 rad/mm"."""
         return self.kind.describe(values)
 
     def _previous_stretch(self) -> str:
@@ -243,15 +244,15 @@ class StabilityMonitor:
         c = self.critical
         if c is not None and c.is_buckling:
             lo, hi = c.strain_bracket()
-            return (f"no stable state beyond {self.kind.load_key} {self._previous_stretch()}: buckling — loss of "
-                    f"stability between grip strain {lo:.4g} and {hi:.4g} ({self.kind.load_key} "
+            return (f"no stable state beyond {self._previous_stretch()}: buckling — loss of "
+                    f"stability between grip strain {lo:.4g} and {hi:.4g} ("
                     f"{self._fmt(r.stretch)}: {r.negative_eigenvalues} negative eigenvalue(s); the mode moves "
                     f"whole cross-sections sideways, lateral fraction {c.lateral_fraction:.2f}); set "
                     f"test.imperfection to follow the post-buckled path")
         what = (f"{r.negative_eigenvalues} negative eigenvalue(s)" if r.negative_eigenvalues
                 else f"{r.zero_eigenvalues} zero eigenvalue(s)")
-        return (f"no stable state beyond {self.kind.load_key} {self._previous_stretch()}: loss of stability "
-                f"at {self.kind.load_key} {self._fmt(r.stretch)} — the tangent on the free DOFs has {what}, so the "
+        return (f"no stable state beyond {self._previous_stretch()}: loss of stability "
+                f"at {self._fmt(r.stretch)} — the tangent on the free DOFs has {what}, so the "
                 f"converged state is not an energy minimum ({self.model}; {self._kind(c)}"
                 f"{self._yield_note()})")
 
@@ -285,9 +286,9 @@ class StabilityMonitor:
         measured = (f"the path stiffness dQ/dt = vᵀKv = {r.path_stiffness:.4g} N·mm ≤ 0"
                     if r.path_stiffness is not None and r.path_stiffness <= 0.0 else
                     f"Q fell from {last.path_load:.6g} to {r.path_load:.6g} N·mm")
-        return (f"load limit point beyond {self.kind.load_key} {self._previous_stretch()}: the grip load along the "
+        return (f"load limit point beyond {self._previous_stretch()}: the grip load along the "
                 f"prescribed path (Q = ûᵀf, the work-conjugate of the grip travel) no longer rises at "
-                f"{self.kind.load_key} {self._fmt(r.stretch)}: {measured}{advice}")
+                f"{self._fmt(r.stretch)}: {measured}{advice}")
 
 
 def _plastic_strain(body, ev: Evaluation) -> float | None:

@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from vlab.fields import SceneError, suggest
+from vlab.scene.file import check_input_file
 
 __all__ = ["Dataset", "STRESS_UNITS", "FORCE_UNITS", "read_columns", "COLUMN_KEYS", "check_plausible"]
 
@@ -64,11 +65,22 @@ def _cell(path: Path, line: int, column: str, text: str) -> float:
     return v
 
 
+def _missing_column(path: Path, key: str, name: str, header: list[str], others_found: bool) -> str:
+    """The error of a column the header lacks. The header is echoed only when it names another
+    wanted column (a data file of vlab's): a file whose first line names none of them may be any
+    file (a system file given by mistake), and an error never prints its content."""
+    if others_found:
+        return (f"{path.name}: missing column {name!r} (columns.{key}); the header has "
+                f"{', '.join(repr(h) for h in header)}{suggest(name, header)}")
+    return (f"{path.name}: missing column {name!r} (columns.{key}): its first line names none of the "
+            f"columns the data set asks for; a data file is a CSV whose first row names its columns "
+            f"(e.g. {name}), then one row of numbers per point{suggest(name, header)}")
+
+
 def read_columns(path: Path, wanted: dict[str, str]) -> dict[str, np.ndarray]:
     """The named columns ({key: header name}) of a CSV as floats, every cell checked; "_line"
     holds each row's line number in the file (the header is line 1)."""
-    if not path.is_file():
-        raise SceneError(f"data file {str(path)!r} does not exist")
+    check_input_file(path, "data file")
     with open(path, newline="", encoding="utf-8-sig") as fh:
         rows = [r for r in csv.reader(fh)]
     rows = [(i + 1, r) for i, r in enumerate(rows) if any(c.strip() for c in r)]
@@ -76,12 +88,10 @@ def read_columns(path: Path, wanted: dict[str, str]) -> dict[str, np.ndarray]:
         raise SceneError(f"{path.name} is empty: expected a header row naming the columns "
                          f"{', '.join(repr(v) for v in wanted.values())}")
     header = [h.strip() for h in rows[0][1]]
-    cols = {}
+    cols = {key: header.index(name) for key, name in wanted.items() if name in header}
     for key, name in wanted.items():
-        if name not in header:
-            raise SceneError(f"{path.name}: missing column {name!r} (columns.{key}); the header has "
-                             f"{', '.join(repr(h) for h in header)}{suggest(name, header)}")
-        cols[key] = header.index(name)
+        if key not in cols:
+            raise SceneError(_missing_column(path, key, name, header, bool(cols)))
     if len(rows) < 2:
         raise SceneError(f"{path.name} has a header but no data rows")
     out = {k: [] for k in wanted} | {"_line": []}

@@ -24,6 +24,7 @@ from pathlib import Path
 
 from vlab import fields
 from vlab.fields import SceneError, Table
+from vlab.scene.file import check_input_file
 
 __all__ = ["parse_fe", "FITTABLE_MODELS", "fittable", "admissible"]
 
@@ -39,8 +40,7 @@ def _scene(t: Table, base: Path):
     if not isinstance(name, str) or not name:
         raise SceneError(f"fe.scene must be a scene file name (string), got {fields.show(name)}")
     path = (base / name).resolve()
-    if not path.is_file():
-        raise SceneError(f"fe.scene: scene file {str(path)!r} does not exist")
+    check_input_file(path, "fe.scene: scene file")
     try:
         raw = tomllib.loads(path.read_text(encoding="utf-8"))
     except tomllib.TOMLDecodeError as exc:

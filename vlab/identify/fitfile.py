@@ -22,6 +22,7 @@ import numpy as np
 
 from vlab import fields
 from vlab.fields import SceneError, Table
+from vlab.scene.file import check_input_file
 from vlab.identify.card import INCOMPRESSIBLE_K_RATIO
 from vlab.identify.datasets import (COLUMN_KEYS, FORCE_UNITS, STRESS_UNITS, Dataset, check_monotonic,
                                     check_plausible, read_columns)
@@ -213,8 +214,7 @@ def parse_fit(data: dict, base_dir: Path, default_name: str = "fit") -> FitSpec:
 def load_fit(path: str | Path) -> FitSpec:
     """Read and validate a fit file (SceneError on any problem, naming the key or file/row/column)."""
     path = Path(path)
-    if not path.is_file():
-        raise SceneError(f"fit file {str(path)!r} does not exist")
+    check_input_file(path, "fit file")
     try:
         data = tomllib.loads(path.read_text(encoding="utf-8"))
     except tomllib.TOMLDecodeError as exc:

@@ -10,6 +10,12 @@ principal stretches. Written in the principal log strains ε_A = ln λ_A, ē_A =
     g_AB    = (τ_A − τ_B)/(ε_A − ε_B) = Σₚ 2μₚ/αₚ λ̄_B^αₚ expm1(αₚ d)/d,   d = ε_A − ε_B,
               with the limit Σₚ 2μₚ λ̄_B^αₚ (1 + αₚ d/2) for |αₚ d| < 1e-8 (exactly c_AA − c_AB at d = 0)
 
+evaluated as ψ_iso = Σₚ 2μₚ Σ_A ē_A² φ₂(αₚ ē_A) and τ_A = Σₚ 2μₚ (q_A − ⅓ Σ_B q_B), q_A = ē_A φ₁(αₚ ē_A),
+with φ₁(x) = expm1(x)/x, φ₂(x) = (eˣ − 1 − x)/x² (Σ ē_A = 0 drops the linear term): the same
+formulas, but with no 1/αₚ beside a difference of numbers near 1, so a small |αₚ| loses no digits
+(through λ̄^α − s/3 with α = 1e-12 the stress was 2 % off, with α ≤ 1e-15 zero: a false limit
+point) and αₚ → 0 tends to Hencky's isochoric energy μₚ Σ ē_A², as it should.
+
 and P_iso, A_iso from vlab.materials.principal (the coalescence-safe assembly: every
 difference quotient is evaluated through g and the log quotient, so F = I, equibiaxial states
 and stretches equal to 1e−8 lose no digits). The volumetric part U(J) adds, in this form,
@@ -38,6 +44,24 @@ from vlab.tensor import as_tensor_field
 __all__ = ["Ogden"]
 
 _LAST: dict = {}  # the last (law, F) -> frame, mask, principal quantities (see Ogden._frame)
+
+
+def _phi1(x: np.ndarray) -> np.ndarray:
+    """φ₁(x) = expm1(x)/x, φ₁(0) = 1 (1 + x/2 below |x| < 1e-8, exact there to round-off)."""
+    small = np.abs(x) < 1e-8
+    return np.where(small, 1.0 + 0.5 * x, np.expm1(x) / np.where(small, 1.0, x))
+
+
+_PHI2_TERMS = 1.0 / np.array([float(np.prod(np.arange(1, k + 3))) for k in range(15)])  # 1/(k+2)!
+
+
+def _phi2(x: np.ndarray) -> np.ndarray:
+    """φ₂(x) = (eˣ − 1 − x)/x², φ₂(0) = ½: the series Σ xᵏ/(k+2)! to k = 14 for |x| < ½ (the
+    next term < 3e-18 of the sum), else (expm1(x) − x)/x² (cancellation at most 1 digit there)."""
+    small = np.abs(x) < 0.5
+    series = np.polynomial.polynomial.polyval(np.where(small, x, 0.0), _PHI2_TERMS)
+    xs = np.where(small, 1.0, x)
+    return np.where(small, series, (np.expm1(xs) - xs) / (xs * xs))
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -70,15 +94,16 @@ class Ogden(IsochoricVolumetric):
         d = eps[:, None] - eps[None, :]                              # ε_A − ε_B
         eye = np.eye(3).reshape((3, 3) + (1,) * len(batch))
         for mu, al in zip(self.mus, self.alphas):
-            lam = np.exp(al * e)                                     # λ̄_A^α
+            x = al * e
+            m = np.expm1(x)                                          # λ̄_A^α − 1
+            lam = 1.0 + m                                            # λ̄_A^α
             s = lam.sum(axis=0)
-            psi += 2.0 * mu / al**2 * np.expm1(al * e).sum(axis=0)
-            tau += 2.0 * mu / al * (lam - s / 3.0)
+            # ψ and τ from expm1's quotients, not from λ̄^α − 1 and 1/α: exact as α → 0 (Hencky's μ Σ ē²)
+            psi += 2.0 * mu * (e * e * _phi2(x)).sum(axis=0)
+            q = e * _phi1(x)                                         # m / α
+            tau += 2.0 * mu * (q - q.mean(axis=0))
             c += 2.0 * mu * (lam[:, None] * (eye - 1.0 / 3.0) - lam[None, :] / 3.0 + s / 9.0)
-            x = al * d
-            small = np.abs(x) < 1e-8
-            quotient = np.where(small, al * (1.0 + 0.5 * x), np.expm1(x) / np.where(small, 1.0, d))
-            g += 2.0 * mu / al * lam[None, :] * quotient
+            g += 2.0 * mu * lam[None, :] * _phi1(al * d)
         return psi, tau, c, g
 
     def _frame(self, F):

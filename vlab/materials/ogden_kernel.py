@@ -6,8 +6,8 @@ Per quadrature point ``ogden_state`` does what Ogden's numpy path does with a ba
 dozen einsums and N passes over (3,3,*batch) temporaries:
 
     C = FᵀF = Σ λ_A² N_A ⊗ N_A  (vlab.materials.principal_eig.eig3),  n_A = F N_A / λ_A
-    ē_A = ln λ_A − ⅓ Σ ln λ_B,  per term p: ψ_iso += 2μₚ/αₚ² Σ_A expm1(αₚ ē_A),
-    τ_A += 2μₚ/αₚ (λ̄_A^αₚ − s_p/3),  c_AB += 2μₚ (λ̄_A^αₚ (δ_AB − ⅓) − ⅓ λ̄_B^αₚ + s_p/9),
+    ē_A = ln λ_A − ⅓ Σ ln λ_B,  per term p: ψ_iso += 2μₚ Σ_A ē_A² φ₂(αₚ ē_A)  (= 2μₚ/αₚ² Σ_A expm1(αₚ ē_A)),
+    τ_A += 2μₚ (q_A − ⅓ Σ q_B), q_A = ē_A φ₁(αₚ ē_A)  (= 2μₚ/αₚ (λ̄_A^αₚ − s_p/3); φ: vlab.materials.ogden),  c_AB += 2μₚ (λ̄_A^αₚ (δ_AB − ⅓) − ⅓ λ̄_B^αₚ + s_p/9),
     g_AB += 2μₚ/αₚ λ̄_B^αₚ expm1(αₚ d)/d  (d = ε_A − ε_B; αₚ(1 + αₚ d/2) for |αₚ d| < 1e−8;
               symmetric; for |αₚ d| ≥ 1/8 as (λ̄_A^αₚ − λ̄_B^αₚ)/d, no transcendental),
     P_iso = Σ_A τ_A/λ_A n_A ⊗ N_A                                                     (MPa)
@@ -42,14 +42,32 @@ _SOURCE = _EIG_SOURCE + '''
 
 @numba.njit(inline="always", **_OPTIONS)
 def _pair(mu2, al, La, Lb, d):
-    """2μ/α λ̄_B^α expm1(α d)/d, its limit 2μ λ̄_B^α (1 + α d/2) at |α d| < 1e−8, and for
+    """2μ/α λ̄_B^α expm1(α d)/d = 2μ λ̄_B^α φ₁(α d) (limit 1 + α d/2 at |α d| < 1e−8), and for
     |α d| ≥ 1/8 the same as (λ̄_A^α − λ̄_B^α)/d (relative error < 2e−15, no transcendental)."""
     x = al * d
-    if abs(x) < 1e-8:
-        return mu2 * Lb * (1.0 + 0.5 * x)
     if abs(x) < 0.125:
-        return mu2 / al * Lb * math.expm1(x) / d
+        return mu2 * Lb * _phi1(x)
     return mu2 / al * (La - Lb) / d
+
+
+@numba.njit(inline="always", **_OPTIONS)
+def _phi1(x):
+    """expm1(x)/x, 1 + x/2 for |x| < 1e−8 (vlab.materials.ogden._phi1)."""
+    if abs(x) < 1e-8:
+        return 1.0 + 0.5 * x
+    return math.expm1(x) / x
+
+
+@numba.njit(inline="always", **_OPTIONS)
+def _phi2(x):
+    """(eˣ − 1 − x)/x²: Σ xᵏ/(k+2)! to k = 14 for |x| < ½, else (expm1(x) − x)/x² (ogden._phi2)."""
+    if abs(x) < 0.5:
+        term, total = 0.5, 0.5
+        for k in range(1, 15):
+            term *= x / (k + 2)
+            total += term
+        return total
+    return (math.expm1(x) - x) / (x * x)
 
 
 @numba.njit(**_OPTIONS)
@@ -68,13 +86,17 @@ def ogden_state(F, mus, alphas, lam, N, n, eps, psi, tau, c, g, P, start, stop):
         g00 = g11 = g22 = g01 = g02 = g12 = 0.0
         for k in range(mus.shape[0]):
             mu2, al = 2.0 * mus[k], alphas[k]
-            m0, m1, m2 = math.expm1(al * (e0 - mean)), math.expm1(al * (e1 - mean)), math.expm1(al * (e2 - mean))
+            b0, b1, b2 = e0 - mean, e1 - mean, e2 - mean   # ē_A
+            m0, m1, m2 = math.expm1(al * b0), math.expm1(al * b1), math.expm1(al * b2)
             L0, L1, L2 = 1.0 + m0, 1.0 + m1, 1.0 + m2   # λ̄_A^α (exp = 1 + expm1 within an ulp)
             s = L0 + L1 + L2
-            ps += mu2 / (al * al) * (m0 + m1 + m2)
-            t0 += mu2 / al * (L0 - s / 3.0)
-            t1 += mu2 / al * (L1 - s / 3.0)
-            t2 += mu2 / al * (L2 - s / 3.0)
+            # ψ, τ through φ₂, φ₁ (no 1/α beside λ̄^α − 1: exact for a small |α|, vlab.materials.ogden)
+            ps += mu2 * (b0 * b0 * _phi2(al * b0) + b1 * b1 * _phi2(al * b1) + b2 * b2 * _phi2(al * b2))
+            q0, q1, q2 = b0 * _phi1(al * b0), b1 * _phi1(al * b1), b2 * _phi1(al * b2)
+            qm = (q0 + q1 + q2) / 3.0
+            t0 += mu2 * (q0 - qm)
+            t1 += mu2 * (q1 - qm)
+            t2 += mu2 * (q2 - qm)
             c00 += mu2 * (L0 / 3.0 + s / 9.0)
             c11 += mu2 * (L1 / 3.0 + s / 9.0)
             c22 += mu2 * (L2 / 3.0 + s / 9.0)

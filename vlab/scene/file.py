@@ -16,6 +16,23 @@ from vlab.fields import SceneError
 MAX_SCENE_BYTES = 1 << 20
 
 
+def check_input_file(path: Path, what: str) -> None:
+    """SceneError unless ``path`` is an existing regular file, saying what it is instead
+    (``what``, e.g. "data file", names the input): missing, a folder, or not a regular file (a
+    device, FIFO or socket: a FIFO may block for ever and a device never end, so neither is
+    opened). Nothing of the file's content is read or echoed."""
+    try:
+        info = os.stat(path)
+    except FileNotFoundError:
+        raise SceneError(f"{what} {str(path)!r} does not exist") from None
+    except OSError as exc:
+        raise SceneError(f"{what} {str(path)!r} cannot be read ({exc.strerror or exc})") from None
+    if stat.S_ISDIR(info.st_mode):
+        raise SceneError(f"{what} {str(path)!r} is a folder, not a file")
+    if not stat.S_ISREG(info.st_mode):
+        raise SceneError(f"{what} {str(path)!r} is not a regular file (a device, FIFO or socket)")
+
+
 def read_scene_file(path: Path, limit: int = MAX_SCENE_BYTES) -> str:
     """The file's text; SceneError naming the file if it is not a readable UTF-8 scene file."""
     try:

@@ -191,7 +191,10 @@ def _imperfection(t: fields.Table, kind: str, stretch: tuple[float, ...]) -> flo
     if "imperfection" not in t.raw:
         return None
     value = t.number("imperfection", gt=0, le=0.5, note=" (amplitude / specimen thickness)")
-    if kind != "uniaxial" or stretch[0] >= 1.0:
+    if kind != "uniaxial":  # cite the kind, not a load key it does not have (a shear, a twist)
+        raise SceneError(f"{t.field('imperfection')} applies to uniaxial compression (test.kind = 'uniaxial' "
+                         f"with test.stretch < 1), got test.kind = {kind!r}")
+    if stretch[0] >= 1.0:
         raise SceneError(f"{t.field('imperfection')} applies to uniaxial compression (test.stretch < 1), "
                          f"got test.stretch = {list(stretch)}")
     return value

@@ -50,21 +50,21 @@ def _print(budget: dict, index: Path) -> None:
         f"{budget['runs']['computed']} computed, {budget['failed_samples']} samples failed); report: {index}")
 
 
-def budget_command(scene: Path, samples: Optional[int], workers: int, scheduler: Optional[str], out: Optional[Path],
+def budget_command(scene: Path, samples: Optional[int], workers: Optional[int], scheduler: Optional[str], out: Optional[Path],
                    cache: Path, quiet: bool, force: bool) -> int:
     import typer
 
     from vlab.cli import _execution, _load, _sweep_with_progress, _write
-    from vlab.cli_io import EXIT_FAILED, EXIT_OK, cache_folder, fail, report_destination, scheduler_address
+    from vlab.cli_io import EXIT_FAILED, EXIT_OK, cache_folder, fail, report_destination
     from vlab.study.summary import RunKnobs
     from vlab.uncertainty.budget import BudgetError, compute_budget
     from vlab.uncertainty.report import write_budget
 
     parsed, text = _load(scene)
-    spec = _spec(parsed, samples)
-    cache, scheduler = cache_folder(cache), scheduler_address(scheduler)
-    dest = report_destination(out or Path("reports") / f"{parsed.name}-budget", force, scene, [cache])
     execution = _execution(workers, scheduler)
+    spec = _spec(parsed, samples)
+    cache = cache_folder(cache)
+    dest = report_destination(out or Path("reports") / f"{parsed.name}-budget", force, scene, [cache])
 
     def runner(points, what):
         return _sweep_with_progress(points, RunKnobs(), cache, execution, quiet, what)

@@ -13,18 +13,33 @@ from typing import Any
 from vlab import fields
 from vlab.fields import SceneError
 
-__all__ = ["TestKind", "stretch_value", "PlotSpec", "relative_error"]
+__all__ = ["MIN_STRAIN", "TestKind", "stretch_value", "strain_bound", "PlotSpec", "relative_error"]
 
 STRETCH_RANGE = (0.2, 10.0)  # grip stretches a scene may ask for
+# The smallest deformation a load may ask for, |λ − 1|, |γ| or the surface shear of a twist: the
+# deformation gradient is I + ∇u in double precision (unit round-off 1.1e-16 beside the 1s of I),
+# so a strain of 1e-9 keeps 7 significant digits (the 6 vlab reports) and one of 1e-16 is lost
+# whole (1 + 1e-300 is exactly 1): the energies and the load path Q ~ strain² then underflow,
+# and a test so small reads noise, or a "limit point" that is none.
+MIN_STRAIN = 1e-9
+
+
+def strain_bound(what: str) -> str:
+    """Why MIN_STRAIN, for an error message about ``what`` (e.g. "|test.shear|")."""
+    return (f"{what} must be >= {MIN_STRAIN:g} (a smaller deformation is not resolvable in double "
+            f"precision beside the 1 of I + ∇u: it keeps fewer than 7 digits)")
 
 
 def stretch_value(field: str, v: Any) -> float:
-    """A grip stretch in the allowed range 0.2..10 (SceneError naming ``field`` otherwise)."""
+    """A grip stretch in the allowed range 0.2..10, 1 or at least MIN_STRAIN away from it
+    (SceneError naming ``field`` otherwise)."""
     v = fields.number(field, v, note=" (allowed 0.2..10)")
     if v <= 0:
         raise SceneError(f"{field} must be > 0 (allowed 0.2..10), got {v:g}")
     if not STRETCH_RANGE[0] <= v <= STRETCH_RANGE[1]:
         raise SceneError(f"{field} must be in the allowed range 0.2..10, got {v:g}")
+    if v != 1.0 and abs(v - 1.0) < MIN_STRAIN:
+        raise SceneError(f"{strain_bound(f'|{field} − 1|')} or 0 (a held axis), got {v!r}")
     return v
 
 
@@ -106,7 +121,8 @@ class TestKind:
         return tuple(targets)
 
     def describe(self, values) -> str:
-        return ", ".join(f"{s:.4g}" for s in values)
+        """The control values in words, named (messages print no other name beside it)."""
+        return "stretch " + ", ".join(f"{s:.4g}" for s in values)
 
     def loading(self, specimen, X, test):
         from vlab.loading.grips import grip_loading

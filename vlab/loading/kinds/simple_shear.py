@@ -26,7 +26,7 @@ import numpy as np
 
 from vlab import fields
 from vlab.fields import SceneError
-from vlab.loading.kinds.base import PlotSpec, TestKind, relative_error
+from vlab.loading.kinds.base import MIN_STRAIN, PlotSpec, TestKind, relative_error, strain_bound
 
 SHEAR_LIMIT = 5.0  # largest |γ| a scene may ask for
 
@@ -62,6 +62,8 @@ class SimpleShear(TestKind):
                 raise SceneError(f"{field} must be a list of 1..50 rising shear amplitudes (> 0, <= "
                                  f"{SHEAR_LIMIT:g}) for test.protocol = 'cyclic', got {fields.show(v)}")
             amps = tuple(fields.number(f"{field}[{i}]", x, gt=0, le=SHEAR_LIMIT) for i, x in enumerate(v))
+            if amps[0] < MIN_STRAIN:
+                raise SceneError(f"{strain_bound(f'{field}[0]')}, got {amps[0]!r}")
             if any(b <= a for a, b in zip(amps, amps[1:])):
                 raise SceneError(f"{field} must rise with every cycle, got {list(amps)}")
             return (amps[-1],)
@@ -72,6 +74,8 @@ class SimpleShear(TestKind):
         if gamma == 0.0:
             raise SceneError(f"{field} must not be 0 (no shear applies no load), allowed "
                              f"-{SHEAR_LIMIT:g}..{SHEAR_LIMIT:g}")
+        if abs(gamma) < MIN_STRAIN:
+            raise SceneError(f"{strain_bound(f'|{field}|')}, got {gamma!r}")
         return (gamma,)
 
     def amplitudes(self, t: fields.Table) -> tuple[float, ...]:

@@ -25,7 +25,7 @@ import math
 
 from vlab import fields
 from vlab.fields import SceneError
-from vlab.loading.kinds.base import PlotSpec, TestKind
+from vlab.loading.kinds.base import MIN_STRAIN, PlotSpec, TestKind, strain_bound
 
 SHEAR_LIMIT = 5.0  # the largest surface shear ψ a a scene may ask for
 
@@ -70,6 +70,10 @@ class Torsion(TestKind):
     def check_specimen(self, test, specimen) -> None:
         """The surface shear ψ a must stay ≤ SHEAR_LIMIT (SceneError naming test.twist)."""
         gamma = abs(test.targets[0]) * specimen.radius
+        if gamma < MIN_STRAIN:
+            raise SceneError(f"{strain_bound('the surface shear |test.twist| x specimen.radius')} "
+                             f"(|test.twist| >= {MIN_STRAIN / specimen.radius:.3g} rad/mm for specimen.radius = "
+                             f"{specimen.radius:g} mm), got {test.targets[0]!r}")
         if gamma > SHEAR_LIMIT:
             raise SceneError(f"test.twist must be <= {SHEAR_LIMIT / specimen.radius:.4g} rad/mm in magnitude "
                              f"for specimen.radius = {specimen.radius:g} mm (surface shear twist x radius "
