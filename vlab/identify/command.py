@@ -65,24 +65,36 @@ def _destination(out: Path, force: bool, spec, path: Path):
     return check_destination(Destination(out, force=force, protect=tuple(protect)))
 
 
+def _check_model_names(names: list[str], parse) -> None:
+    """Each --models entry a model name, none repeated ("ogden" and "ogden-1" are one model): a
+    repeat was fitted twice and failed late, writing its report ("File exists")."""
+    seen: dict[tuple, str] = {}
+    for n in names:
+        key = parse(n, "--models")
+        if key in seen:
+            same = "" if seen[key] == n else f" (the same model as {seen[key]!r})"
+            raise SceneError(f"--models lists {n!r} more than once{same}: each model is fitted and ranked once")
+        seen[key] = n
+
+
 def fit_command(path: Path, out: Path | None, models: str | None, console: Console, force: bool = False,
                 execution=None, export: str | None = None) -> int:
     """``execution`` (vlab.study.sweep.Execution, from --workers/--scheduler): the FE-in-the-loop
     solves on Dask; refused (exit 2) for a fit without a specimen data set. ``export``: solvers
     (--export) whose cards go to OUT/cards/ (vlab.export), checked before the fit starts."""
-    from vlab.identify.fitfile import load_fit, parse_model_name
+    from vlab.identify.fitfile import parse_fit_text, parse_model_name, read_fit_text
     from vlab.report.folder import ReportFolderError
     from vlab.study.scheduler import SchedulerError
 
     try:
-        spec = load_fit(path)
+        text = read_fit_text(path)  # read once: the text the report keeps is the text fitted
+        spec = parse_fit_text(path, text)
         names = None
         if models is not None:
             names = [m.strip() for m in models.split(",") if m.strip()]
             if not names:
                 raise SceneError("--models must list at least one model, e.g. mooney-rivlin,ogden-3")
-            for n in names:
-                parse_model_name(n, "--models")
+            _check_model_names(names, parse_model_name)
         if names and any(d.kind in ("relaxation", "dma") for d in spec.datasets):
             raise SceneError("--models ranks equilibrium fits; a fit file with relaxation or DMA records is fitted "
                              "with its own [model] (leave out --models)")
@@ -93,7 +105,6 @@ def fit_command(path: Path, out: Path | None, models: str | None, console: Conso
     except SceneError as exc:
         console.print(Text.assemble(("invalid fit file", "red"), f" {exc}"), highlight=False, soft_wrap=True)
         return 2
-    text = Path(path).read_text(encoding="utf-8")
     try:
         dest = _destination(out or Path("reports") / f"{spec.name}-fit", force, spec, path)
     except ReportFolderError as exc:
