@@ -36,7 +36,6 @@ result shows as a table (``_repr_html_``).
 from __future__ import annotations
 
 import html
-import tomllib
 from pathlib import Path
 from typing import Any, Mapping
 
@@ -190,14 +189,11 @@ class Scene:
 
     @classmethod
     def from_file(cls, path: str | Path) -> "Scene":
-        from vlab.scene import SceneError
+        from vlab.scene.file import parse_toml, read_scene_file
 
         path = Path(path)
-        try:
-            text = path.read_text(encoding="utf-8")
-            raw = tomllib.loads(text)
-        except (OSError, tomllib.TOMLDecodeError) as exc:
-            raise SceneError(f"{path}: cannot read scene file ({exc})") from None
+        text = read_scene_file(path)
+        raw = parse_toml(text, str(path), "scene file")
         return cls(raw, path.parent, path.name, text)
 
     @property

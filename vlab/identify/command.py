@@ -75,10 +75,9 @@ def fit_command(path: Path, out: Path | None, models: str | None, console: Conso
     from vlab.study.scheduler import SchedulerError
 
     try:
-        spec, names, targets = _checked_fit(path, models, execution, export)
+        text, spec, names, targets = _checked_fit(path, models, execution, export)
     except SceneError as exc:
         return _refused(console, "invalid fit file", exc)
-    text = Path(path).read_text(encoding="utf-8")
     try:
         dest = _destination(out or Path("reports") / f"{spec.name}-fit", force, spec, path)
     except ReportFolderError as exc:
@@ -98,11 +97,12 @@ def _refused(console: Console, what: str, exc: Exception) -> int:
 
 
 def _checked_fit(path: Path, models: str | None, execution, export: str | None):
-    """(spec, the --models names or None, the --export targets) of a fit file and the options,
-    each checked before anything is fitted; SceneError names what is refused."""
-    from vlab.identify.fitfile import load_fit
+    """(the fit file's text, spec, the --models names or None, the --export targets) of a fit file
+    and the options, each checked before anything is fitted; SceneError names what is refused."""
+    from vlab.identify.fitfile import parse_fit_text, read_fit_text
 
-    spec = load_fit(path)
+    text = read_fit_text(path)  # read once: the text the report keeps is the text fitted
+    spec = parse_fit_text(path, text)
     names = _model_names(models)
     if names and any(d.kind in ("relaxation", "dma") for d in spec.datasets):
         raise SceneError("--models ranks equilibrium fits; a fit file with relaxation or DMA records is fitted "
@@ -111,7 +111,7 @@ def _checked_fit(path: Path, models: str | None, execution, export: str | None):
     if execution is not None and spec.fe is None:
         raise SceneError("--workers/--scheduler run the whole-test solves of an FE-in-the-loop fit; this fit "
                          "file has no data set of kind = \"specimen\"")
-    return spec, names, targets
+    return text, spec, names, targets
 
 
 def _model_names(models: str | None) -> list[str] | None:
@@ -123,8 +123,13 @@ def _model_names(models: str | None) -> list[str] | None:
     names = [m.strip() for m in models.split(",") if m.strip()]
     if not names:
         raise SceneError("--models must list at least one model, e.g. mooney-rivlin,ogden-3")
-    for n in names:
-        parse_model_name(n, "--models")
+    seen: dict[tuple, str] = {}
+    for n in names:  # none repeated ("ogden" and "ogden-1" are one model): a repeat failed late ("File exists")
+        key = parse_model_name(n, "--models")
+        if key in seen:
+            same = "" if seen[key] == n else f" (the same model as {seen[key]!r})"
+            raise SceneError(f"--models lists {n!r} more than once{same}: each model is fitted and ranked once")
+        seen[key] = n
     return names
 
 

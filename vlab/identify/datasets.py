@@ -7,6 +7,7 @@ strains to stretches (λ = 1 + ε). Forces (kind "specimen") are in N (N: 1, kN:
 from __future__ import annotations
 
 import csv
+import io
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -14,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from vlab.fields import SceneError, suggest
-from vlab.scene.file import check_input_file
+from vlab.scene.file import MAX_DATA_BYTES, read_text_file
 
 __all__ = ["Dataset", "STRESS_UNITS", "FORCE_UNITS", "read_columns", "COLUMN_KEYS", "check_plausible"]
 
@@ -77,13 +78,20 @@ def _missing_column(path: Path, key: str, name: str, header: list[str], others_f
             f"(e.g. {name}), then one row of numbers per point{suggest(name, header)}")
 
 
+def _csv_rows(path: Path) -> list[list[str]]:
+    """The rows of a CSV file read as every vlab input is (bounded, UTF-8, a BOM dropped)."""
+    text = read_text_file(path, "data file", MAX_DATA_BYTES, encoding="utf-8-sig")
+    reader = csv.reader(io.StringIO(text, newline=""))
+    try:
+        return list(reader)
+    except csv.Error as exc:  # a field over the csv module's limit (128 KiB): no measured curve
+        raise SceneError(f"{path.name} row {reader.line_num}: not a CSV table of numbers ({exc})") from None
+
+
 def read_columns(path: Path, wanted: dict[str, str]) -> dict[str, np.ndarray]:
     """The named columns ({key: header name}) of a CSV as floats, every cell checked; "_line"
     holds each row's line number in the file (the header is line 1)."""
-    check_input_file(path, "data file")
-    with open(path, newline="", encoding="utf-8-sig") as fh:
-        rows = [r for r in csv.reader(fh)]
-    rows = [(i + 1, r) for i, r in enumerate(rows) if any(c.strip() for c in r)]
+    rows = [(i + 1, r) for i, r in enumerate(_csv_rows(path)) if any(c.strip() for c in r)]
     if not rows:
         raise SceneError(f"{path.name} is empty: expected a header row naming the columns "
                          f"{', '.join(repr(v) for v in wanted.values())}")

@@ -19,12 +19,12 @@ axes when the data give columns strain2 and force2 (the second load cell and ext
 
 from __future__ import annotations
 
-import tomllib
 from pathlib import Path
 
 from vlab import fields
 from vlab.fields import SceneError, Table
-from vlab.scene.file import check_input_file
+from vlab.materials.arruda_boyce import LAMBDA_M_MAX
+from vlab.materials.ogden import ALPHA_RANGE
 
 __all__ = ["parse_fe", "FITTABLE_MODELS", "fittable", "admissible"]
 
@@ -35,16 +35,16 @@ SIGN_FREE = ("C01", "C20", "C30")  # may take either sign; every other constant 
 
 def _scene(t: Table, base: Path):
     from vlab.scene import parse_scene
+    from vlab.scene.file import parse_toml, read_scene_file
 
     name = t.get("scene")
     if not isinstance(name, str) or not name:
         raise SceneError(f"fe.scene must be a scene file name (string), got {fields.show(name)}")
     path = (base / name).resolve()
-    check_input_file(path, "fe.scene: scene file")
     try:
-        raw = tomllib.loads(path.read_text(encoding="utf-8"))
-    except tomllib.TOMLDecodeError as exc:
-        raise SceneError(f"fe.scene: {path.name} is not valid TOML: {exc}") from None
+        raw = parse_toml(read_scene_file(path), path.name, "scene file")
+    except SceneError as exc:
+        raise SceneError(f"fe.scene: {exc}") from None
     return path, raw, parse_scene(raw, path.name, path.parent)
 
 
@@ -54,15 +54,16 @@ def fittable(values: dict) -> tuple[str, ...]:
 
 
 def admissible(names, p, reference=None) -> bool:
-    """A trial point keeps λm > 1, K, mu, C10, Jm > 0 and each Ogden term's signs (those of
-    ``reference``); C01, C20 and C30 may take either sign."""
+    """A trial point keeps 1 < λm <= LAMBDA_M_MAX, K, mu, C10, Jm > 0 and each Ogden term's signs
+    (those of ``reference``) with |α| in ALPHA_RANGE (a card the scene reads); C01, C20 and C30 may
+    take either sign."""
     for n, v, r in zip(names, p, p if reference is None else reference):
         if n == "lambda_m":
-            ok = v > 1.0
+            ok = 1.0 < v <= LAMBDA_M_MAX
         elif n in SIGN_FREE:
             ok = True
         elif n.startswith(("alpha[", "mu[")):
-            ok = v != 0 and (v > 0) == (r > 0)
+            ok = v != 0 and (v > 0) == (r > 0) and (n[0] == "m" or ALPHA_RANGE[0] <= abs(v) <= ALPHA_RANGE[1])
         else:
             ok = v > 0
         if not ok:
@@ -151,11 +152,14 @@ def parse_fe(raw, base: Path, model, datasets) -> dict:
 def _cache(t: Table, base: Path) -> str | None:
     """fe.cache: true (vlab's run cache, reports/.cache under the working folder, as vlab run and
     sweep use), false, or a folder (resolved against the fit file's folder)."""
-    from vlab.study.cache import DEFAULT_CACHE
+    from vlab.study.cache import DEFAULT_CACHE, CacheError, check_cache_folder
 
     v = t.get("cache", True)
     if isinstance(v, bool):
         return str(DEFAULT_CACHE) if v else None
     if isinstance(v, str) and v:
-        return str((base / v).resolve())
+        try:  # a file here was silently ignored (nothing cached): refused as vlab sweep --cache FILE is
+            return str(check_cache_folder((base / v).resolve(), "fe.cache"))
+        except CacheError as exc:
+            raise SceneError(str(exc)) from None
     raise SceneError(f"fe.cache must be true, false or a folder name, got {fields.show(v)}")

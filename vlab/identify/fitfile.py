@@ -14,7 +14,6 @@
 
 from __future__ import annotations
 
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -22,14 +21,14 @@ import numpy as np
 
 from vlab import fields
 from vlab.fields import SceneError, Table
-from vlab.scene.file import check_input_file
 from vlab.identify.card import INCOMPRESSIBLE_K_RATIO
 from vlab.identify.datasets import (COLUMN_KEYS, FORCE_UNITS, STRESS_UNITS, Dataset, check_monotonic,
                                     check_plausible, read_columns)
 from vlab.identify.laws import MODEL_NAMES, law_for
 from vlab.identify.states import Constitutive
+from vlab.scene.file import parse_toml, read_text_file
 
-__all__ = ["FitSpec", "load_fit", "parse_fit", "parse_model_name"]
+__all__ = ["FitSpec", "load_fit", "parse_fit", "parse_fit_text", "parse_model_name", "read_fit_text"]
 
 KINDS = ("uniaxial", "equibiaxial", "planar", "biaxial", "simple-shear", "volumetric", "specimen")
 
@@ -213,10 +212,15 @@ def parse_fit(data: dict, base_dir: Path, default_name: str = "fit") -> FitSpec:
 
 def load_fit(path: str | Path) -> FitSpec:
     """Read and validate a fit file (SceneError on any problem, naming the key or file/row/column)."""
+    return parse_fit_text(path, read_fit_text(path))
+
+
+def read_fit_text(path: str | Path) -> str:
+    """The fit file's text, read as a scene is (bounded, UTF-8; vlab.scene.file)."""
+    return read_text_file(Path(path), "fit file")
+
+
+def parse_fit_text(path: str | Path, text: str) -> FitSpec:
+    """The validated FitSpec of a fit file's text (read from ``path``, which resolves its data)."""
     path = Path(path)
-    check_input_file(path, "fit file")
-    try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except tomllib.TOMLDecodeError as exc:
-        raise SceneError(f"{path.name} is not valid TOML: {exc}") from None
-    return parse_fit(data, path.parent, path.stem)
+    return parse_fit(parse_toml(text, str(path), "fit file"), path.parent, path.stem)

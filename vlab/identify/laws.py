@@ -29,6 +29,8 @@ from typing import Callable
 
 import numpy as np
 
+from vlab.materials.arruda_boyce import LAMBDA_M_MAX
+
 __all__ = ["Law", "LAWS", "law_for", "MODEL_NAMES"]
 
 _AB = np.array([1 / 2, 1 / 20, 11 / 1050, 19 / 7000, 519 / 673750])
@@ -174,7 +176,7 @@ def _start_gent(rng, scale, i1max):
 
 def _start_ab(rng, scale, i1max):
     return _box([_log_uniform(rng, scale / 5, scale * 5), _log_uniform(rng, 1.5, 20)],
-                [1e-12, 1.0001], [np.inf, np.inf])
+                [1e-12, 1.0001], [np.inf, LAMBDA_M_MAX])  # a card vlab run reads (vlab.materials.arruda_boyce)
 
 
 def _start_ogden(terms):

@@ -4,6 +4,10 @@ C = (1/2, 1/20, 11/1050, 19/7000, 519/673750); μ (MPa) and the locking stretch 
 (Abaqus' ``lambda_m``). W₁ = μ Σ i Cᵢ Ī₁^(i−1)/λm^(2i−2), W₁₁ = μ Σ i(i−1) Cᵢ Ī₁^(i−2)/λm^(2i−2);
 the energy is summed as the polynomial in x = Ī₁ − 3 (no cancellation of Ī₁^i − 3^i).
 μ0 = 2 W₁(3) = μ (1 + 3/(5λm²) + 99/(175λm⁴) + 513/(875λm⁶) + 42039/(67375λm⁸)).
+
+1 < λm <= LAMBDA_M_MAX = 1e6: λm → ∞ is Neo-Hookean with μ, and at 1e6 the series' corrections
+(3/(5λm²) = 6e-13 of μ0) are already below the energy's rounding, while λm⁸ overflows double
+precision near 1e38 (a scene with λm = 1e200 raised OverflowError while it was read).
 """
 
 from __future__ import annotations
@@ -14,8 +18,9 @@ from typing import ClassVar
 
 from vlab.materials.invariant import InvariantModel
 
-__all__ = ["ArrudaBoyce", "SERIES"]
+__all__ = ["ArrudaBoyce", "LAMBDA_M_MAX", "SERIES"]
 
+LAMBDA_M_MAX = 1e6
 SERIES = (1.0 / 2.0, 1.0 / 20.0, 11.0 / 1050.0, 19.0 / 7000.0, 519.0 / 673750.0)
 
 

@@ -24,7 +24,7 @@ from vlab import fields
 from vlab.fields import SceneError
 from vlab.materials.registry import MODELS, Model
 from vlab.materials.volumetric import VOLUMETRIC_NAMES
-from vlab.moduli import ALIASES, KEYS as MODULI_KEYS, Moduli, ModuliError, from_pair
+from vlab.moduli import ALIASES, KEYS as MODULI_KEYS, MODULUS_RANGE, Moduli, ModuliError, from_pair
 
 __all__ = ["MaterialSpec", "parse_material", "build_material", "build_split_law", "check_path",
            "BULK_KEYS"]
@@ -87,11 +87,32 @@ def _constant(t: fields.Table, c) -> float | tuple[float, ...]:
             raise SceneError(f"{t.field(c.key)} must be a list of numbers{note}, got {fields.show(raw)}")
         values = tuple(fields.number(f"{t.field(c.key)}[{i}]", v, **c.bounds(), note=note)
                        for i, v in enumerate(raw))
-    if c.nonzero and any(v == 0.0 for v in values):
-        i = values.index(0.0)
+    for i, v in enumerate(values):
         where = f"{t.field(c.key)}[{i}]" if c.is_list else t.field(c.key)
-        raise SceneError(f"{where} must be != 0{note}, got 0")
+        if c.nonzero and v == 0.0:
+            raise SceneError(f"{where} must be != 0{note}, got 0")
+        _check_magnitude(where, v, c.magnitude, note)
     return values if c.is_list else values[0]
+
+
+def _check_magnitude(where: str, v: float, magnitude: tuple[float, float], note: str) -> None:
+    """lo <= |v| <= hi (v = 0 passes where lo = 0): the range where the card's terms stay in double
+    precision (vlab.materials.registry.Constant.magnitude)."""
+    lo, hi = magnitude
+    if not lo <= abs(v) <= hi:
+        rng = f"|{where}| <= {hi:g}" if lo == 0 else f"{lo:g} <= |{where}| <= {hi:g}"
+        raise SceneError(f"{where} = {v:g} is outside the allowed range {rng}{note}: beyond it the card's "
+                         "terms under- or overflow double precision")
+
+
+def _check_scale(section: str, name: str, value: float, origin: str) -> None:
+    """A derived modulus (the card's μ0, its K) within MODULUS_RANGE, MPa, as the moduli are:
+    named here, before a solid of μ0 = 4e300 is misreported as nu = -1 (vlab.moduli)."""
+    lo, hi = MODULUS_RANGE
+    if not lo <= abs(value) <= hi:
+        raise SceneError(f"[{section}]: {name} = {value:g} MPa (from {origin}) is outside the allowed range "
+                         f"{lo:g}..{hi:g} MPa: beyond it the solver's forces and their squares under- or "
+                         "overflow double precision")
 
 
 def _parse_card(raw: dict, section: str, entry: Model) -> MaterialSpec:
@@ -104,7 +125,9 @@ def _parse_card(raw: dict, section: str, entry: Model) -> MaterialSpec:
                          f"term), got {got}")
     volumetric = t.choice("volumetric", VOLUMETRIC_NAMES, default=VOLUMETRIC_NAMES[0])
     probe = _law(entry, section, params, K=1.0, volumetric=volumetric)
+    _check_scale(section, "mu0", probe.mu0, " and ".join(f"{section}.{k}" for k in entry.keys))
     K, given_bulk = _bulk(t, probe.mu0)
+    _check_scale(section, "the bulk modulus K", K, f"{section}.{next(iter(given_bulk))}")
     law = _law(entry, section, params, K=K, volumetric=volumetric)
     _check_initial_tangent(law, section, entry)
     try:

@@ -24,6 +24,13 @@ vlab.materials.isochoric. For the compiled tangent kernel ``tangent_forms`` writ
 tangent as isotropic forms (vlab.materials.structure.IsotropicTangent): six (compiled, large
 batches: vlab.materials.ogden_kernel) or nine α X ⊗ X (numpy: the principal basis diagonalises
 it blockwise).
+
+ALPHA_RANGE = (0, 100]: the allowed |αₚ| (αₚ ≠ 0). λ̄^αₚ overflows double precision at
+|αₚ| ln λ̄ > 709 (|α| = 1e300 raised OverflowError while the scene was read; 100 keeps λ̄ up to
+1e3). No lower bound is needed: ψ and τ are evaluated through expm1 quotients (φ₁ below), which
+tend to Hencky's isochoric energy μ Σ ē² as αₚ → 0 without cancellation (the plain quotient lost
+every digit: 11 % error on σ₁ − σ₂ at |α| = 1e-12, λ = 1.001). Fitted cards keep
+0.05 <= |αₚ| <= 30 (vlab.identify.laws).
 """
 
 from __future__ import annotations
@@ -41,7 +48,9 @@ from vlab.materials.principal import (PrincipalFrame, principal_coefficients, pr
 from vlab.materials.structure import IsotropicTangent
 from vlab.tensor import as_tensor_field
 
-__all__ = ["Ogden"]
+__all__ = ["ALPHA_RANGE", "Ogden"]
+
+ALPHA_RANGE = (0.0, 100.0)  # |αₚ|; 0 itself is refused (nonzero)
 
 _LAST: dict = {}  # the last (law, F) -> frame, mask, principal quantities (see Ogden._frame)
 

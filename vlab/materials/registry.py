@@ -36,16 +36,17 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any, Callable
 
-from vlab.materials.arruda_boyce import ArrudaBoyce
+from vlab.materials.arruda_boyce import LAMBDA_M_MAX, ArrudaBoyce
 from vlab.materials.gent import Gent
 from vlab.materials.linear import LinearElastic
 from vlab.materials.mooney_rivlin import MooneyRivlin
 from vlab.materials.neo_hookean import NeoHookean
-from vlab.materials.ogden import Ogden
+from vlab.materials.ogden import ALPHA_RANGE, Ogden
 from vlab.materials.split import SplitLinear, SplitNeoHookean
 from vlab.materials.stvk import StVenantKirchhoff
 from vlab.materials.stvk_volumetric import StVKVolumetric
 from vlab.materials.yeoh import Yeoh
+from vlab.moduli import MODULUS_RANGE
 
 __all__ = ["Constant", "Model", "MaterialCard", "MODELS", "register", "models_where", "model"]
 
@@ -64,9 +65,14 @@ class Constant:
     nonzero: bool = False          # αₚ ≠ 0
     is_list: bool = False          # a list of any length ≥ 1 (all lists of a card: equal length)
     default: float | None = None   # None: required
+    le: float | None = None
+    # lo <= |value| <= hi (0 is allowed where lo is 0): where double precision ends, the card's
+    # terms under- or overflow (vlab.materials.card checks it, naming the key and the range)
+    magnitude: tuple[float, float] = (0.0, float("inf"))
 
     def bounds(self) -> dict:
-        return {k: v for k, v in (("gt", self.gt), ("ge", self.ge), ("lt", self.lt)) if v is not None}
+        pairs = (("gt", self.gt), ("ge", self.ge), ("lt", self.lt), ("le", self.le))
+        return {k: v for k, v in pairs if v is not None}
 
 
 @dataclass(frozen=True)
@@ -133,7 +139,15 @@ def _split_card(cls):
 
 
 MPA, ONE = "MPa", "-"
-_C = Constant
+
+
+def _C(key, field, unit, doc, **kw) -> Constant:
+    """A Constant; an MPa constant's magnitude is bounded as the moduli are (MODULUS_RANGE's top:
+    beyond it the forces and their squares overflow double precision; 0 stays allowed)."""
+    if unit == MPA:
+        kw.setdefault("magnitude", (0.0, MODULUS_RANGE[1]))
+    return Constant(key, field, unit, doc, **kw)
+
 
 register(Model("linear", "λ/2 (tr ε)² + μ ε:ε", _lame(LinearElastic), split=_lame(SplitLinear),
                hencky=True, compiled="compiled"))
@@ -154,7 +168,8 @@ register(Model("yeoh", "Σᵢ Ci0 (Ī₁ − 3)^i, i = 1..3, + U(J)", _split_car
                split=_split_card(Yeoh), isochoric=True, mu0="2 C10"))
 register(Model("ogden", "Σₚ 2μₚ/αₚ² (λ̄₁^αₚ + λ̄₂^αₚ + λ̄₃^αₚ − 3) + U(J)", _split_card(Ogden),
                (_C("mu", "mus", MPA, "μₚ, one per term", is_list=True),
-                _C("alpha", "alphas", ONE, "αₚ, one per term", nonzero=True, is_list=True)),
+                _C("alpha", "alphas", ONE, "αₚ, one per term", nonzero=True, is_list=True,
+                   magnitude=ALPHA_RANGE)),
                split=_split_card(Ogden), isochoric=True, mu0="Σₚ μₚ"))
 register(Model("gent", "−(μ Jm/2) ln(1 − (Ī₁ − 3)/Jm) + U(J)", _split_card(Gent),
                (_C("mu", "modulus", MPA, "shear modulus μ", gt=0.0),
@@ -162,6 +177,6 @@ register(Model("gent", "−(μ Jm/2) ln(1 − (Ī₁ − 3)/Jm) + U(J)", _split_
                split=_split_card(Gent), isochoric=True, mu0="μ"))
 register(Model("arruda-boyce", "μ Σᵢ Cᵢ/λm^(2i−2) (Ī₁^i − 3^i), i = 1..5, + U(J)", _split_card(ArrudaBoyce),
                (_C("mu", "modulus", MPA, "chain modulus μ", gt=0.0),
-                _C("lambda_m", "lambda_m", ONE, "locking stretch λm", gt=1.0)),
+                _C("lambda_m", "lambda_m", ONE, "locking stretch λm", gt=1.0, le=LAMBDA_M_MAX)),
                split=_split_card(ArrudaBoyce), isochoric=True,
                mu0="μ (1 + 3/(5λm²) + 99/(175λm⁴) + 513/(875λm⁶) + 42039/(67375λm⁸))"))

@@ -19,7 +19,9 @@ def viscoelastic_apparent(data: dict) -> dict | None:
     visco = ((data.get("effects") or {}).get("declared") or {}).get("viscoelastic")
     fit = data["measured"].get("E_fit") or {}
     curve = data["curve"]
-    if not visco or not curve.get("time") or not fit.get("window"):
+    window = fit.get("window") or (None, None)
+    # a kind without an extensometer strain or a single E window (biaxial: one per axis) has no such note
+    if not visco or not curve.get("time") or None in window or "strain" not in curve:
         return None
     strain, time = np.abs(np.asarray(curve["strain"], float)), np.asarray(curve["time"], float)
     lo, hi = fit["window"]

@@ -8,7 +8,6 @@ import copy
 import hashlib
 import json
 import re
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Mapping
@@ -167,12 +166,9 @@ def load_scene(path: str | Path) -> Scene:
 
 def load_scene_text(path: str | Path) -> tuple[Scene, str]:
     """The validated scene and the text it was read from (read once, bounded: vlab.scene.file)."""
-    from vlab.scene.file import read_scene_file
+    from vlab.scene.file import parse_toml, read_scene_file
 
     path = Path(path)
     text = read_scene_file(path)
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise SceneError(f"{path}: TOML syntax error: {exc}") from None
+    data = parse_toml(text, str(path), "scene file")
     return parse_scene(data, origin=str(path), base_dir=path.parent), text

@@ -42,14 +42,15 @@ class CacheError(ValueError):
     """The --cache option cannot be used as a cache folder (exit 2)."""
 
 
-def check_cache_folder(path: Path) -> Path:
-    """``path`` if it is a folder or one can be made there; CacheError naming --cache otherwise."""
+def check_cache_folder(path: Path, name: str = "--cache") -> Path:
+    """``path`` if it is a folder or one can be made there; CacheError naming ``name`` (the option
+    or key that gave it: --cache, fe.cache) otherwise."""
     path = Path(path)
     if path.exists() and not path.is_dir():
-        raise CacheError(f"--cache {str(path)!r} is a file, not a folder (the cache is a folder of run summaries)")
+        raise CacheError(f"{name} {str(path)!r} is a file, not a folder (the cache is a folder of run summaries)")
     base = next((p for p in [path, *path.parents] if p.exists()), Path("/"))
     if not base.is_dir():
-        raise CacheError(f"--cache {str(path)!r}: {str(base)!r} is a file, so no folder can be made below it")
+        raise CacheError(f"{name} {str(path)!r}: {str(base)!r} is a file, so no folder can be made below it")
     return path
 
 

@@ -87,6 +87,10 @@ class SimpleShear(TestKind):
         if test.grips not in ("kinematic", "plates"):
             raise SceneError(f"test.grips must be 'kinematic' or 'plates' for test.kind = 'simple-shear', "
                              f"got {test.grips!r}")
+        if test.protocol.name == "creep":  # its record and figure are an extensometer strain under a held pull
+            raise SceneError("test.protocol = 'creep' is not available with test.kind = 'simple-shear' in this "
+                             "build (a creep test holds a tensile force and records the extensometer strain); "
+                             "a held shear is test.protocol = 'relaxation'")
 
     def at(self, targets, t: float) -> list[float]:
         return [t * targets[0]]
