@@ -116,7 +116,7 @@ def read_columns(path: Path, wanted: dict[str, str]) -> dict[str, np.ndarray]:
 STRESS_RANGE = (1e-9, 1e6)   # MPa: the largest |stress| of a data set (1 mPa .. 1 TPa, beyond any solid)
 SOFTENING = 0.10             # a fall of the stress by more than this share of its largest |value| is softening
 WRONG_SIGN = 0.02            # a stress of the wrong sign larger than this share of the largest is not noise
-_MONOTONIC = ("uniaxial", "equibiaxial", "planar", "simple-shear")
+_MONOTONIC = ("uniaxial", "equibiaxial", "planar", "simple-shear", "confined-compression")
 
 
 def check_plausible(path: Path, kind: str, column: str, a: np.ndarray, y: np.ndarray, lines) -> None:

@@ -6,7 +6,9 @@
                bulk modulus, MPa) or fit_K = true, volumetric (quadratic | log | simo-taylor),
                K_over_mu (incompressible only: the card's K / mu0, 10..1e8, default 1000)
     [[data]]   file (resolved against the fit file's folder), kind, columns, stress_measure,
-               units, role (fit | validate), weight, name
+               units, role (fit | validate), weight, name; geometry (the kinds of
+               vlab.identify.kinds that need lengths: torsion radius, inflation inner_radius and
+               thickness, mm)
     [options]  residual (relative | absolute), starts (1..1000), seed, confidence (0.5..0.999),
                max_evaluations (per start, default 400)
     [fe]       scene (kind = "specimen"), parameters (the card keys fitted), start, max_solves
@@ -24,13 +26,14 @@ from vlab.fields import SceneError, Table
 from vlab.identify.card import INCOMPRESSIBLE_K_RATIO
 from vlab.identify.datasets import (COLUMN_KEYS, FORCE_UNITS, STRESS_UNITS, Dataset, check_monotonic,
                                     check_plausible, read_columns)
+from vlab.identify.kinds import FIT_KINDS
 from vlab.identify.laws import MODEL_NAMES, law_for
 from vlab.identify.states import Constitutive
 from vlab.scene.file import parse_toml, read_text_file
 
 __all__ = ["FitSpec", "load_fit", "parse_fit", "parse_fit_text", "parse_model_name", "read_fit_text"]
 
-KINDS = ("uniaxial", "equibiaxial", "planar", "biaxial", "simple-shear", "volumetric", "specimen")
+KINDS = ("uniaxial", "equibiaxial", "planar", "biaxial", "simple-shear", "volumetric", "specimen") + tuple(FIT_KINDS)
 
 
 @dataclass(frozen=True, eq=False)
@@ -87,7 +90,7 @@ def _model(raw) -> Constitutive:
 
 
 def _columns(t: Table, kind: str) -> dict[str, str]:
-    required, optional = COLUMN_KEYS[kind]
+    required, optional = FIT_KINDS[kind].columns if kind in FIT_KINDS else COLUMN_KEYS[kind]
     raw = t.get("columns", {})
     alt = {"stretch": "strain", "stretch2": "strain2"}
     allowed = required + optional + tuple(alt[k] for k in required if k in alt)
@@ -113,11 +116,17 @@ def _dataset(raw, i: int, base: Path) -> Dataset:
     if record is not None:
         return record
     t = Table(f"data[{i}]", raw, ("file", "kind", "columns", "stress_measure", "units", "role",
-                                  "weight", "name"))
+                                  "weight", "name", "geometry"))
     file = t.get("file")
     if not isinstance(file, str) or not file:
         raise SceneError(f"{t.field('file')} must be a CSV file name (string), got {fields.show(file)}")
     kind = t.choice("kind", KINDS)
+    if kind in FIT_KINDS:
+        return _closed_form_dataset(t, FIT_KINDS[kind], file, base)
+    if "geometry" in t.raw:
+        raise SceneError(f"{t.field('geometry')}: kind = {kind!r} takes no geometry (it is for kinds "
+                         f"{', '.join(k for k, v in FIT_KINDS.items() if v.geometry)}, and raw "
+                         "force–displacement exports)")
     units = FORCE_UNITS if kind == "specimen" else STRESS_UNITS
     unit = t.choice("units", tuple(units), "N" if kind == "specimen" else "MPa")
     measure = t.choice("stress_measure", ("nominal", "true"), "nominal")
@@ -128,6 +137,37 @@ def _dataset(raw, i: int, base: Path) -> Dataset:
     path = (base / file).resolve()
     cols = read_columns(path, wanted)
     return _to_dataset(path, name, kind, role, weight, measure, units[unit], wanted, cols)
+
+
+def _closed_form_dataset(t: Table, kind, file: str, base: Path) -> Dataset:
+    """A data set of a kind of vlab.identify.kinds: its columns, units, measures and geometry
+    from the registry entry, the checks and arrays from its ``build``."""
+    from vlab.identify.kinds.base import parse_geometry
+
+    unit = t.choice("units", tuple(kind.units), kind.default_unit)
+    if kind.measures:
+        measure = t.choice("stress_measure", kind.measures, kind.measures[0])
+    elif "stress_measure" in t.raw:
+        raise SceneError(f"{t.field('stress_measure')} does not apply to kind = {kind.name!r} (its columns "
+                         f"{', '.join(sum(kind.columns, ()))} are not stresses of one measure)")
+    else:
+        measure = "nominal"
+    role = t.choice("role", ("fit", "validate"), "fit")
+    weight = t.number("weight", 1.0, gt=0)
+    name = t.get("name", Path(file).stem)
+    geometry = parse_geometry(t, kind)
+    wanted = _columns(t, kind.name)
+    path = (base / file).resolve()
+    cols = read_columns(path, wanted)
+    lines = cols.pop("_line")
+    if "strain" in cols:
+        cols["stretch"], wanted["stretch"] = 1.0 + cols.pop("strain"), wanted.pop("strain")
+    if "stretch" in cols and np.any(cols["stretch"] <= 0):
+        j = int(np.argmax(cols["stretch"] <= 0))
+        raise SceneError(f"{path.name} row {int(lines[j])} column {wanted['stretch']!r}: stretch must be > 0 "
+                         f"(strain > -1), got {cols['stretch'][j]:g}")
+    a, b, y, extra = kind.build(path, cols, wanted, lines, kind.units[unit], geometry)
+    return Dataset(str(name), str(path), kind.name, role, weight, measure, a, b, y, extra)
 
 
 def _to_dataset(path, name, kind, role, weight, measure, factor, wanted, cols) -> Dataset:
@@ -194,9 +234,11 @@ def parse_fit(data: dict, base_dir: Path, default_name: str = "fit") -> FitSpec:
     if not isinstance(raw_data, list) or not raw_data:
         raise SceneError("[[data]] must list at least one data set (file, kind, columns, ...)")
     datasets = tuple(_dataset(d, i, Path(base_dir)) for i, d in enumerate(raw_data))
-    if model.bulk == "incompressible" and any(d.kind == "volumetric" for d in datasets):
-        raise SceneError("a data set of kind = \"volumetric\" needs a compressible model: model.fit_K = true "
-                         "or model.K")
+    needs_k = [d.kind for d in datasets
+               if d.kind == "volumetric" or (d.kind in FIT_KINDS and FIT_KINDS[d.kind].compressible)]
+    if model.bulk == "incompressible" and needs_k:
+        raise SceneError(f"a data set of kind = \"{needs_k[0]}\" needs a compressible model (it fixes K): "
+                         "model.fit_K = true or model.K")
     if not any(d.role == "fit" for d in datasets):
         raise SceneError("no data set has role = \"fit\": at least one must be fitted")
     fe = None

@@ -17,6 +17,8 @@ from vlab.identify.card import card_of
 from vlab.identify.drucker import kind_stability
 from vlab.identify.fitfile import FitSpec
 from vlab.identify.jacobian import value_and_jacobian
+from vlab.identify.kinds import FIT_KINDS
+from vlab.identify.kinds.base import floor_of
 from vlab.identify.solve import Objective, max_I1, predict, summarize_starts, timed_multi_start
 
 __all__ = ["FitOutcome", "fit_homogeneous", "curves"]
@@ -40,13 +42,19 @@ class FitOutcome:
 
 def _dataset_errors(model, x, d) -> dict:
     pred = np.real(predict(model, x[None, :], d)[0])
-    floor = 0.01 * np.max(np.abs(d.y))
-    rel = (pred - d.y) / np.maximum(np.abs(d.y), floor if floor > 0 else 1.0)
+    floor = floor_of(d)
+    rel = (pred - d.y) / np.maximum(np.abs(d.y), np.where(floor > 0, floor, 1.0))
     lo, hi = float(np.min(d.a)), float(np.max(d.a))
     return {"name": d.name, "file": d.file, "kind": d.kind, "role": d.role, "weight": d.weight,
             "stress_measure": d.measure, "points": d.points, "range": [lo, hi],
             "rms_relative": float(np.sqrt(np.mean(rel ** 2))), "max_relative": float(np.max(np.abs(rel))),
-            "rms_absolute_MPa": float(np.sqrt(np.mean((pred - d.y) ** 2)))} | _cleanup(d)
+            "rms_absolute_MPa": float(np.sqrt(np.mean((pred - d.y) ** 2)))} | _cleanup(d) | _geometry(d)
+
+
+def _geometry(d) -> dict:
+    """A closed-form kind's geometry (mm) and outputs (vlab.identify.kinds), as fit.json states them."""
+    extra = d.extra or {}
+    return {k: extra[k] for k in ("geometry", "outputs") if k in extra and d.kind in FIT_KINDS}
 
 
 def _cleanup(d) -> dict:
@@ -266,17 +274,20 @@ def _warnings(model, best, ident: dict, starts: dict, stability: dict, uncertain
 
 
 def curves(outcome: FitOutcome, d, n: int = 120) -> dict:
-    """Prediction and delta-method band of data set d on a fine grid (biaxial: at its points)."""
+    """Prediction and delta-method band of data set d on a fine grid (biaxial: at its points); a
+    kind of vlab.identify.kinds with several outputs (torque, axial force) gives ``blocks`` curves
+    on the same grid, one after the other in y."""
     from vlab.identify.datasets import Dataset
     model = outcome.spec.model
+    blocks = len(d.y) // len(d.a) if d.kind in FIT_KINDS else 1
     if d.kind == "biaxial":
         grid = d
     else:
         a = np.linspace(float(np.min(d.a)), float(np.max(d.a)), n)
-        grid = Dataset(d.name, d.file, d.kind, d.role, 1.0, d.measure, a, None, np.zeros(n))
+        grid = Dataset(d.name, d.file, d.kind, d.role, 1.0, d.measure, a, None, np.zeros(blocks * n), d.extra)
     y, g = value_and_jacobian(lambda X: predict(model, X, grid), outcome.x)
     yd, _ = value_and_jacobian(lambda X: predict(model, X, d), outcome.x)
-    return {"a": grid.a, "y": y, "band": unc.band(g, outcome.cov_x, outcome.tq), "at_data": yd}
+    return {"a": grid.a, "y": y, "band": unc.band(g, outcome.cov_x, outcome.tq), "at_data": yd, "blocks": blocks}
 
 
 def fit_any(spec: FitSpec, execution=None) -> FitOutcome:

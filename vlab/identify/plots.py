@@ -12,10 +12,38 @@ import numpy as np  # noqa: E402
 from matplotlib.colors import ListedColormap  # noqa: E402
 
 from vlab.identify.drucker import PATHS, stability_map  # noqa: E402
+from vlab.identify.kinds import FIT_KINDS, outputs_of  # noqa: E402
+from vlab.identify.kinds.base import floor_of  # noqa: E402
 
 __all__ = ["plot_curves", "plot_stability_map", "plot_models"]
 
 _XLABEL = {"simple-shear": "shear γ", "biaxial": "point", "specimen": "strain", "volumetric": "volume ratio J"}
+
+
+def _closed_panel(ax, rax, d, cur, confidence: float, label: str, colour: str) -> None:
+    """A kind of vlab.identify.kinds: each output block against the control (a second output,
+    the axial force of torsion, on a right-hand axis); residuals of every block below."""
+    xlabel, ylabels = FIT_KINDS[d.kind].labels
+    n, m = len(d.a), len(cur["a"])
+    axes = [ax] + [ax.twinx() for _ in outputs_of(d)[1:]]
+    for k, (name, axk, style) in enumerate(zip(outputs_of(d), axes, ("o", "s"))):
+        yk, ck, bk = d.y[k * n:(k + 1) * n], cur["y"][k * m:(k + 1) * m], cur["band"][k * m:(k + 1) * m]
+        axk.plot(d.a, yk, style, color=colour, ms=4, mfc=colour if k == 0 else "none", label=f"{label}: {name}")
+        axk.plot(cur["a"], ck, "-" if k == 0 else "--", color="k", lw=1.2)
+        axk.fill_between(cur["a"], ck - bk, ck + bk, color="k", alpha=0.18,
+                         label=f"{100 * confidence:g} % band (delta method)" if k == 0 else None)
+        axk.set_ylabel(ylabels[name])
+        floor = floor_of(d)[k * n:(k + 1) * n]
+        rel = (cur["at_data"][k * n:(k + 1) * n] - yk) / np.maximum(np.abs(yk), np.where(floor > 0, floor, 1.0))
+        rax.plot(d.a, 100 * rel, style + "-", color=colour, ms=3, lw=0.8, mfc=colour if k == 0 else "none",
+                 label=name)
+    handles = [h for a in axes for h in a.get_legend_handles_labels()[0]]
+    ax.legend(handles=handles, fontsize=7, loc="center left" if len(axes) > 1 else "best")
+    ax.grid(alpha=0.3)
+    rax.axhline(0, color="k", lw=0.6)
+    rax.set_ylabel("residual (%)")
+    rax.set_xlabel(xlabel)
+    rax.grid(alpha=0.3)
 
 
 def _panel(ax, rax, d, cur, confidence: float):
@@ -23,6 +51,8 @@ def _panel(ax, rax, d, cur, confidence: float):
     colour = "tab:orange" if held else "tab:blue"
     what = d.kind if d.name == d.kind else f"{d.name} ({d.kind})"  # not "uniaxial (uniaxial)"
     label = f"{what}{', held out' if held else ''}"
+    if d.kind in FIT_KINDS:
+        return _closed_panel(ax, rax, d, cur, confidence, label, colour)
     if d.kind == "biaxial":
         x = np.arange(len(d.y))
         ax.plot(x, d.y, "o", color=colour, ms=4, label=label)
@@ -107,6 +137,12 @@ def plot_stability_map(outcome, path: Path) -> None:
     plt.close(fig)
 
 
+def _broken(v: np.ndarray, blocks: int) -> np.ndarray:
+    """The blocks of v one after the other with a NaN between them (one line per output)."""
+    parts = np.split(np.asarray(v, float), blocks)
+    return np.concatenate([np.r_[p, np.nan] for p in parts])[:-1]
+
+
 def plot_models(spec, ranked, path: Path) -> None:
     """One panel per data set: the data (filled: fitted; open orange: held out) and every ranked
     model's curve, labelled with its rank."""
@@ -116,19 +152,20 @@ def plot_models(spec, ranked, path: Path) -> None:
     fig, axes = plt.subplots(1, len(sets), figsize=(4.4 * len(sets), 4.2), squeeze=False)
     for ax, d in zip(axes[0], sets):
         held = d.role == "validate"
-        x = np.arange(len(d.y)) if d.kind == "biaxial" else d.a
+        x = np.arange(len(d.y)) if d.kind == "biaxial" else np.tile(d.a, len(d.y) // len(d.a))
         ax.plot(x, d.y, "o", ms=5, mfc="none" if held else "tab:blue", color="tab:orange" if held else "tab:blue",
                 label="held out" if held else "fitted data", zorder=5)
         for i, (name, o) in enumerate(ranked, 1):
             cur = curves(o, d)
             style = "_" if d.kind == "biaxial" else "-"
-            ax.plot(np.arange(len(cur["y"])) if d.kind == "biaxial" else cur["a"], np.real(cur["y"]), style,
-                    lw=1.2, label=f"{i}. {name}")
+            ax.plot(np.arange(len(cur["y"])) if d.kind == "biaxial" else _broken(np.tile(cur["a"], cur["blocks"]), cur["blocks"]),
+                    _broken(np.real(cur["y"]), cur["blocks"]), style, lw=1.2, label=f"{i}. {name}")
         span = float(np.max(d.y) - min(0.0, float(np.min(d.y))))  # a wild prediction must not hide the data
         ax.set_ylim(min(0.0, float(np.min(d.y))) - 0.1 * span, float(np.max(d.y)) + 0.6 * span)
         ax.set_title(f"{d.name} ({d.kind}{', held out' if held else ''})", fontsize=9)
-        ax.set_xlabel(_XLABEL.get(d.kind, "stretch λ"))
-        ax.set_ylabel("pressure (MPa)" if d.kind == "volumetric" else
+        ax.set_xlabel(FIT_KINDS[d.kind].labels[0] if d.kind in FIT_KINDS else _XLABEL.get(d.kind, "stretch λ"))
+        ax.set_ylabel(" and ".join(FIT_KINDS[d.kind].labels[1][o] for o in outputs_of(d)) if d.kind in FIT_KINDS
+                      else "pressure (MPa)" if d.kind == "volumetric" else
                       f"{'true' if d.measure == 'true' else 'nominal'} stress (MPa)")
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7)

@@ -1,7 +1,8 @@
 """Bounded nonlinear least squares from many seeded starts.
 
 Residual of point k of data set d (weight w_d, measured y, predicted ŷ(x), MPa):
-    relative: r = √w_d (ŷ − y) / max(|y|, 0.01 max_d |y|)    (the floor keeps λ = 1, y = 0 finite)
+    relative: r = √w_d (ŷ − y) / max(|y|, 0.01 max_d |y|)    (the floor keeps λ = 1, y = 0 finite;
+              a data set of several outputs, torque and axial force, floors each by its own max)
     absolute: r = √w_d (ŷ − y)
 minimised as ½ Σ r² by scipy.optimize.least_squares ("trf", box bounds on the internal
 coordinates x, x_scale from the Jacobian), with the exact complex-step Jacobian of r. Starts are
@@ -18,6 +19,8 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from vlab.identify.jacobian import value_and_jacobian
+from vlab.identify.kinds import FIT_KINDS
+from vlab.identify.kinds.base import floor_of
 from vlab.identify.laws import law_for
 from vlab.identify.states import Constitutive, incompressible_rows, response
 
@@ -28,7 +31,10 @@ AT_BEST = 1e-6        # ... within 1e-6 have "reached" it
 
 
 def predict(model: Constitutive, X, d):
-    """ŷ of data set d at internal coordinates X (m, n_x), MPa."""
+    """ŷ of data set d at internal coordinates X (m, n_x), MPa (a kind of vlab.identify.kinds:
+    its own units, e.g. torque in N·mm)."""
+    if d.kind in FIT_KINDS:
+        return FIT_KINDS[d.kind].predict(model, X, d)
     return response(model, X, d.kind, d.a, d.b, d.measure)
 
 
@@ -40,14 +46,14 @@ class Objective:
         self.y = np.concatenate([d.y for d in self.datasets])
         scales, weights = [], []
         for d in self.datasets:
-            floor = 0.01 * np.max(np.abs(d.y)) if residual == "relative" else 1.0
-            s = np.maximum(np.abs(d.y), floor) if residual == "relative" else np.ones_like(d.y)
+            s = np.maximum(np.abs(d.y), floor_of(d)) if residual == "relative" else np.ones_like(d.y)
             scales.append(np.where(s > 0, s, 1.0))
             weights.append(np.full(len(d.y), np.sqrt(d.weight)))
         self.factor = np.concatenate(weights) / np.concatenate(scales)
         self._cache = (None, None, None)
         self.rows = None
-        if model.bulk == "incompressible":  # one law evaluation for every point of every set
+        if model.bulk == "incompressible" and not any(d.kind in FIT_KINDS for d in self.datasets):
+            # one law evaluation for every point of every set
             rows = [incompressible_rows(d.kind, d.a, d.b, d.measure) for d in self.datasets]
             self.rows = [np.concatenate([r[i] for r in rows])[None, :] for i in range(4)]
             self.rows[3] = self.rows[3] * self.factor
@@ -92,7 +98,7 @@ def modulus_scale(datasets) -> float:
     """A shear-modulus estimate (MPa): median of y / ŷ of an incompressible Neo-Hookean, μ = 1."""
     nh = Constitutive(law_for("neo-hookean"))
     ratios = []
-    for d in (d for d in datasets if d.kind != "volumetric"):
+    for d in (d for d in datasets if d.kind != "volumetric" and not _needs_k(d)):
         base = np.real(predict(nh, np.ones((1, 1)), d)[0])
         ok = np.abs(base) > 1e-3
         ratios.extend((d.y[ok] / base[ok]).tolist())
@@ -100,10 +106,17 @@ def modulus_scale(datasets) -> float:
     return float(np.median(ratios)) if ratios else 1.0
 
 
+def _needs_k(d) -> bool:
+    return d.kind in FIT_KINDS and FIT_KINDS[d.kind].compressible
+
+
 def max_I1(datasets) -> float:
     """The largest I1 = Σ λ_i² the fitted data reach (incompressible states)."""
     out = 3.0
     for d in (d for d in datasets if d.kind != "volumetric"):
+        if d.kind in FIT_KINDS:
+            out = max(out, FIT_KINDS[d.kind].max_I1(d))
+            continue
         if d.kind == "simple-shear":
             i1 = 3.0 + d.a ** 2
         else:

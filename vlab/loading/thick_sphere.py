@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.integrate import quad
 
-__all__ = ["thick_sphere_pressure"]
+__all__ = ["thick_sphere_pressure", "outer_stretch"]
 
 
 def _w_prime(material, lam: float) -> float:
@@ -21,12 +21,18 @@ def _w_prime(material, lam: float) -> float:
     return 2.0 * (P[0, 0] - lam**-3 * P[2, 2])
 
 
+def outer_stretch(stretch, wall_ratio):
+    """λ_b = (1 + (λ_a³ − 1)(A/B)³)^(1/3), the outer hoop stretch of an incompressible sphere whose
+    inner hoop stretch is λ_a (``wall_ratio`` = (A/B)³); numpy arrays pass element-wise."""
+    return (1.0 + (stretch**3 - 1.0) * wall_ratio) ** (1.0 / 3.0)
+
+
 def thick_sphere_pressure(material, stretch: float, wall_ratio: float | None) -> float:
     """p(λ_a) of the incompressible thick sphere, ∫_{λ_b}^{λ_a} Ŵ'(λ)/(λ³ − 1) dλ with
     λ_b³ = 1 + (λ_a³ − 1)(A/B)³ (``wall_ratio`` = (A/B)³); NaN without the ratio."""
     if wall_ratio is None:
         return float("nan")
-    lam_b = (1.0 + (stretch**3 - 1.0) * wall_ratio) ** (1.0 / 3.0)
+    lam_b = outer_stretch(stretch, wall_ratio)
     if stretch == 1.0:
         return 0.0
 
