@@ -69,8 +69,14 @@ def read_columns(path: Path, wanted: dict[str, str]) -> dict[str, np.ndarray]:
     holds each row's line number in the file (the header is line 1)."""
     if not path.is_file():
         raise SceneError(f"data file {str(path)!r} does not exist")
-    with open(path, newline="", encoding="utf-8-sig") as fh:
-        rows = [r for r in csv.reader(fh)]
+    try:
+        with open(path, newline="", encoding="utf-8-sig") as fh:
+            rows = [r for r in csv.reader(fh)]
+    except UnicodeDecodeError as exc:
+        raise SceneError(f"{path.name} is not UTF-8 text (byte {exc.start}: {exc.object[exc.start:exc.start + 1]!r}); "
+                         "a data file is a CSV saved as UTF-8") from None
+    except csv.Error as exc:  # e.g. a NUL byte: a binary file
+        raise SceneError(f"{path.name} is not a CSV text file ({exc})") from None
     rows = [(i + 1, r) for i, r in enumerate(rows) if any(c.strip() for c in r)]
     if not rows:
         raise SceneError(f"{path.name} is empty: expected a header row naming the columns "
