@@ -49,7 +49,7 @@ def _grid(rng, kind: str, n: int) -> np.ndarray:
         g[n // 2] = g[n // 2 - 1]
     elif r < 0.08:
         g = g[::-1].copy()
-    elif r < 0.10:
+    elif r < 0.10 and n:
         g[-1] = rng.choice([1e300, 1e-300, -1.0, 0.0])
     return g
 

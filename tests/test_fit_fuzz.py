@@ -24,6 +24,7 @@ from vlab.cli import app
 
 runner = CliRunner()
 CASES = int(os.environ.get("VLAB_FIT_FUZZ_CASES", "100"))
+DRAWN = 3  # fits whose figures are drawn (the others get empty files: the figures are not the contract)
 SEED = int(os.environ.get("VLAB_FIT_FUZZ_SEED", "20261204"))
 
 
@@ -50,12 +51,28 @@ def check_card_runs(card: dict) -> None:
                  "test": {"kind": "uniaxial", "grips": "roller", "stretch": 1.5, "steps": 2}})
 
 
-def check_case(folder, text: str, files: dict[str, bytes]) -> int:
+def check_fit_json(path, code: int, where: str) -> None:
+    d = json.loads(path.read_text(), parse_constant=_refuse)
+    check_intervals(d)
+    if code == 0:
+        assert d["converged"] and d["trust"]["trustworthy"], where
+        check_card_runs(d["card"]["material"])
+
+
+def check_ranking(out, code: int, where: str) -> None:
+    """--models: ranking.json strict; every model's fit.json as above; 0 only for a usable first."""
+    rows = json.loads((out / "ranking.json").read_text(), parse_constant=_refuse)["ranking"]
+    for i, row in enumerate(rows):
+        check_fit_json(out / row["model"] / "fit.json", code if i == 0 else -1, where)
+
+
+def check_case(folder, text: str, files: dict[str, bytes], models: str | None = None) -> int:
     """Write the case into ``folder``, fit it, assert the invariants; returns the exit code."""
     (folder / "fit.toml").write_text(text)
     for name, data in files.items():
         (folder / name).write_bytes(data)
-    result = runner.invoke(app, ["fit", str(folder / "fit.toml"), "--out", str(folder / "out")])
+    extra = ["--models", models] if models else []
+    result = runner.invoke(app, ["fit", str(folder / "fit.toml"), "--out", str(folder / "out"), *extra])
     where = f"\n--- fit.toml\n{text}\n--- output\n{result.output}"
     assert result.exception is None or isinstance(result.exception, SystemExit), \
         f"{type(result.exception).__name__}: {result.exception}{where}"
@@ -63,32 +80,32 @@ def check_case(folder, text: str, files: dict[str, bytes]) -> int:
     if result.exit_code == 2:
         assert not (folder / "out").exists(), where
         return 2
-    d = json.loads((folder / "out" / "fit.json").read_text(), parse_constant=_refuse)
-    check_intervals(d)
-    if result.exit_code == 0:
-        assert d["converged"] and d["trust"]["trustworthy"], where
-        check_card_runs(d["card"]["material"])
+    if models:
+        check_ranking(folder / "out", result.exit_code, where)
+    else:
+        check_fit_json(folder / "out" / "fit.json", result.exit_code, where)
     return result.exit_code
 
 
-def _blank(outcome, *args):
-    """A figure not drawn (2-4 s each; every 25th case draws them): an empty file in its place."""
+def _blank(*args):
+    """A figure not drawn (2-4 s each; the first DRAWN fits draw them): an empty file in its place."""
     open(args[-1], "wb").close()
 
 
 def test_random_fit_files_keep_the_exit_code_contract(tmp_path, monkeypatch):
     import vlab.identify.plots as plots
 
-    real = {name: getattr(plots, name) for name in ("plot_curves", "plot_stability_map")}
+    real = {name: getattr(plots, name) for name in ("plot_curves", "plot_stability_map", "plot_models")}
     rng = np.random.default_rng(SEED)
     codes, start = [], time.perf_counter()
     for i in range(CASES):
         for name, draw in real.items():
-            monkeypatch.setattr(plots, name, draw if i % 25 == 0 else _blank)
+            monkeypatch.setattr(plots, name, draw if sum(c != 2 for c in codes) < DRAWN else _blank)
         folder = tmp_path / f"case{i:03d}"
         folder.mkdir()
         text, files = fit_case(rng)
-        codes.append(check_case(folder, text, files))
+        models = "neo-hookean,yeoh,ogden-2" if i % 10 == 5 else None  # the ranking of several models
+        codes.append(check_case(folder, text, files, models))
     seconds = time.perf_counter() - start
     counts = {c: codes.count(c) for c in sorted(set(codes))}
     print(f"{CASES} cases in {seconds:.1f} s; exit codes {counts}")
