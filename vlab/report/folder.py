@@ -340,11 +340,13 @@ def _check_staged(dest: Destination, tmp: Path, identity: tuple[int, int], marke
                                 f"({str(tmp)!r}) was removed or replaced meanwhile; nothing was written")
 
 
-def _failure(dest: Destination, exc: OSError) -> ReportFolderError:
+def _failure(dest: Destination, exc: OSError, target: Path) -> ReportFolderError:
+    """The ReportFolderError of an OS error while writing: the cause, and what to do where it is known."""
     cause = exc.strerror or str(exc)
+    ours = exc.filename is None or str(exc.filename).startswith(str(target.parent))  # not a vlab asset's
     if exc.errno in (errno.ENOSPC, errno.EDQUOT):
         cause += f": free space on the file system of {str(dest.path)!r} and run again"
-    elif exc.errno == errno.ENOENT:
+    elif exc.errno == errno.ENOENT and ours:
         cause += ": a folder was removed while vlab wrote the report"
     return ReportFolderError(f"{dest.option} {str(dest.path)!r}: cannot write the report ({cause}); "
                              f"nothing was written")
@@ -374,5 +376,5 @@ def report_folder(out: "Path | str | Destination", kind: str = "report"):
             except OSError:
                 break
         if isinstance(exc, OSError):
-            raise _failure(dest, exc) from None
+            raise _failure(dest, exc, target) from None
         raise
