@@ -16,6 +16,8 @@ __all__ = ["fit_command"]
 
 
 def _print_fit(console: Console, d: dict) -> None:
+    from vlab.identify.report import percent
+
     # Text, not markup: the CLI's console prints verbatim (a name or reason may hold "[...]")
     console.print(Text.assemble((d['name'], "bold"), f": {d['model']['name']} "
                   f"({'converged' if d['converged'] else 'NOT converged: ' + str(d['reason'])})"), highlight=False)
@@ -26,8 +28,8 @@ def _print_fit(console: Console, d: dict) -> None:
         said = u["reason"]
         console.print(f"  {k:>10} = {u['value']:.6g} {spread}", highlight=False, soft_wrap=True)
     for x in d["datasets"]:
-        console.print(f"  {x['name']} ({x['kind']}, {x['role']}): rms {100 * x['rms_relative']:.3g} %, "
-                      f"max {100 * x['max_relative']:.3g} %", highlight=False)
+        console.print(f"  {x['name']} ({x['kind']}, {x['role']}): rms {percent(x['rms_relative'])}, "
+                      f"max {percent(x['max_relative'])}", highlight=False)
     for w in d["warnings"]:
         console.print(Text.assemble("  ", ("warning", "yellow"), f" {w}"), highlight=False, soft_wrap=True)
     if d["converged"] and not d["trust"]["trustworthy"]:

@@ -33,6 +33,8 @@ from vlab.scene.file import parse_toml, read_text_file
 
 __all__ = ["FitSpec", "load_fit", "parse_fit", "parse_fit_text", "parse_model_name", "read_fit_text"]
 
+K_MAX = 1e9  # MPa: 2000 times diamond's bulk modulus; beyond it the residuals overflow (1e300 was inf)
+WEIGHT_MAX = 1e6  # a data set's weight relative to the others; 1e300 overflowed the residuals (SVD failed)
 KINDS = ("uniaxial", "equibiaxial", "planar", "biaxial", "simple-shear", "volumetric", "specimen") + tuple(FIT_KINDS)
 
 
@@ -71,7 +73,8 @@ def _model(raw) -> Constitutive:
     for key, v in (("incompressible", inc), ("fit_K", fit_k)):
         if not isinstance(v, bool):
             raise SceneError(f"model.{key} must be true or false, got {fields.show(v)}")
-    K = t.number("K", None, gt=0, note=" (MPa, bulk modulus held fixed)")
+    K = t.number("K", None, gt=0, le=K_MAX, note=" (MPa, bulk modulus held fixed; for an incompressible fit "
+                 "leave it out)")
     vol = t.choice("volumetric", ("quadratic", "log", "simo-taylor"), "quadratic")
     explicit_inc = "incompressible" in t.raw
     if (K is not None or fit_k) and explicit_inc and inc:
@@ -131,7 +134,7 @@ def _dataset(raw, i: int, base: Path) -> Dataset:
     unit = t.choice("units", tuple(units), "N" if kind == "specimen" else "MPa")
     measure = t.choice("stress_measure", ("nominal", "true"), "nominal")
     role = t.choice("role", ("fit", "validate"), "fit")
-    weight = t.number("weight", 1.0, gt=0)
+    weight = t.number("weight", 1.0, gt=0, le=WEIGHT_MAX, note=" (relative to the other data sets)")
     name = t.get("name", Path(file).stem)
     wanted = _columns(t, kind)
     path = (base / file).resolve()

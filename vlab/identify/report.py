@@ -28,6 +28,11 @@ def _f(v, digits: int = 4) -> str:
     return html.escape(str(v))
 
 
+def percent(v) -> str:
+    """A share as a percentage; a number fit.json does not have (null: it was not finite) as —."""
+    return "—" if v is None else f"{100 * v:.3g} %"
+
+
 def _table(head, rows) -> str:
     th = "".join(f"<th>{html.escape(h)}</th>" for h in head)
     body = "".join("<tr>" + "".join(f"<td>{c}</td>" for c in r) + "</tr>" for r in rows)
@@ -103,7 +108,7 @@ def page(d: dict, images: list[tuple[str, str]]) -> str:
     """index.html of a fit dict and its figures [(file, caption)]."""
     corr = d["correlation"]
     ds_rows = [[html.escape(x["name"]), x["kind"], x["role"], str(x["points"]),
-                f"{100 * x['rms_relative']:.3g} %", f"{100 * x['max_relative']:.3g} %"] for x in d["datasets"]]
+                percent(x['rms_relative']), percent(x['max_relative'])] for x in d["datasets"]]
     info = d["information"]
     starts = d["starts"]
     warn = "".join(f"<p class='warn'>⚠ {html.escape(w)}</p>" for w in d["warnings"])

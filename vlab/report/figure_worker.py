@@ -11,7 +11,10 @@ then waits for its one job. The report writer sends the job before it writes the
 renders and page, and collects the figures' list after them.
 
 Protocol: stdin carries one JSON job (:func:`figure_job` plus the folder), stdout one answer line,
-``ANSWER`` then ``{"figures": [[file, caption], ...]}`` or ``{"error": ..., "traceback": ...}``. End of input with
+``ANSWER`` then ``{"figures": [[file, caption], ...]}`` or ``{"error": ..., "traceback": ...}``; an OS error
+(a full disk, a folder removed) is ``{"error": ..., "errno": n, "filename": ...}`` without a traceback and is
+raised in the command as that OSError, so the report writer says what it says of its own OS errors
+(exit 2 naming the folder and the cause, nothing written). End of input with
 no job ends the worker quietly (a run that failed before its report). Whatever goes wrong with the
 worker (it could not be started, it died, it answered nothing or an error) is raised in the command
 as :class:`FigureWorkerError` naming the cause with the worker's stderr; the report folder is then
@@ -185,6 +188,8 @@ class FigureWorker:
             reply = json.loads(lines[-1][len(ANSWER):]) if lines else None
         except ValueError:
             reply = None
+        if isinstance(reply, dict) and isinstance(reply.get("errno"), int):
+            raise OSError(reply["errno"], os.strerror(reply["errno"]), reply.get("filename"))
         if not isinstance(reply, dict) or "figures" not in reply:
             cause = reply.get("error", "") if isinstance(reply, dict) else f"exit status {self.proc.returncode}"
             raise FigureWorkerError(self._failure(cause))
@@ -261,6 +266,9 @@ def main() -> None:
         raw = sys.stdin.buffer.read()
         if raw.strip():
             reply = {"figures": [[f.file, f.caption] for f in draw_figures(json.loads(raw))]}
+    except OSError as exc:  # a fault of the file system, not of vlab: its cause, no traceback
+        reply = {"error": f"{exc.strerror or exc}", "errno": exc.errno,
+                 "filename": None if exc.filename is None else str(exc.filename)}
     except Exception as exc:  # noqa: BLE001 - every failure goes back to the command
         reply = {"error": f"{type(exc).__name__}: {exc}", "traceback": traceback.format_exc()}
         traceback.print_exc()

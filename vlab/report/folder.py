@@ -18,7 +18,18 @@ Rules (the instrument never destroys the user's data):
   ``open`` (0o666 minus the umask).
 - Any OS error while writing (a file in the way, read-only or full file system, a name too long)
   removes the temporary folder and the parent folders it created and becomes a ReportFolderError
-  naming the folder and the cause.
+  naming the folder and the cause (a full disk says so: free space and run again). The folder the
+  report was to replace is then as it was.
+- A read-only ``out`` (or a read-only folder inside it) is refused before any work, like a
+  read-only parent: vlab does not replace what it cannot remove whole.
+- One writer per destination at a time: the temporary sibling is made under an exclusive
+  ``flock`` of the parent folder, after checking that no live vlab process (this host) has a
+  temporary sibling for the same name. A second run writing the same ``out`` while the first
+  writes is refused (exit 2, naming the other process); it is also refused at its start if the
+  other is writing then. The folder therefore always holds one whole report, never a mixture.
+- The temporary folder is checked to be the one vlab made (same inode, marker present) before the
+  manifest is written and before it is renamed into place: a folder deleted (or replaced) while
+  the report is written is an error saying so, never a partial report with a manifest.
 """
 
 from __future__ import annotations
@@ -103,6 +114,18 @@ def _check_place(dest: Destination, target: Path) -> None:
     if not os.access(base, os.W_OK | os.X_OK):
         raise ReportFolderError(f"{dest.option} {str(dest.path)!r}: cannot write into {str(base)!r} "
                                 f"(read-only or no permission)")
+    if target.is_dir():
+        _check_writable(dest, target)
+
+
+def _check_writable(dest: Destination, target: Path) -> None:
+    """A folder to replace must be removable whole: it and every folder in it writable (os.access
+    also answers EROFS for a read-only mount, even to root)."""
+    for root, dirs, _ in os.walk(target):
+        if not os.access(root, os.W_OK | os.X_OK):
+            where = "" if Path(root) == target else f" (its folder {str(Path(root).relative_to(target))!r})"
+            raise ReportFolderError(f"{dest.option} {str(dest.path)!r} is read-only{where}: vlab does not replace "
+                                    f"a folder it cannot remove whole; make it writable or choose another folder")
 
 
 def _never_replaced(dest: Destination) -> list[tuple[str, Path]]:
@@ -140,12 +163,14 @@ def _foreign(folder: Path) -> list[str]:
     return sorted((files - set(manifest["files"]) - {MANIFEST}) | (folders - set(manifest["folders"])))
 
 
-def check_destination(out: "Path | str | Destination") -> Destination:
-    """Raise ReportFolderError unless a report may be written to ``out`` (module docstring)."""
+def check_destination(out: "Path | str | Destination", own: Path | None = None) -> Destination:
+    """Raise ReportFolderError unless a report may be written to ``out`` (module docstring);
+    ``own``: the caller's temporary folder (not another writer)."""
     dest = destination(out)
     target = Path(os.path.abspath(dest.path))
     _check_names(dest, target)
     _check_place(dest, target)
+    _check_no_other_writer(dest, target, own)
     if not target.is_dir():
         return dest
     resolved = target.resolve()
@@ -192,6 +217,54 @@ def clean_orphans(parent: Path) -> list[Path]:
     return removed
 
 
+def other_writers(target: Path, own: Path | None = None) -> list[int]:
+    """The pids of the live vlab processes (this host) writing a report to ``target`` now: their
+    temporary siblings, recognised by name and marker (``own`` excepted)."""
+    pids = []
+    try:
+        candidates = list(target.parent.iterdir())
+    except OSError:
+        return pids
+    for path in candidates:
+        m = _SIBLING.match(path.name)
+        if not m or m.group(1) != "tmp" or m.group(2) != _HOST or path == own:
+            continue
+        pid = int(m.group(3))
+        if path.name.startswith(f".{target.name}.vlab-") and (path / MARKER).is_file() \
+                and (pid == os.getpid() or _pid_alive(pid)):
+            pids.append(pid)
+    return pids
+
+
+def _check_no_other_writer(dest: Destination, target: Path, own: Path | None) -> None:
+    pids = other_writers(target, own)
+    if pids:
+        raise ReportFolderError(f"{dest.option} {str(dest.path)!r}: another vlab process (pid {pids[0]}) is "
+                                f"writing its report there now; nothing was written by this run. Run again "
+                                f"when it has finished, or choose another folder")
+
+
+@contextmanager
+def _parent_lock(parent: Path):
+    """An exclusive flock of the folder ``parent`` (its own inode: no file is made); where the file
+    system or platform has no flock, no lock (the name check then still catches most races)."""
+    try:
+        import fcntl
+
+        fd = os.open(parent, os.O_RDONLY | getattr(os, "O_DIRECTORY", 0))
+    except (ImportError, OSError):
+        yield
+        return
+    try:
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX)
+        except OSError:
+            pass
+        yield
+    finally:
+        os.close(fd)  # closing the only descriptor releases the lock
+
+
 def _sibling(target: Path, tag: str) -> Path:
     return target.parent / f".{target.name}.vlab-{tag}-{_HOST}-{os.getpid()}-{secrets.token_hex(4)}"
 
@@ -211,7 +284,7 @@ def _write_manifest(tmp: Path, kind: str) -> None:
 def _swap(tmp: Path, dest: Destination, target: Path, attempts: int = 5) -> None:
     """Move the finished ``tmp`` to ``target``, moving a replaceable old folder aside first."""
     for _ in range(attempts):
-        check_destination(dest)  # again: another process may have put something there meanwhile
+        check_destination(dest, own=tmp)  # again: another process may have put something there meanwhile
         old = None
         if target.exists():
             old = _sibling(target, "old")
@@ -238,6 +311,47 @@ def _made_parents(target: Path) -> list[Path]:
     return missing[::-1]
 
 
+def _stage(dest: Destination, target: Path) -> tuple[Path, tuple[int, int]]:
+    """Make the temporary sibling (with its marker) under the parent's lock, after checking that no
+    other vlab process is writing ``target``; returns it and its (device, inode)."""
+    with _parent_lock(target.parent):
+        clean_orphans(target.parent)
+        _check_no_other_writer(dest, target, None)
+        tmp = _sibling(target, "tmp")
+        tmp.mkdir()  # mode 0o777 minus the umask, like any folder the user makes
+    try:
+        (tmp / MARKER).write_text(json.dumps({"pid": os.getpid(), "target": str(target)}), encoding="utf-8")
+        st = tmp.stat()
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    return tmp, (st.st_dev, st.st_ino)
+
+
+def _check_staged(dest: Destination, tmp: Path, identity: tuple[int, int], marker: bool = True) -> None:
+    """The temporary folder is still the one vlab made (and, before the manifest, holds the marker)."""
+    try:
+        st = tmp.stat()
+        same = (st.st_dev, st.st_ino) == identity and (not marker or (tmp / MARKER).is_file())
+    except OSError:
+        same = False
+    if not same:
+        raise ReportFolderError(f"{dest.option} {str(dest.path)!r}: the folder vlab was writing the report into "
+                                f"({str(tmp)!r}) was removed or replaced meanwhile; nothing was written")
+
+
+def _failure(dest: Destination, exc: OSError, target: Path) -> ReportFolderError:
+    """The ReportFolderError of an OS error while writing: the cause, and what to do where it is known."""
+    cause = exc.strerror or str(exc)
+    ours = exc.filename is None or str(exc.filename).startswith(str(target.parent))  # not a vlab asset's
+    if exc.errno in (errno.ENOSPC, errno.EDQUOT):
+        cause += f": free space on the file system of {str(dest.path)!r} and run again"
+    elif exc.errno == errno.ENOENT and ours:
+        cause += ": a folder was removed while vlab wrote the report"
+    return ReportFolderError(f"{dest.option} {str(dest.path)!r}: cannot write the report ({cause}); "
+                             f"nothing was written")
+
+
 @contextmanager
 def report_folder(out: "Path | str | Destination", kind: str = "report"):
     """Yield an empty temporary folder; on success it becomes ``out`` (module docstring)."""
@@ -247,12 +361,11 @@ def report_folder(out: "Path | str | Destination", kind: str = "report"):
     tmp = None
     try:
         target.parent.mkdir(parents=True, exist_ok=True)
-        clean_orphans(target.parent)
-        tmp = _sibling(target, "tmp")
-        tmp.mkdir()  # mode 0o777 minus the umask, like any folder the user makes
-        (tmp / MARKER).write_text(json.dumps({"pid": os.getpid(), "target": str(target)}), encoding="utf-8")
+        tmp, identity = _stage(dest, target)
         yield tmp
+        _check_staged(dest, tmp, identity)
         _write_manifest(tmp, kind)
+        _check_staged(dest, tmp, identity, marker=False)
         _swap(tmp, dest, target)
     except BaseException as exc:
         if tmp is not None:
@@ -263,6 +376,5 @@ def report_folder(out: "Path | str | Destination", kind: str = "report"):
             except OSError:
                 break
         if isinstance(exc, OSError):
-            raise ReportFolderError(f"{dest.option} {str(dest.path)!r}: cannot write the report "
-                                    f"({exc.strerror or exc}); nothing was written") from None
+            raise _failure(dest, exc, target) from None
         raise
