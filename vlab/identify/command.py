@@ -30,11 +30,39 @@ def _print_fit(console: Console, d: dict) -> None:
     for x in d["datasets"]:
         console.print(f"  {x['name']} ({x['kind']}, {x['role']}): rms {percent(x['rms_relative'])}, "
                       f"max {percent(x['max_relative'])}", highlight=False)
+    _print_specimens(console, d.get("specimens"))
     for w in d["warnings"]:
         console.print(Text.assemble("  ", ("warning", "yellow"), f" {w}"), highlight=False, soft_wrap=True)
     if d["converged"] and not d["trust"]["trustworthy"]:
         console.print(Text.assemble(("card not trustworthy", "red"), ": " + "; ".join(d["trust"]["because"])),
                       highlight=False, soft_wrap=True)
+
+
+def _number(v, f: str = ".4g") -> str:
+    return "—" if v is None else format(v, f)
+
+
+def _print_specimens(console: Console, sp: dict | None) -> None:
+    """fit.json → specimens as the page shows it: each specimen's constants, then per constant the
+    mean, standard deviation, cv and n between specimens beside the pooled value (the card's)."""
+    if not sp:
+        return
+    if sp["statistics"] is None:
+        console.print(f"  specimens: n = {sp['n']} ({sp['reason']})", highlight=False, soft_wrap=True)
+        return
+    console.print(f"  specimens: n = {sp['n']} ({', '.join(sp['ids'])}), each fitted on its own; the pooled fit "
+                  "above is the card", highlight=False, soft_wrap=True)
+    for s, r in sp["per_specimen"].items():
+        vals = ", ".join(f"{k} = {c['value']:.4g}" + (f" ± {c['standard_error']:.2g}" if c["interval"] else "")
+                         for k, c in r["constants"].items())
+        state = "" if r["converged"] else "  NOT converged"
+        console.print(f"    {s}: {vals}{state}", highlight=False, soft_wrap=True)
+    for k, st in sp["statistics"].items():
+        g = _number
+        cv = "—" if st["coefficient_of_variation"] is None else f"{100 * st['coefficient_of_variation']:.3g} %"
+        why = f" ({st['reason']})" if st["reason"] else ""
+        console.print(f"    {k:>10}: mean {g(st['mean'])}, sd {g(st['standard_deviation'], '.3g')}, cv {cv}, "
+                      f"n {st['n']}; pooled {g(st['pooled'])}{why}", highlight=False, soft_wrap=True)
 
 
 def _print_ranking(console: Console, rows: list[dict]) -> None:
@@ -109,6 +137,10 @@ def _checked_fit(path: Path, models: str | None, execution, export: str | None):
     if names and any(d.kind in ("relaxation", "dma") for d in spec.datasets):
         raise SceneError("--models ranks equilibrium fits; a fit file with relaxation or DMA records is fitted "
                          "with its own [model] (leave out --models)")
+    from vlab.identify.specimens import specimen_ids
+    if names and len(specimen_ids(spec.datasets)) > 1:
+        raise SceneError("--models ranks models on one data set; a fit file whose data sets name several specimens "
+                         "is fitted per specimen and pooled with its own [model] (leave out --models)")
     targets = _export_targets(spec, export, names)
     if execution is not None and spec.fe is None:
         raise SceneError("--workers/--scheduler run the whole-test solves of an FE-in-the-loop fit; this fit "

@@ -15,7 +15,7 @@ from vlab.identify.drucker import PATHS, stability_map  # noqa: E402
 from vlab.identify.kinds import FIT_KINDS, outputs_of  # noqa: E402
 from vlab.identify.kinds.base import floor_of  # noqa: E402
 
-__all__ = ["plot_curves", "plot_stability_map", "plot_models"]
+__all__ = ["plot_curves", "plot_stability_map", "plot_models", "plot_specimens"]
 
 _XLABEL = {"simple-shear": "shear γ", "biaxial": "point", "specimen": "strain", "volumetric": "volume ratio J"}
 
@@ -170,6 +170,31 @@ def plot_models(spec, ranked, path: Path) -> None:
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7)
     fig.suptitle(f"{spec.name}: models against the data", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def plot_specimens(name: str, panels: list[dict], path: Path) -> None:
+    """One panel per kind (vlab.identify.specimens.band_panels): the envelope of the specimens'
+    fitted curves (grey band), each specimen's curve and data in its colour, the pooled fit (black)."""
+    fig, axes = plt.subplots(1, len(panels), figsize=(4.6 * len(panels), 4.2), squeeze=False)
+    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for ax, p in zip(axes[0], panels):
+        ax.fill_between(p["a"], p["lo"], p["hi"], color="0.6", alpha=0.35, label="specimens' fits (envelope)")
+        ids = list(p["curves"])
+        for s, a, y in p["data"]:
+            c = colours[ids.index(s) % len(colours)] if s in ids else "0.4"
+            ax.plot(a, y, "o", ms=3, color=c, label=f"specimen {s}")
+        for j, (s, y) in enumerate(p["curves"].items()):
+            ax.plot(p["a"], y, "-", lw=0.8, color=colours[j % len(colours)])
+        ax.plot(p["a"], p["pooled"], "-", color="k", lw=1.6, label="pooled fit (the card)")
+        ax.set_xlabel(_XLABEL.get(p["kind"], "stretch λ"))
+        ax.set_ylabel(f"{'true' if p['measure'] == 'true' else 'nominal'} stress (MPa)")
+        ax.set_title(p["kind"], fontsize=9)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+    fig.suptitle(f"{name}: specimens and the pooled fit", fontsize=10)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
