@@ -37,6 +37,24 @@ def compare_labels(scene: Scene) -> tuple[str, ...]:
     return tuple(scene.source.get("compare", {}))
 
 
+def chosen_models(scene: Scene, models: str | tuple | list | None, option: str = "--models") -> tuple[str, ...]:
+    """The models to run: registry model names and the scene's ``[compare.<label>]`` labels (a
+    comma-separated text or a sequence); by default the scene's labels if it has any, else
+    linear, stvk, neo-hookean. SceneError naming ``option`` for an unknown or empty list."""
+    labels = compare_labels(scene)
+    if models is None:
+        return labels or DEFAULT_MODELS
+    items = models.split(",") if isinstance(models, str) else [str(m) for m in models]
+    chosen = tuple(dict.fromkeys(m.strip() for m in items if m.strip()))
+    allowed = tuple(labels) + tuple(m for m in MODELS if m not in labels)
+    bad = [m for m in chosen if m not in allowed]
+    if not chosen or bad:
+        raise SceneError(f"{option} {models!r}: unknown {', '.join(map(repr, bad)) or 'empty list'}; "
+                         f"allowed: {', '.join(allowed)} (comma-separated; [compare.<label>] labels of the "
+                         f"scene, or model names that take the scene's own constants)")
+    return chosen
+
+
 def scene_for_model(scene: Scene, model: str) -> Scene:
     """The scene with the material ``model`` names (validated like a scene file): a
     ``[compare.<label>]`` card replaces the whole [material] table (keeping its density unless

@@ -70,38 +70,22 @@ def fit_command(path: Path, out: Path | None, models: str | None, console: Conso
     """``execution`` (vlab.study.sweep.Execution, from --workers/--scheduler): the FE-in-the-loop
     solves on Dask; refused (exit 2) for a fit without a specimen data set. ``export``: solvers
     (--export) whose cards go to OUT/cards/ (vlab.export), checked before the fit starts."""
-    from vlab.identify.fitfile import load_fit, parse_model_name
+    from vlab.identify.request import fit_request
     from vlab.report.folder import ReportFolderError
     from vlab.study.scheduler import SchedulerError
 
     try:
-        spec = load_fit(path)
-        names = None
-        if models is not None:
-            names = [m.strip() for m in models.split(",") if m.strip()]
-            if not names:
-                raise SceneError("--models must list at least one model, e.g. mooney-rivlin,ogden-3")
-            for n in names:
-                parse_model_name(n, "--models")
-        if names and any(d.kind in ("relaxation", "dma") for d in spec.datasets):
-            raise SceneError("--models ranks equilibrium fits; a fit file with relaxation or DMA records is fitted "
-                             "with its own [model] (leave out --models)")
-        targets = _export_targets(spec, export, names)
-        if execution is not None and spec.fe is None:
-            raise SceneError("--workers/--scheduler run the whole-test solves of an FE-in-the-loop fit; this fit "
-                             "file has no data set of kind = \"specimen\"")
+        request = fit_request(path, models, export, distributed=execution is not None)
     except SceneError as exc:
         console.print(Text.assemble(("invalid fit file", "red"), f" {exc}"), highlight=False, soft_wrap=True)
         return 2
-    text = Path(path).read_text(encoding="utf-8")
     try:
-        dest = _destination(out or Path("reports") / f"{spec.name}-fit", force, spec, path)
+        dest = _destination(out or Path("reports") / f"{request.spec.name}-fit", force, request.spec, path)
     except ReportFolderError as exc:
         console.print(Text.assemble(("invalid output folder", "red"), f" {exc}"), highlight=False, soft_wrap=True)
         return 2
-    out = dest.path
     try:
-        return _fit_and_write(spec, names, dest, out, text, console, execution, targets)
+        return _fit_and_write(request, dest, dest.path, console, execution)
     except SchedulerError as exc:
         console.print(Text.assemble(("invalid option", "red"), f" {exc}"), highlight=False, soft_wrap=True)
         return 2
@@ -110,41 +94,26 @@ def fit_command(path: Path, out: Path | None, models: str | None, console: Conso
         return 2
 
 
-def _export_targets(spec, export: str | None, names) -> list[str]:
-    """The --export solvers, refused (SceneError) with --models or where a target lacks the card."""
-    if export is None:
-        return []
-    if names:
-        raise SceneError("--export writes the cards of one fitted model; it cannot be combined with --models")
-    from vlab.export.command import check_targets
+def _fit_and_write(request, dest, out: Path, console: Console, execution=None) -> int:
+    from vlab.identify.request import run_ranking, run_single
 
-    return check_targets(spec, export)
+    if request.names:
+        from vlab.identify.ranking import write_ranking
 
-
-def _fit_and_write(spec, names, dest, out: Path, text: str, console: Console, execution=None,
-                   targets=()) -> int:
-    if names:
-        from vlab.identify.ranking import fit_models, write_ranking
-
-        rows = write_ranking(spec, fit_models(spec, names), dest, text)
+        rows = write_ranking(request.spec, run_ranking(request), dest, request.text)
         _print_ranking(console, rows)
         console.print(f"report: {out / 'index.html'}", highlight=False, soft_wrap=True)
         if not all(r["converged"] for r in rows):
             return EXIT_FAILED
         return EXIT_OK if rows[0]["trustworthy"] else EXIT_UNTRUSTED
-    from vlab.identify.fitting import fit_any
     from vlab.identify.report import write_fit_report
 
     try:
-        outcome = fit_any(spec, execution)
+        outcome = run_single(request, execution)
     except SceneError as exc:  # found while fitting (e.g. the scene's test does not cover the data)
         console.print(Text.assemble(("invalid fit file", "red"), f" {exc}"), highlight=False, soft_wrap=True)
         return 2
-    if targets:
-        from vlab.export.command import fit_card_writer
-
-        outcome.extras.setdefault("writers", []).append(("cards", fit_card_writer(outcome, list(targets))))
-    d = write_fit_report(outcome, dest, text)
+    d = write_fit_report(outcome, dest, request.text)
     _print_fit(console, d)
     console.print(f"report: {out / 'index.html'}", highlight=False, soft_wrap=True)
     return exit_code(d)
