@@ -17,6 +17,7 @@ import queue as queue_module
 from concurrent.futures import ProcessPoolExecutor, wait, FIRST_COMPLETED
 from typing import Callable
 
+import vlab as _vlab
 from vlab import settings
 from vlab.loading.schedule import monotonic_schedule
 from vlab.materials.registry import MODELS
@@ -159,3 +160,5 @@ def _drain(events, progress: Progress | None) -> None:
             return
         if progress is not None:
             progress(model, done, total)
+
+_vlab._command_module(__name__)  # vlab.compare(...) is the Python API's command (vlab/__init__.py)
