@@ -55,8 +55,9 @@ class Fit(Record):
         """One row per measured point of each data set (not a specimen's readings): ``dataset``,
         ``kind``, ``role``, ``stretch`` (the controlled stretch, or shear γ), ``stretch_2`` (a
         biaxial test's λ2), ``direction`` (biaxial: 1 or 2), ``measured`` and ``fitted`` stress
-        (MPa, the data set's stress measure) and ``relative_residual`` = (fitted − measured) /
-        max(|measured|, 1 % of the set's largest |measured|), whose rms is fit.json's rms_relative."""
+        (MPa, the data set's stress measure) and ``relative_residual`` = ``(fitted − measured) /
+        max(abs(measured), 0.01 · max(abs(measured)))`` (the floor: 1 % of the set's largest stress),
+        whose rms is fit.json's ``rms_relative``."""
         import numpy as np
 
         from vlab.identify.fitting import curves
