@@ -6,7 +6,6 @@ import vlab
 
 vlab.serial_blas_process()  # the CLI owns its process: numpy's BLAS serial from the start (before numpy)
 
-from importlib import resources  # noqa: E402
 from pathlib import Path
 from typing import Optional
 
@@ -15,7 +14,8 @@ from rich.console import Console
 from rich.table import Table
 from rich.text import Text
 
-from vlab.cli_io import (EXIT_FAILED, EXIT_INVALID, EXIT_OK, cache_folder, console, fail, local_workers,
+from vlab.cli_io import (EXIT_FAILED, EXIT_INVALID, EXIT_OK, cache_folder, console, default_scene_path, fail,  # noqa: F401
+                         local_workers,
                          report_destination, say, scheduler_address)
 from vlab.moduli import ModuliError, from_pair
 from vlab.scene import SceneError, load_scene_text
@@ -68,10 +68,6 @@ def _environment(
         settings.use(dataclasses.replace(chosen, **{k: v for k, v in flags.items() if v is not None}))
     except ValueError as exc:
         fail("invalid environment", exc)
-
-
-def default_scene_path() -> Path:
-    return Path(str(resources.files("vlab") / "scenes" / "default.toml"))
 
 
 def _load(scene: Optional[Path]):
@@ -284,22 +280,13 @@ def _report_options(true: bool, field: str, single_file: bool, gif_model, render
 
 
 def _parse_models(text: str | None, scene) -> tuple[str, ...]:
-    """--models: registry model names and the scene's [compare.<label>] labels; by default the
-    scene's labels if it has any, else linear, stvk, neo-hookean."""
-    from vlab.compare import DEFAULT_MODELS, compare_labels
-    from vlab.scene import MODELS
+    """--models (vlab.compare.chosen_models), exit 2 naming a bad one."""
+    from vlab.compare import chosen_models
 
-    labels = compare_labels(scene)
-    if text is None:
-        return labels or DEFAULT_MODELS
-    models = tuple(dict.fromkeys(m.strip() for m in text.split(",") if m.strip()))
-    allowed = tuple(labels) + tuple(m for m in MODELS if m not in labels)
-    bad = [m for m in models if m not in allowed]
-    if not models or bad:
-        fail("invalid option", f"--models {text!r}: unknown {', '.join(map(repr, bad)) or 'empty list'}; "
-             f"allowed: {', '.join(allowed)} (comma-separated; [compare.<label>] labels of the "
-             f"scene, or model names that take the scene's own constants)")
-    return models
+    try:
+        return chosen_models(scene, text)
+    except SceneError as exc:
+        fail("invalid option", exc)
 
 
 @app.command()
@@ -424,21 +411,20 @@ def sweep(scene: Path = typer.Argument(..., help="Scene TOML file."),
           quiet: bool = QUIET,
           force: bool = FORCE):
     """Run a scene over a parameter grid on Dask; cached runs are not recomputed. Writes a table."""
-    from vlab.study.grid import expand_grid, parse_axis
+    from vlab.study.commands import grid_points, sweep_meta
     from vlab.study.summary import RunKnobs
     from vlab.study.table import write_sweep_report
 
     parsed, _ = _load(scene)
     execution = _execution(workers, scheduler)
     try:
-        points = expand_grid(parsed.source, [parse_axis(s) for s in sets], parsed.base_dir)
+        points = grid_points(parsed, sets)
     except SceneError as exc:
         fail("invalid option", exc)
     cache = cache_folder(cache)
     dest = report_destination(out or Path("reports") / f"{parsed.name}-sweep", force, scene, [cache])
     outcome = _sweep_with_progress(points, RunKnobs(), cache, execution, quiet, "sweep")
-    meta = {"scene": str(scene), "grid": sets, "cache_hits": outcome.cache_hits, "computed": outcome.computed,
-            "seconds": outcome.seconds}
+    meta = sweep_meta(str(scene), sets, outcome)
     index = _write(write_sweep_report, dest, f"{parsed.name}: sweep", outcome.summaries, meta)
     say(f"{len(points)} runs ({outcome.cache_hits} cached, {outcome.computed} computed, "
         f"{outcome.failed} failed or invalid); table: {index}")
@@ -485,6 +471,7 @@ def cost(scene: Path = typer.Argument(..., help="Scene TOML file."),
          quiet: bool = QUIET,
          force: bool = FORCE):
     """Error against time for mesh size, order, cell, load steps, Newton tolerance and model."""
+    from vlab.study.commands import cost_meta
     from vlab.study.cost import analyse, fixed_mesh_note, knob_points
     from vlab.study.cost_report import write_cost_report
     from vlab.study.summary import RunKnobs
@@ -499,11 +486,7 @@ def cost(scene: Path = typer.Argument(..., help="Scene TOML file."),
     dest = report_destination(out or Path("reports") / f"{parsed.name}-cost", force, scene, [cache])
     outcome = _sweep_with_progress(points, RunKnobs(time_report=True, render=render), cache, execution, quiet, "cost")
     analysis = analyse(parsed, outcome.summaries, options)
-    memory = next((s["memory"]["method"] for s in outcome.summaries if s.get("memory")), "")
-    meta = {"scene": str(scene), "target": options.target, "levels": levels, "ratio": ratio,
-            "orders": list(options.orders), "cells": list(options.cells), "cache_hits": outcome.cache_hits,
-            "computed": outcome.computed, "seconds": outcome.seconds, "render": render, "memory_method": memory,
-            "fixed_mesh": fixed_mesh_note(parsed)}
+    meta = cost_meta(str(scene), parsed, options, outcome, render)
     index = _write(write_cost_report, dest, f"{parsed.name}: what accuracy costs", outcome.summaries, analysis,
                    options.target, meta)
     _print_cost(analysis, len(points), outcome, index)
@@ -520,16 +503,14 @@ def _print_cost(analysis, runs: int, outcome, index) -> None:
 
 
 def _cost_options(scene: Path, parsed, levels: int, ratio: float, target: str, orders: str, cells: str):
-    """The study's CostOptions from the flags (exit 2 naming a bad one)."""
-    from vlab.study.cost import CostOptions
+    """The study's CostOptions from the flags (vlab.study.commands.cost_options; exit 2 naming a bad one)."""
+    from vlab.study.commands import CELLS, ORDERS, cost_options
 
-    options = CostOptions(levels=levels, ratio=ratio, target=_fraction(target),
-                          orders=_choices("--orders", orders, (1, 2), int),
-                          cells=_choices("--cells", cells, ("tet", "hex", "gmsh-tet")))
-    if "gmsh-tet" in options.cells and parsed.specimen.shape != "dogbone":
-        fail("invalid option", f"--cells gmsh-tet meshes a dogbone; {scene} has specimen.shape = "
-                               f"{parsed.specimen.shape!r}")
-    return options
+    try:
+        return cost_options(parsed, levels, ratio, _fraction(target), _choices("--orders", orders, ORDERS, int),
+                            _choices("--cells", cells, CELLS), origin=str(scene))
+    except SceneError as exc:
+        fail("invalid option", exc)
 
 
 @app.command()
@@ -543,10 +524,9 @@ def stability(fast: bool = typer.Option(False, "--fast", help="Only the fast sub
     """Run the stability suite (limit points, refusals, inversion, meshes, buckling vs Euler, dogbone
     extremes); print the table and write reports/stability/ (index.html, results.json, mode renders)."""
     import tempfile
-    import time
 
     from vlab.report.stability_report import write_stability_report
-    from vlab.verification.suite import CaseContext, run_suite, select
+    from vlab.verification.suite import CaseContext, run_timed, select, suite_mode
 
     if fast and all_cases:
         fail("invalid option", "--fast and --all exclude each other")
@@ -555,17 +535,15 @@ def stability(fast: bool = typer.Option(False, "--fast", help="Only the fast sub
     except KeyError as exc:
         fail("invalid option", exc.args[0])
     dest = report_destination(out, force)
-    mode = "selected" if case else "fast" if fast else "full"
+    mode = suite_mode(fast, case)
 
     def progress(result):
         if not quiet:
             mark = ("pass", "green") if result.passed else ("FAIL", "red")
             say("  ", mark, f" {result.name} ({result.seconds:.1f} s): {result.outcome.got}")
 
-    start = time.perf_counter()
     with tempfile.TemporaryDirectory() as figures:
-        results = run_suite(cases, CaseContext(Path(figures), render), progress)
-        total = time.perf_counter() - start
+        results, total = run_timed(cases, CaseContext(Path(figures), render), progress)
         data = _write(write_stability_report, results, dest, mode, total, Path(figures))
     Console(width=200, markup=False).print(_stability_table(results, data, mode, total))
     say(f"report: {dest.path / 'index.html'}")

@@ -32,6 +32,13 @@ def fail(label: str, message: object, code: int = EXIT_INVALID):
     raise typer.Exit(code)
 
 
+def default_scene_path() -> Path:
+    """The built-in scene that ``vlab run`` (and ``vlab.compare()``) use without a scene file."""
+    from importlib import resources
+
+    return Path(str(resources.files("vlab") / "scenes" / "default.toml"))
+
+
 def report_destination(out: Path, force: bool, scene: Optional[Path] = None,
                        caches: Iterable[Path] = ()):
     """The checked destination of a report (vlab.report.folder); exit 2 naming --out if refused."""

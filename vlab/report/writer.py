@@ -82,7 +82,7 @@ def write_report(outcomes: list, out: Path, scene, scene_text: str | None,
                          f"{', '.join(o.model for o in outcomes)}")
     datas = [o.data for o in outcomes]
     test_kind = kind_of_data(datas[0])
-    departures = _departures(outcomes) if not single and test_kind.lateral_ratio else {}
+    departures = comparison_departures(outcomes)
     kind = "true" if options.true_measures else "engineering"
     job = figure_job(datas, options.true_measures, departures, test_kind.lateral_ratio)
     with report_folder(out, "run" if single else "compare") as tmp:
@@ -114,6 +114,16 @@ def _beside_figures(outcomes: list, tmp: Path, title: str, options: ReportOption
     rendered: list = []
     renders, notes = _renders(outcomes, tmp, options, rendered)
     return links, rendered, renders, notes, _interactive(outcomes, tmp, title, options)
+
+
+def comparison_departures(outcomes: list) -> dict:
+    """comparison.json's ``departures_from_neo_hookean``: where each model's stress first departs
+    from Neo-Hookean's, for several models of a kind with a lateral ratio ({} otherwise)."""
+    from vlab.report.kind_rows import kind_of_data
+
+    if len(outcomes) == 1 or not kind_of_data(outcomes[0].data).lateral_ratio:
+        return {}
+    return _departures(outcomes)
 
 
 def _departures(outcomes: list) -> dict:
