@@ -112,7 +112,7 @@ def run(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (defa
     import contextlib
 
     from vlab import settings
-    from vlab.cli_progress import RunProgress, scheduled_levels
+    from vlab.cli_progress import RunProgress, scheduled_ramps
     from vlab.report.figure_worker import FigureWorker, wanted
     from vlab.report.writer import write_run
 
@@ -123,7 +123,7 @@ def run(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (defa
         _announce(parsed)
     # the figures' process imports matplotlib on the other core while this one solves
     worker = FigureWorker() if wanted(settings.current().figure_process) else None
-    with worker or contextlib.nullcontext(), RunProgress(console, scheduled_levels(parsed), quiet) as progress:
+    with worker or contextlib.nullcontext(), RunProgress(console, scheduled_ramps(parsed), quiet) as progress:
         result = _solved(parsed, progress, estimate)
         progress.phase("report: plots, renders, 3-D")
         data = _write(write_run, result, dest, text, options, worker)
