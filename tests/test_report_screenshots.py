@@ -210,9 +210,10 @@ def check_interactive_view(folder: Path, tmp_path: Path, name: str) -> None:
     rejections and console.error; Chromium's --dump-dom reads them back), draws WebGL canvases,
     and its screenshot shows the specimen (pixel spread, colour)."""
     page = folder / "view3d.html"
-    assert page.is_file() and (folder / "plotly.min.js").is_file()
-    assert "https://" not in re.sub(r"<script src=\"plotly.min.js\"></script>", "",
-                                    page.read_text(encoding="utf-8")).split("<script id=\"vlab-data\"")[0]
+    text = page.read_text(encoding="utf-8")
+    src = html.unescape(re.search(r'<script src="([^"]+)"></script>', text).group(1))  # shared: ../_assets/
+    assert page.is_file() and (folder / src).is_file(), src
+    assert "https://" not in text.replace(f'<script src="{src}"></script>', "").split("<script id=\"vlab-data\"")[0]
     report = page_errors(page, tmp_path, name)
     assert report["errors"] == [] and report["canvases"] >= 1, report
     shot = screenshot(page, name, tmp_path, size=(1200, 800))
