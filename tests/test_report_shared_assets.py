@@ -132,3 +132,25 @@ def test_without_hard_links_the_copy_is_made_exclusively(tmp_path, monkeypatch):
     assert shared == f"../{ASSETS}/{SHARED}" and own == []
     assert (tmp_path / ASSETS / SHARED).read_bytes() == PACKAGE_JS.read_bytes()
     assert sorted(p.name for p in (tmp_path / ASSETS).iterdir()) == [SHARED]
+
+
+def test_a_failed_report_leaves_no_shared_folder_in_the_parents_it_made(tmp_path):
+    from vlab.report.folder import report_folder
+
+    target = tmp_path / "new" / "deeper" / "r"
+    with pytest.raises(RuntimeError):
+        with report_folder(target) as tmp:
+            _, own, shared = plotly_source(tmp, target.parent, inline=False)
+            assert shared and (target.parent / ASSETS / SHARED).is_file()
+            raise RuntimeError("a figure failed")
+    assert list(tmp_path.iterdir()) == []  # nothing half-written: not even the shared copy
+
+
+def test_a_failed_report_keeps_the_shared_folder_of_an_existing_reports_folder(tmp_path):
+    from vlab.report.folder import report_folder
+
+    with pytest.raises(RuntimeError):
+        with report_folder(tmp_path / "r") as tmp:
+            plotly_source(tmp, tmp_path, inline=False)
+            raise RuntimeError("a figure failed")
+    assert sorted(p.name for p in tmp_path.iterdir()) == [ASSETS]  # other reports may use it already

@@ -17,8 +17,9 @@ Rules (the instrument never destroys the user's data):
 - Folders get the permissions of a plain ``mkdir`` (0o777 minus the umask), files those of a plain
   ``open`` (0o666 minus the umask).
 - Any OS error while writing (a file in the way, read-only or full file system, a name too long)
-  removes the temporary folder and the parent folders it created and becomes a ReportFolderError
-  naming the folder and the cause.
+  removes the temporary folder and the parent folders it created (with the ``_assets`` folder of
+  shared files a report put in one, vlab.report.shared) and becomes a ReportFolderError naming the
+  folder and the cause.
 """
 
 from __future__ import annotations
@@ -238,6 +239,16 @@ def _made_parents(target: Path) -> list[Path]:
     return missing[::-1]
 
 
+def _remove_shared(made: Path) -> None:
+    """The shared files (vlab.report.shared) a failed report put in a parent folder it made: all
+    vlab's, since the folder did not exist before this report."""
+    from vlab.report.shared import ASSETS
+
+    assets = made / ASSETS
+    if assets.is_dir() and not assets.is_symlink():
+        shutil.rmtree(assets, ignore_errors=True)
+
+
 @contextmanager
 def report_folder(out: "Path | str | Destination", kind: str = "report"):
     """Yield an empty temporary folder; on success it becomes ``out`` (module docstring)."""
@@ -258,6 +269,7 @@ def report_folder(out: "Path | str | Destination", kind: str = "report"):
         if tmp is not None:
             shutil.rmtree(tmp, ignore_errors=True)
         for folder in reversed(made):
+            _remove_shared(folder)
             try:
                 folder.rmdir()
             except OSError:
