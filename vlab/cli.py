@@ -15,8 +15,8 @@ from rich.table import Table
 from rich.text import Text
 
 from vlab.cli_io import (EXIT_FAILED, EXIT_INVALID, EXIT_OK, cache_folder, console, default_scene_path, fail,  # noqa: F401
-                         local_workers,
-                         report_destination, say, scheduler_address)
+                         local_workers, report_destination, say, scheduler_address, show)
+from vlab.cli_io import results as results_console
 from vlab.moduli import ModuliError, from_pair
 from vlab.scene import SceneError, load_scene_text
 
@@ -107,7 +107,7 @@ def run(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (defa
     import contextlib
 
     from vlab import settings
-    from vlab.cli_progress import RunProgress, scheduled_levels
+    from vlab.cli_progress import RunProgress, scheduled_ramps
     from vlab.report.figure_worker import FigureWorker, wanted
     from vlab.report.writer import write_run
 
@@ -118,14 +118,14 @@ def run(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (defa
         _announce(parsed)
     # the figures' process imports matplotlib on the other core while this one solves
     worker = FigureWorker() if wanted(settings.current().figure_process) else None
-    with worker or contextlib.nullcontext(), RunProgress(console, scheduled_levels(parsed), quiet) as progress:
+    with worker or contextlib.nullcontext(), RunProgress(console, scheduled_ramps(parsed), quiet) as progress:
         result = _solved(parsed, progress, estimate)
         progress.phase("report: plots, renders, 3-D")
         data = _write(write_run, result, dest, text, options, worker)
         progress.phase("done")
     _print_summary(data)
     _print_estimate(data.get("accuracy_estimate"))
-    say(f"report: {dest.path / 'index.html'}")
+    show(f"report: {dest.path / 'index.html'}")
     raise typer.Exit(EXIT_OK if data["converged"] else EXIT_FAILED)
 
 
@@ -179,12 +179,12 @@ def _print_estimate(est: Optional[dict]) -> None:
     if not est:
         return
     if not est["available"]:
-        say(f"accuracy estimate not available: {est['reason']}")
+        show(f"accuracy estimate not available: {est['reason']}")
         return
     q = est["quantities"]
     parts = ", ".join(f"{k} ± {v['error']:.2g}" for k, v in q.items() if v["error"] is not None)
-    say(f"accuracy estimate (companion mesh.size {est['companion_mesh_size']:g}, {est['cost_s']:.2f} s): "
-        f"{parts}" + (" — exact by construction (round-off)" if est["exact_by_construction"] else ""))
+    show(f"accuracy estimate (companion mesh.size {est['companion_mesh_size']:g}, {est['cost_s']:.2f} s): "
+         f"{parts}" + (" — exact by construction (round-off)" if est["exact_by_construction"] else ""))
 
 
 def _print_summary(data: dict) -> None:
@@ -193,24 +193,24 @@ def _print_summary(data: dict) -> None:
     m, kind = data["measured"], kind_of_data(data)
     key = kind.load_key  # the control the test drives: stretch, shear or twist
     if data["converged"]:
-        say(("completed", "green"), f" in {data['timing']['total_s']:.2f} s, "
-            f"{sum(data['solver']['newton_iterations'])} Newton iterations, {data['mesh']['dofs']} DOFs")
+        show(("completed", "green"), f" in {data['timing']['total_s']:.2f} s, "
+             f"{sum(data['solver']['newton_iterations'])} Newton iterations, {data['mesh']['dofs']} DOFs")
     else:
         f = data["failure"]
-        say(("test stopped", "red"), f" at step {f['step']}, {key} {f['stretch']}: {f['reason']}; "
-            f"last converged {key} {f['last_converged_stretch']}; "
-            f"residual history {[f'{r:.2e}' for r in f['residual_history']]}")
+        show(("test stopped", "red"), f" at step {f['step']}, {key} {f['stretch']}: {f['reason']}; "
+             f"last converged {key} {f['last_converged_stretch']}; "
+             f"residual history {[f'{r:.2e}' for r in f['residual_history']]}")
     if m["E"] is not None:
-        say(f"measured E = {m['E']:.6g} MPa, nu = {m['nu']:.6g} "
-            f"(input E = {data['input']['E']:.6g}, nu = {data['input']['nu']:.6g})")
+        show(f"measured E = {m['E']:.6g} MPa, nu = {m['nu']:.6g} "
+             f"(input E = {data['input']['E']:.6g}, nu = {data['input']['nu']:.6g})")
         from vlab.report.explain import by_design_notes
 
         for key, note in by_design_notes(data).items():  # a difference by design, said where it shows
-            say(f"  {key}: {note}")
+            show(f"  {key}: {note}")
     elif kind.measures_E:
-        say(f"E and nu {m['note']}")
+        show(f"E and nu {m['note']}")
     else:  # the kind's own sentence: "G not measured: …", "simple shear: E and nu are not measured; …"
-        say(m["note"])
+        show(m["note"])
 
 
 @app.command()
@@ -229,7 +229,7 @@ def moduli(E: Optional[float] = typer.Option(None, "--E"), nu: Optional[float] =
     units = {"nu": "1"}
     for key, value in result.as_dict().items():
         table.add_row(key, f"{value:.10g}", units.get(key, "MPa"))
-    Console().print(table)
+    results_console.print(table)
 
 
 @app.command()
@@ -242,31 +242,30 @@ def info():
     from vlab import __version__
     from vlab.fe.linsolve import available_solvers, solver_in_use
 
-    Console().print(f"vlab {__version__}; numpy {numpy.__version__}, scipy {scipy.__version__}, "
-                    f"scikit-fem {skfem.__version__}")
+    show(f"vlab {__version__}; numpy {numpy.__version__}, scipy {scipy.__version__}, "
+         f"scikit-fem {skfem.__version__}")
     found = available_solvers()
     for name, version in found.items():
-        Console().print(f"  linear solver {name:8s} {version or 'not installed'}", highlight=False)
+        show(f"  linear solver {name:8s} {version or 'not installed'}")
     from vlab.fe.iterative import CROSSOVER
     from vlab.fe.iterative import available as amg_available
 
     amg = amg_available()
-    Console().print(f"  iterative     cg-amg   {amg or 'not installed (pip install pyamg)'}",
-                    highlight=False)
-    Console().print(f"linear solver in use: {solver_in_use()}", highlight=False)
+    show(f"  iterative     cg-amg   {amg or 'not installed (pip install pyamg)'}")
+    show(f"linear solver in use: {solver_in_use()}")
     from vlab.geometry.cad import gmsh_version
 
     found_gmsh = gmsh_version() or 'not installed (pip install "vlab[cad]")'
-    Console().print(f"  CAD meshing   gmsh     {found_gmsh} (specimen.shape = 'cad')", highlight=False)
+    show(f"  CAD meshing   gmsh     {found_gmsh} (specimen.shape = 'cad')")
     from vlab import jit, settings
     config = settings.current()  # what the CLI installed from the flags and the environment
     threads = f", {jit.threads(config)} threads for the tangent" if jit.available(config) else ""
-    Console().print(f"assembly kernels: {jit.in_use(config)}{threads} (VLAB_KERNEL=numpy: numpy only; "
-                    f"VLAB_ASSEMBLY_THREADS=n: n threads)", highlight=False)
+    show(f"assembly kernels: {jit.in_use(config)}{threads} (VLAB_KERNEL=numpy: numpy only; "
+         f"VLAB_ASSEMBLY_THREADS=n: n threads)")
     if amg:
-        Console(markup=False).print(f"  [solver] linear = 'auto': CG + AMG for Newton corrections from "
-                        f"{CROSSOVER.get(solver_in_use(), CROSSOVER['superlu']):,} free DOFs on "
-                        f"(stability checks always factorize directly)", highlight=False)
+        show(f"  [solver] linear = 'auto': CG + AMG for Newton corrections from "
+             f"{CROSSOVER.get(solver_in_use(), CROSSOVER['superlu']):,} free DOFs on "
+             f"(stability checks always factorize directly)")
 
 
 def _report_options(true: bool, field: str, single_file: bool, gif_model, render: bool):
@@ -316,9 +315,9 @@ def compare(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (
     _write(write_report, outcomes, dest, parsed, text, options)
     for outcome in outcomes:
         if not quiet:
-            say((outcome.model, "bold"))
+            show((outcome.model, "bold"))
             _print_summary(outcome.data)
-    say(f"report: {dest.path / 'index.html'}")
+    show(f"report: {dest.path / 'index.html'}")
     raise typer.Exit(EXIT_OK if all(o.data["converged"] for o in outcomes) else EXIT_FAILED)
 
 
@@ -426,8 +425,8 @@ def sweep(scene: Path = typer.Argument(..., help="Scene TOML file."),
     outcome = _sweep_with_progress(points, RunKnobs(), cache, execution, quiet, "sweep")
     meta = sweep_meta(str(scene), sets, outcome)
     index = _write(write_sweep_report, dest, f"{parsed.name}: sweep", outcome.summaries, meta)
-    say(f"{len(points)} runs ({outcome.cache_hits} cached, {outcome.computed} computed, "
-        f"{outcome.failed} failed or invalid); table: {index}")
+    show(f"{len(points)} runs ({outcome.cache_hits} cached, {outcome.computed} computed, "
+         f"{outcome.failed} failed or invalid); table: {index}")
     raise typer.Exit(_study_exit(outcome))
 
 
@@ -495,11 +494,11 @@ def cost(scene: Path = typer.Argument(..., help="Scene TOML file."),
 
 def _print_cost(analysis, runs: int, outcome, index) -> None:
     """The recommendation, the note of each quantity and how many runs were cached or computed."""
-    say(analysis.recommendation)
+    show(analysis.recommendation)
     for q, note in analysis.notes.items():
-        say(f"  {q}: {note}")
-    say(f"{runs} runs ({outcome.cache_hits} cached, {outcome.computed} computed, "
-        f"{outcome.failed} failed or invalid); report: {index}")
+        show(f"  {q}: {note}")
+    show(f"{runs} runs ({outcome.cache_hits} cached, {outcome.computed} computed, "
+         f"{outcome.failed} failed or invalid); report: {index}")
 
 
 def _cost_options(scene: Path, parsed, levels: int, ratio: float, target: str, orders: str, cells: str):
@@ -545,8 +544,8 @@ def stability(fast: bool = typer.Option(False, "--fast", help="Only the fast sub
     with tempfile.TemporaryDirectory() as figures:
         results, total = run_timed(cases, CaseContext(Path(figures), render), progress)
         data = _write(write_stability_report, results, dest, mode, total, Path(figures))
-    Console(width=200, markup=False).print(_stability_table(results, data, mode, total))
-    say(f"report: {dest.path / 'index.html'}")
+    Console(width=200, markup=False, highlight=False).print(_stability_table(results, data, mode, total))
+    show(f"report: {dest.path / 'index.html'}")
     raise typer.Exit(EXIT_OK if data["failed"] == 0 else EXIT_FAILED)
 
 
