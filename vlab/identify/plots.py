@@ -25,8 +25,8 @@ def _closed_panel(ax, rax, d, cur, confidence: float, label: str, colour: str) -
     the axial force of torsion, on a right-hand axis); residuals of every block below."""
     xlabel, ylabels = FIT_KINDS[d.kind].labels
     n, m = len(d.a), len(cur["a"])
-    axes = [ax] + [ax.twinx() for _ in outputs_of(d)[1:]]
-    for k, (name, axk, style) in enumerate(zip(outputs_of(d), axes, ("o", "s"))):
+    panes = [ax] + [ax.twinx() for _ in outputs_of(d)[1:]]  # a right-hand axis per further output
+    for k, (name, axk, style) in enumerate(zip(outputs_of(d), panes, ("o", "s"))):
         yk, ck, bk = d.y[k * n:(k + 1) * n], cur["y"][k * m:(k + 1) * m], cur["band"][k * m:(k + 1) * m]
         axk.plot(d.a, yk, style, color=colour, ms=4, mfc=colour if k == 0 else "none", label=f"{label}: {name}")
         axk.plot(cur["a"], ck, "-" if k == 0 else "--", color="k", lw=1.2)
@@ -37,8 +37,8 @@ def _closed_panel(ax, rax, d, cur, confidence: float, label: str, colour: str) -
         rel = (cur["at_data"][k * n:(k + 1) * n] - yk) / np.maximum(np.abs(yk), np.where(floor > 0, floor, 1.0))
         rax.plot(d.a, 100 * rel, style + "-", color=colour, ms=3, lw=0.8, mfc=colour if k == 0 else "none",
                  label=name)
-    handles = [h for a in axes for h in a.get_legend_handles_labels()[0]]
-    ax.legend(handles=handles, fontsize=7, loc="center left" if len(axes) > 1 else "best")
+    handles = [h for a in panes for h in a.get_legend_handles_labels()[0]]
+    ax.legend(handles=handles, fontsize=7, loc="center left" if len(panes) > 1 else "best")
     ax.grid(alpha=0.3)
     rax.axhline(0, color="k", lw=0.6)
     rax.set_ylabel("residual (%)")
