@@ -31,12 +31,14 @@ def test_the_python_blocks_of_the_readme_and_the_api_page_run(page, tmp_path):
     blocks = re.findall(r"```python\n(.*?)```", (ROOT / page).read_text(encoding="utf-8"), re.S)
     assert blocks, f"{page} has python examples"
     (tmp_path / "specimens").symlink_to(ROOT / "specimens")
-    script = tmp_path / "readme_examples.py"
-    script.write_text("\n\n".join(blocks), encoding="utf-8")
-    # a fresh interpreter, as a reader's script runs (and the renders' threads stay out of the
-    # test process, whose forked comparison workers would inherit them); reports/ lands in tmp_path
-    proc = subprocess.run([sys.executable, str(script)], cwd=tmp_path, capture_output=True, text=True, timeout=600)
-    assert proc.returncode == 0, proc.stderr[-3000:]
+    for i, block in enumerate(blocks):  # each block a script a reader runs as written
+        script = tmp_path / f"example_{i}.py"
+        script.write_text(block, encoding="utf-8")
+        # a fresh interpreter, as a reader's script runs (and the renders' threads stay out of the
+        # test process, whose forked comparison workers would inherit them); reports/ lands in tmp_path
+        proc = subprocess.run([sys.executable, str(script)], cwd=tmp_path, capture_output=True, text=True,
+                              timeout=900)  # the commands' examples: a fit, a cost study
+        assert proc.returncode == 0, f"{page}, python block {i + 1}: {proc.stderr[-3000:]}"
     assert (tmp_path / "reports" / "api-dogbone" / "index.html").is_file()
 
 

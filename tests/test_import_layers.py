@@ -15,7 +15,8 @@ Layers, bottom to top (a module may import its own layer and any layer below):
     8 run          the one sequencer, and its stages (vlab.pipeline: prepare, solve, measure)
     9 compare, study, verification, identify, export (solver cards), uncertainty (budgets),
       dic.command (a DIC job's report folder)
-   10 cli          (and vlab.cli_io, vlab.__main__, cli_progress: the terminal display; api: the Python API;
+   10 cli          (and vlab.cli_io, vlab.__main__, cli_progress: the terminal display; api and api_*: the
+                   Python API;
       the command modules that speak the CLI's exit codes: identify.command, identify.design_command,
       uncertainty.command, dic.cli)
 
@@ -52,6 +53,8 @@ LAYERS = {
     "vlab.identify.command": 10, "vlab.identify.design_command": 10, "vlab.uncertainty.command": 10,
     "vlab.dic.cli": 10,
     "vlab.cli": 10, "vlab.cli_io": 10, "vlab.cli_progress": 10, "vlab.api": 10, "vlab.__main__": 10,
+    "vlab.api_tables": 10, "vlab.api_fit": 10, "vlab.api_studies": 10, "vlab.api_compare": 10,
+    "vlab.api_checks": 10,
 }
 
 # (importing module, imported module): why a function-level import may reach upward.

@@ -94,6 +94,21 @@ def test_compare_report_in_the_browser(comparison, tmp_path):
     check_interactive_view(comparison.folder, tmp_path, "compare-view3d")
 
 
+def test_a_moved_report_draws_with_its_assets_folder_and_says_why_without(comparison, tmp_path):
+    """The reports of a folder share ``_assets/plotly-<version>.min.js``: moved together with it a
+    report's 3-D view draws offline; moved alone it says where it expected plotly.js (no blank view)."""
+    assets = comparison.folder.parent / "_assets"
+    assert assets.is_dir() and not list(comparison.folder.glob("*.js"))
+    together = tmp_path / "sent" / comparison.folder.name
+    shutil.copytree(comparison.folder, together)
+    shutil.copytree(assets, together.parent / "_assets")
+    check_interactive_view(together, tmp_path, "moved-view3d")
+    alone = tmp_path / "alone" / comparison.folder.name
+    shutil.copytree(comparison.folder, alone)
+    proc = browse(alone / "view3d.html", tmp_path / "profile-alone", "--dump-dom", size=(1200, 800))
+    assert "plotly.js did not load from ../_assets/plotly-" in html.unescape(proc.stdout), proc.stdout[-2000:]
+
+
 def test_sweep_report_in_the_browser(tmp_path):
     from vlab.study.grid import expand_grid, parse_axis
     from vlab.study.summary import RunKnobs, summarize
@@ -210,9 +225,10 @@ def check_interactive_view(folder: Path, tmp_path: Path, name: str) -> None:
     rejections and console.error; Chromium's --dump-dom reads them back), draws WebGL canvases,
     and its screenshot shows the specimen (pixel spread, colour)."""
     page = folder / "view3d.html"
-    assert page.is_file() and (folder / "plotly.min.js").is_file()
-    assert "https://" not in re.sub(r"<script src=\"plotly.min.js\"></script>", "",
-                                    page.read_text(encoding="utf-8")).split("<script id=\"vlab-data\"")[0]
+    text = page.read_text(encoding="utf-8")
+    src = html.unescape(re.search(r'<script src="([^"]+)"></script>', text).group(1))  # shared: ../_assets/
+    assert page.is_file() and (folder / src).is_file(), src
+    assert "https://" not in text.replace(f'<script src="{src}"></script>', "").split("<script id=\"vlab-data\"")[0]
     report = page_errors(page, tmp_path, name)
     assert report["errors"] == [] and report["canvases"] >= 1, report
     shot = screenshot(page, name, tmp_path, size=(1200, 800))

@@ -27,14 +27,39 @@ def serial_blas_process() -> None:
 __version__ = "0.1.0"
 
 
-_API = {"Scene": "vlab.api", "Result": "vlab.api", "Curve": "vlab.api", "SceneError": "vlab.scene"}
+_API = {"Scene": "vlab.api", "Result": "vlab.api", "Curve": "vlab.api", "SceneError": "vlab.scene",
+        "fit": "vlab.api_fit", "Fit": "vlab.api_fit", "Ranking": "vlab.api_fit",
+        "sweep": "vlab.api_studies", "Sweep": "vlab.api_studies", "cost": "vlab.api_studies",
+        "CostStudy": "vlab.api_studies", "Comparison": "vlab.api_compare",
+        "stability": "vlab.api_checks", "Stability": "vlab.api_checks", "Export": "vlab.api_checks"}
+#: the API's commands whose name is also a module of the package (vlab/compare.py, vlab/export/): the
+#: module itself is callable (vlab.compare(...) runs the command, vlab.compare.compare_models stays)
+_COMMAND_MODULES = {"vlab.compare": ("vlab.api_compare", "compare"), "vlab.export": ("vlab.api_checks", "export")}
+
+
+class _CommandModule(type(_os)):
+    """A module that is also a command of the Python API (see _COMMAND_MODULES)."""
+
+    def __call__(self, *args, **kwargs):
+        import importlib
+
+        module, name = _COMMAND_MODULES[self.__name__]
+        return getattr(importlib.import_module(module), name)(*args, **kwargs)
+
+
+def _command_module(name: str) -> None:
+    """Called by vlab.compare and vlab.export as they load: make the module callable."""
+    _sys.modules[name].__class__ = _CommandModule
 
 
 def __getattr__(name: str):
-    """vlab.Scene, vlab.Result, vlab.Curve, vlab.SceneError, loaded on first use (importing vlab
-    stays light: no solver, no numba)."""
-    if name in _API:
-        import importlib
+    """vlab.Scene, vlab.Result, vlab.Curve, vlab.SceneError and the commands vlab.fit, vlab.compare,
+    vlab.sweep, vlab.cost, vlab.stability, vlab.export (with their result classes), loaded on first
+    use (importing vlab stays light: no solver, no numba)."""
+    import importlib
 
+    if name in _API:
         return getattr(importlib.import_module(_API[name]), name)
+    if f"vlab.{name}" in _COMMAND_MODULES:
+        return importlib.import_module(f"vlab.{name}")
     raise AttributeError(f"module 'vlab' has no attribute {name!r}")

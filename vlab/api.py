@@ -81,6 +81,12 @@ class Curve(Mapping):
     def __len__(self) -> int:
         return len(self._columns)
 
+    def to_pandas(self):
+        """The columns as a pandas DataFrame, one row per load level (pandas: ``pip install pandas``)."""
+        from vlab.api_tables import frame
+
+        return frame(self._columns)
+
     @property
     def levels(self) -> int:
         """The number of recorded load levels."""
@@ -148,6 +154,9 @@ class Result:
         returns its index.html."""
         from vlab.report.writer import ReportOptions, write_run
 
+        if self._run is None:
+            raise ValueError("this result is one model of a comparison: write the comparison's report "
+                             "(vlab.compare(...).write_report(folder))")
         folder = Path(folder)
         write_run(self._run, folder, self._text, ReportOptions(render=render))
         return folder / "index.html"

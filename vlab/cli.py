@@ -6,7 +6,6 @@ import vlab
 
 vlab.serial_blas_process()  # the CLI owns its process: numpy's BLAS serial from the start (before numpy)
 
-from importlib import resources  # noqa: E402
 from pathlib import Path
 from typing import Optional
 
@@ -15,8 +14,9 @@ from rich.console import Console
 from rich.table import Table
 from rich.text import Text
 
-from vlab.cli_io import (EXIT_FAILED, EXIT_INVALID, EXIT_OK, cache_folder, console, fail, local_workers,
-                         report_destination, say, scheduler_address)
+from vlab.cli_io import (EXIT_FAILED, EXIT_INVALID, EXIT_OK, cache_folder, console, default_scene_path, fail,  # noqa: F401
+                         local_workers, report_destination, say, scheduler_address, show)
+from vlab.cli_io import results as results_console
 from vlab.moduli import ModuliError, from_pair
 from vlab.scene import SceneError, load_scene_text
 
@@ -70,10 +70,6 @@ def _environment(
         fail("invalid environment", exc)
 
 
-def default_scene_path() -> Path:
-    return Path(str(resources.files("vlab") / "scenes" / "default.toml"))
-
-
 def _load(scene: Optional[Path]):
     """The parsed scene and its text (read once, bounded: vlab.scene.load_scene_text)."""
     path = scene or default_scene_path()
@@ -111,7 +107,7 @@ def run(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (defa
     import contextlib
 
     from vlab import settings
-    from vlab.cli_progress import RunProgress, scheduled_levels
+    from vlab.cli_progress import RunProgress, scheduled_ramps
     from vlab.report.figure_worker import FigureWorker, wanted
     from vlab.report.writer import write_run
 
@@ -122,14 +118,14 @@ def run(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (defa
         _announce(parsed)
     # the figures' process imports matplotlib on the other core while this one solves
     worker = FigureWorker() if wanted(settings.current().figure_process) else None
-    with worker or contextlib.nullcontext(), RunProgress(console, scheduled_levels(parsed), quiet) as progress:
+    with worker or contextlib.nullcontext(), RunProgress(console, scheduled_ramps(parsed), quiet) as progress:
         result = _solved(parsed, progress, estimate)
         progress.phase("report: plots, renders, 3-D")
         data = _write(write_run, result, dest, text, options, worker)
         progress.phase("done")
     _print_summary(data)
     _print_estimate(data.get("accuracy_estimate"))
-    say(f"report: {dest.path / 'index.html'}")
+    show(f"report: {dest.path / 'index.html'}")
     raise typer.Exit(EXIT_OK if data["converged"] else EXIT_FAILED)
 
 
@@ -183,12 +179,12 @@ def _print_estimate(est: Optional[dict]) -> None:
     if not est:
         return
     if not est["available"]:
-        say(f"accuracy estimate not available: {est['reason']}")
+        show(f"accuracy estimate not available: {est['reason']}")
         return
     q = est["quantities"]
     parts = ", ".join(f"{k} ± {v['error']:.2g}" for k, v in q.items() if v["error"] is not None)
-    say(f"accuracy estimate (companion mesh.size {est['companion_mesh_size']:g}, {est['cost_s']:.2f} s): "
-        f"{parts}" + (" — exact by construction (round-off)" if est["exact_by_construction"] else ""))
+    show(f"accuracy estimate (companion mesh.size {est['companion_mesh_size']:g}, {est['cost_s']:.2f} s): "
+         f"{parts}" + (" — exact by construction (round-off)" if est["exact_by_construction"] else ""))
 
 
 def _print_summary(data: dict) -> None:
@@ -197,24 +193,24 @@ def _print_summary(data: dict) -> None:
     m, kind = data["measured"], kind_of_data(data)
     key = kind.load_key  # the control the test drives: stretch, shear or twist
     if data["converged"]:
-        say(("completed", "green"), f" in {data['timing']['total_s']:.2f} s, "
-            f"{sum(data['solver']['newton_iterations'])} Newton iterations, {data['mesh']['dofs']} DOFs")
+        show(("completed", "green"), f" in {data['timing']['total_s']:.2f} s, "
+             f"{sum(data['solver']['newton_iterations'])} Newton iterations, {data['mesh']['dofs']} DOFs")
     else:
         f = data["failure"]
-        say(("test stopped", "red"), f" at step {f['step']}, {key} {f['stretch']}: {f['reason']}; "
-            f"last converged {key} {f['last_converged_stretch']}; "
-            f"residual history {[f'{r:.2e}' for r in f['residual_history']]}")
+        show(("test stopped", "red"), f" at step {f['step']}, {key} {f['stretch']}: {f['reason']}; "
+             f"last converged {key} {f['last_converged_stretch']}; "
+             f"residual history {[f'{r:.2e}' for r in f['residual_history']]}")
     if m["E"] is not None:
-        say(f"measured E = {m['E']:.6g} MPa, nu = {m['nu']:.6g} "
-            f"(input E = {data['input']['E']:.6g}, nu = {data['input']['nu']:.6g})")
+        show(f"measured E = {m['E']:.6g} MPa, nu = {m['nu']:.6g} "
+             f"(input E = {data['input']['E']:.6g}, nu = {data['input']['nu']:.6g})")
         from vlab.report.explain import by_design_notes
 
         for key, note in by_design_notes(data).items():  # a difference by design, said where it shows
-            say(f"  {key}: {note}")
+            show(f"  {key}: {note}")
     elif kind.measures_E:
-        say(f"E and nu {m['note']}")
+        show(f"E and nu {m['note']}")
     else:  # the kind's own sentence: "G not measured: …", "simple shear: E and nu are not measured; …"
-        say(m["note"])
+        show(m["note"])
 
 
 @app.command()
@@ -233,7 +229,7 @@ def moduli(E: Optional[float] = typer.Option(None, "--E"), nu: Optional[float] =
     units = {"nu": "1"}
     for key, value in result.as_dict().items():
         table.add_row(key, f"{value:.10g}", units.get(key, "MPa"))
-    Console().print(table)
+    results_console.print(table)
 
 
 @app.command()
@@ -246,31 +242,30 @@ def info():
     from vlab import __version__
     from vlab.fe.linsolve import available_solvers, solver_in_use
 
-    Console().print(f"vlab {__version__}; numpy {numpy.__version__}, scipy {scipy.__version__}, "
-                    f"scikit-fem {skfem.__version__}")
+    show(f"vlab {__version__}; numpy {numpy.__version__}, scipy {scipy.__version__}, "
+         f"scikit-fem {skfem.__version__}")
     found = available_solvers()
     for name, version in found.items():
-        Console().print(f"  linear solver {name:8s} {version or 'not installed'}", highlight=False)
+        show(f"  linear solver {name:8s} {version or 'not installed'}")
     from vlab.fe.iterative import CROSSOVER
     from vlab.fe.iterative import available as amg_available
 
     amg = amg_available()
-    Console().print(f"  iterative     cg-amg   {amg or 'not installed (pip install pyamg)'}",
-                    highlight=False)
-    Console().print(f"linear solver in use: {solver_in_use()}", highlight=False)
+    show(f"  iterative     cg-amg   {amg or 'not installed (pip install pyamg)'}")
+    show(f"linear solver in use: {solver_in_use()}")
     from vlab.geometry.cad import gmsh_version
 
     found_gmsh = gmsh_version() or 'not installed (pip install "vlab[cad]")'
-    Console().print(f"  CAD meshing   gmsh     {found_gmsh} (specimen.shape = 'cad')", highlight=False)
+    show(f"  CAD meshing   gmsh     {found_gmsh} (specimen.shape = 'cad')")
     from vlab import jit, settings
     config = settings.current()  # what the CLI installed from the flags and the environment
     threads = f", {jit.threads(config)} threads for the tangent" if jit.available(config) else ""
-    Console().print(f"assembly kernels: {jit.in_use(config)}{threads} (VLAB_KERNEL=numpy: numpy only; "
-                    f"VLAB_ASSEMBLY_THREADS=n: n threads)", highlight=False)
+    show(f"assembly kernels: {jit.in_use(config)}{threads} (VLAB_KERNEL=numpy: numpy only; "
+         f"VLAB_ASSEMBLY_THREADS=n: n threads)")
     if amg:
-        Console(markup=False).print(f"  [solver] linear = 'auto': CG + AMG for Newton corrections from "
-                        f"{CROSSOVER.get(solver_in_use(), CROSSOVER['superlu']):,} free DOFs on "
-                        f"(stability checks always factorize directly)", highlight=False)
+        show(f"  [solver] linear = 'auto': CG + AMG for Newton corrections from "
+             f"{CROSSOVER.get(solver_in_use(), CROSSOVER['superlu']):,} free DOFs on "
+             f"(stability checks always factorize directly)")
 
 
 def _report_options(true: bool, field: str, single_file: bool, gif_model, render: bool):
@@ -284,22 +279,13 @@ def _report_options(true: bool, field: str, single_file: bool, gif_model, render
 
 
 def _parse_models(text: str | None, scene) -> tuple[str, ...]:
-    """--models: registry model names and the scene's [compare.<label>] labels; by default the
-    scene's labels if it has any, else linear, stvk, neo-hookean."""
-    from vlab.compare import DEFAULT_MODELS, compare_labels
-    from vlab.scene import MODELS
+    """--models (vlab.compare.chosen_models), exit 2 naming a bad one."""
+    from vlab.compare import chosen_models
 
-    labels = compare_labels(scene)
-    if text is None:
-        return labels or DEFAULT_MODELS
-    models = tuple(dict.fromkeys(m.strip() for m in text.split(",") if m.strip()))
-    allowed = tuple(labels) + tuple(m for m in MODELS if m not in labels)
-    bad = [m for m in models if m not in allowed]
-    if not models or bad:
-        fail("invalid option", f"--models {text!r}: unknown {', '.join(map(repr, bad)) or 'empty list'}; "
-             f"allowed: {', '.join(allowed)} (comma-separated; [compare.<label>] labels of the "
-             f"scene, or model names that take the scene's own constants)")
-    return models
+    try:
+        return chosen_models(scene, text)
+    except SceneError as exc:
+        fail("invalid option", exc)
 
 
 @app.command()
@@ -329,9 +315,9 @@ def compare(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (
     _write(write_report, outcomes, dest, parsed, text, options)
     for outcome in outcomes:
         if not quiet:
-            say((outcome.model, "bold"))
+            show((outcome.model, "bold"))
             _print_summary(outcome.data)
-    say(f"report: {dest.path / 'index.html'}")
+    show(f"report: {dest.path / 'index.html'}")
     raise typer.Exit(EXIT_OK if all(o.data["converged"] for o in outcomes) else EXIT_FAILED)
 
 
@@ -424,24 +410,23 @@ def sweep(scene: Path = typer.Argument(..., help="Scene TOML file."),
           quiet: bool = QUIET,
           force: bool = FORCE):
     """Run a scene over a parameter grid on Dask; cached runs are not recomputed. Writes a table."""
-    from vlab.study.grid import expand_grid, parse_axis
+    from vlab.study.commands import grid_points, sweep_meta
     from vlab.study.summary import RunKnobs
     from vlab.study.table import write_sweep_report
 
     parsed, _ = _load(scene)
     execution = _execution(workers, scheduler)
     try:
-        points = expand_grid(parsed.source, [parse_axis(s) for s in sets], parsed.base_dir)
+        points = grid_points(parsed, sets)
     except SceneError as exc:
         fail("invalid option", exc)
     cache = cache_folder(cache)
     dest = report_destination(out or Path("reports") / f"{parsed.name}-sweep", force, scene, [cache])
     outcome = _sweep_with_progress(points, RunKnobs(), cache, execution, quiet, "sweep")
-    meta = {"scene": str(scene), "grid": sets, "cache_hits": outcome.cache_hits, "computed": outcome.computed,
-            "seconds": outcome.seconds}
+    meta = sweep_meta(str(scene), sets, outcome)
     index = _write(write_sweep_report, dest, f"{parsed.name}: sweep", outcome.summaries, meta)
-    say(f"{len(points)} runs ({outcome.cache_hits} cached, {outcome.computed} computed, "
-        f"{outcome.failed} failed or invalid); table: {index}")
+    show(f"{len(points)} runs ({outcome.cache_hits} cached, {outcome.computed} computed, "
+         f"{outcome.failed} failed or invalid); table: {index}")
     raise typer.Exit(_study_exit(outcome))
 
 
@@ -485,6 +470,7 @@ def cost(scene: Path = typer.Argument(..., help="Scene TOML file."),
          quiet: bool = QUIET,
          force: bool = FORCE):
     """Error against time for mesh size, order, cell, load steps, Newton tolerance and model."""
+    from vlab.study.commands import cost_meta
     from vlab.study.cost import analyse, fixed_mesh_note, knob_points
     from vlab.study.cost_report import write_cost_report
     from vlab.study.summary import RunKnobs
@@ -499,11 +485,7 @@ def cost(scene: Path = typer.Argument(..., help="Scene TOML file."),
     dest = report_destination(out or Path("reports") / f"{parsed.name}-cost", force, scene, [cache])
     outcome = _sweep_with_progress(points, RunKnobs(time_report=True, render=render), cache, execution, quiet, "cost")
     analysis = analyse(parsed, outcome.summaries, options)
-    memory = next((s["memory"]["method"] for s in outcome.summaries if s.get("memory")), "")
-    meta = {"scene": str(scene), "target": options.target, "levels": levels, "ratio": ratio,
-            "orders": list(options.orders), "cells": list(options.cells), "cache_hits": outcome.cache_hits,
-            "computed": outcome.computed, "seconds": outcome.seconds, "render": render, "memory_method": memory,
-            "fixed_mesh": fixed_mesh_note(parsed)}
+    meta = cost_meta(str(scene), parsed, options, outcome, render)
     index = _write(write_cost_report, dest, f"{parsed.name}: what accuracy costs", outcome.summaries, analysis,
                    options.target, meta)
     _print_cost(analysis, len(points), outcome, index)
@@ -512,24 +494,22 @@ def cost(scene: Path = typer.Argument(..., help="Scene TOML file."),
 
 def _print_cost(analysis, runs: int, outcome, index) -> None:
     """The recommendation, the note of each quantity and how many runs were cached or computed."""
-    say(analysis.recommendation)
+    show(analysis.recommendation)
     for q, note in analysis.notes.items():
-        say(f"  {q}: {note}")
-    say(f"{runs} runs ({outcome.cache_hits} cached, {outcome.computed} computed, "
-        f"{outcome.failed} failed or invalid); report: {index}")
+        show(f"  {q}: {note}")
+    show(f"{runs} runs ({outcome.cache_hits} cached, {outcome.computed} computed, "
+         f"{outcome.failed} failed or invalid); report: {index}")
 
 
 def _cost_options(scene: Path, parsed, levels: int, ratio: float, target: str, orders: str, cells: str):
-    """The study's CostOptions from the flags (exit 2 naming a bad one)."""
-    from vlab.study.cost import CostOptions
+    """The study's CostOptions from the flags (vlab.study.commands.cost_options; exit 2 naming a bad one)."""
+    from vlab.study.commands import CELLS, ORDERS, cost_options
 
-    options = CostOptions(levels=levels, ratio=ratio, target=_fraction(target),
-                          orders=_choices("--orders", orders, (1, 2), int),
-                          cells=_choices("--cells", cells, ("tet", "hex", "gmsh-tet")))
-    if "gmsh-tet" in options.cells and parsed.specimen.shape != "dogbone":
-        fail("invalid option", f"--cells gmsh-tet meshes a dogbone; {scene} has specimen.shape = "
-                               f"{parsed.specimen.shape!r}")
-    return options
+    try:
+        return cost_options(parsed, levels, ratio, _fraction(target), _choices("--orders", orders, ORDERS, int),
+                            _choices("--cells", cells, CELLS), origin=str(scene))
+    except SceneError as exc:
+        fail("invalid option", exc)
 
 
 @app.command()
@@ -543,10 +523,9 @@ def stability(fast: bool = typer.Option(False, "--fast", help="Only the fast sub
     """Run the stability suite (limit points, refusals, inversion, meshes, buckling vs Euler, dogbone
     extremes); print the table and write reports/stability/ (index.html, results.json, mode renders)."""
     import tempfile
-    import time
 
     from vlab.report.stability_report import write_stability_report
-    from vlab.verification.suite import CaseContext, run_suite, select
+    from vlab.verification.suite import CaseContext, run_timed, select, suite_mode
 
     if fast and all_cases:
         fail("invalid option", "--fast and --all exclude each other")
@@ -555,20 +534,18 @@ def stability(fast: bool = typer.Option(False, "--fast", help="Only the fast sub
     except KeyError as exc:
         fail("invalid option", exc.args[0])
     dest = report_destination(out, force)
-    mode = "selected" if case else "fast" if fast else "full"
+    mode = suite_mode(fast, case)
 
     def progress(result):
         if not quiet:
             mark = ("pass", "green") if result.passed else ("FAIL", "red")
             say("  ", mark, f" {result.name} ({result.seconds:.1f} s): {result.outcome.got}")
 
-    start = time.perf_counter()
     with tempfile.TemporaryDirectory() as figures:
-        results = run_suite(cases, CaseContext(Path(figures), render), progress)
-        total = time.perf_counter() - start
+        results, total = run_timed(cases, CaseContext(Path(figures), render), progress)
         data = _write(write_stability_report, results, dest, mode, total, Path(figures))
-    Console(width=200, markup=False).print(_stability_table(results, data, mode, total))
-    say(f"report: {dest.path / 'index.html'}")
+    Console(width=200, markup=False, highlight=False).print(_stability_table(results, data, mode, total))
+    show(f"report: {dest.path / 'index.html'}")
     raise typer.Exit(EXIT_OK if data["failed"] == 0 else EXIT_FAILED)
 
 

@@ -1,8 +1,12 @@
 """What the CLI prints and the checks of its file options, before any work starts.
 
-Every message is printed verbatim: the console never interprets rich markup (a scene error that
-says ``[material]`` or a folder named ``[/x]`` must reach the user unchanged), and the coloured
-labels are ``rich.text.Text`` spans, not markup strings.
+Every message is printed verbatim: the consoles never interpret rich markup (a scene error that
+says ``[material]``, a folder named ``[/x]`` or the hint ``pip install "vlab[cad]"`` must reach the
+user unchanged), and the coloured labels are ``rich.text.Text`` spans, not markup strings.
+
+Two streams, as a shell expects (``vlab run … > out.txt`` keeps the results): :data:`results`
+(stdout) carries what a command found (summaries, measured constants, tables, where the report
+is); :data:`console` (stderr) carries progress displays, warnings and errors.
 """
 
 from __future__ import annotations
@@ -18,18 +22,36 @@ from rich.text import Text
 EXIT_OK, EXIT_FAILED, EXIT_INVALID = 0, 1, 2
 EXIT_UNTRUSTED = 3  # vlab fit: converged, but the card is not trustworthy (docs/fit-exit-codes.md)
 
-console = Console(stderr=True, markup=False, highlight=False, emoji=False)
+console = Console(stderr=True, markup=False, highlight=False, emoji=False)  # progress, warnings, errors
+results = Console(markup=False, highlight=False, emoji=False)  # stdout: what the command found
+
+
+def _text(parts) -> Text:
+    return Text.assemble(*(p if isinstance(p, tuple) else str(p) for p in parts))
 
 
 def say(*parts) -> None:
-    """Print ``parts`` verbatim: plain strings as they are, ``(text, style)`` pairs styled."""
-    console.print(Text.assemble(*(p if isinstance(p, tuple) else str(p) for p in parts)), soft_wrap=True)
+    """Print ``parts`` verbatim on stderr (progress, notes): plain strings as they are,
+    ``(text, style)`` pairs styled."""
+    console.print(_text(parts), soft_wrap=True)
+
+
+def show(*parts) -> None:
+    """Print ``parts`` verbatim on stdout (a result), as :func:`say` does."""
+    results.print(_text(parts), soft_wrap=True)
 
 
 def fail(label: str, message: object, code: int = EXIT_INVALID):
     """Print ``label`` in red and ``message`` verbatim, then exit with ``code``."""
     console.print(Text.assemble((label, "red"), " ", str(message)), soft_wrap=True)
     raise typer.Exit(code)
+
+
+def default_scene_path() -> Path:
+    """The built-in scene that ``vlab run`` (and ``vlab.compare()``) use without a scene file."""
+    from importlib import resources
+
+    return Path(str(resources.files("vlab") / "scenes" / "default.toml"))
 
 
 def report_destination(out: Path, force: bool, scene: Optional[Path] = None,

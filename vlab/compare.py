@@ -17,6 +17,7 @@ import queue as queue_module
 from concurrent.futures import ProcessPoolExecutor, wait, FIRST_COMPLETED
 from typing import Callable
 
+import vlab as _vlab
 from vlab import settings
 from vlab.loading.schedule import monotonic_schedule
 from vlab.materials.registry import MODELS
@@ -35,6 +36,24 @@ Progress = Callable[[str, int, int], None]
 def compare_labels(scene: Scene) -> tuple[str, ...]:
     """The labels of the scene's ``[compare.<label>]`` material cards (may be empty)."""
     return tuple(scene.source.get("compare", {}))
+
+
+def chosen_models(scene: Scene, models: str | tuple | list | None, option: str = "--models") -> tuple[str, ...]:
+    """The models to run: registry model names and the scene's ``[compare.<label>]`` labels (a
+    comma-separated text or a sequence); by default the scene's labels if it has any, else
+    linear, stvk, neo-hookean. SceneError naming ``option`` for an unknown or empty list."""
+    labels = compare_labels(scene)
+    if models is None:
+        return labels or DEFAULT_MODELS
+    items = models.split(",") if isinstance(models, str) else [str(m) for m in models]
+    chosen = tuple(dict.fromkeys(m.strip() for m in items if m.strip()))
+    allowed = tuple(labels) + tuple(m for m in MODELS if m not in labels)
+    bad = [m for m in chosen if m not in allowed]
+    if not chosen or bad:
+        raise SceneError(f"{option} {models!r}: unknown {', '.join(map(repr, bad)) or 'empty list'}; "
+                         f"allowed: {', '.join(allowed)} (comma-separated; [compare.<label>] labels of the "
+                         f"scene, or model names that take the scene's own constants)")
+    return chosen
 
 
 def scene_for_model(scene: Scene, model: str) -> Scene:
@@ -141,3 +160,5 @@ def _drain(events, progress: Progress | None) -> None:
             return
         if progress is not None:
             progress(model, done, total)
+
+_vlab._command_module(__name__)  # vlab.compare(...) is the Python API's command (vlab/__init__.py)

@@ -117,7 +117,7 @@ def _diagnostics(prepared: Prepared, solved: Solved, measured: Measured, monitor
                        "stability_methods": _method_counts(monitor)},
         tangent_kernel=body.tangent_kernel,
         warnings=_warnings(scene), crosshead=measured.crosshead, uncertainty=measured.uncertainty,
-        cruciform=measured.cruciform, homogeneity=measured.homogeneity,
+        cruciform=measured.cruciform, homogeneity=measured.homogeneity, bending=measured.bending,
         stability=[r.as_dict() for r in monitor.records], lateral_deflection=deflection,
         critical=None if monitor.critical is None else monitor.critical.as_dict())
     if seeded is not None:

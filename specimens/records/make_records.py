@@ -11,6 +11,10 @@ noise (seeded), so a fit of them can be checked against the constants below.
   a three-term series beta = [0.4, 0.3, 0.2], tau = [0.05, 0.5, 5] s.
 - cycles.csv: Neo-Hookean mu = 0.6 MPa with Ogden–Roxburgh softening r = 2, m = 0.3 MPa, beta = 0.1;
   uniaxial cycles 1 → 1.5 → 1 → 2 → 1 → 2.5 → 1 in stretch steps of 0.05.
+- specimen-A.csv, specimen-B.csv, specimen-C.csv: three specimens of one Mooney–Rivlin compound that
+  differ by a known spread, (C10, C01) = (0.30, 0.050), (0.31, 0.055), (0.29, 0.045) MPa (mean 0.30, 0.050;
+  sample standard deviation 0.01, 0.005), uniaxial nominal stress at 25 stretches 1.05..3.0 with 0.5 % noise
+  (seed 32); fitted per specimen and pooled by specimens.fit.toml.
 - raw-uniaxial.csv: a machine export (force in kN, extensometer displacement in mm, gauge 25 mm, 6 × 2 mm)
   of a Neo-Hookean strip (mu = 0.6 MPa) with a 0.4 mm toe and a 2 N load-cell offset.
 """
@@ -79,6 +83,23 @@ def raw_uniaxial(mu=0.6, L0=25.0, area=12.0, toe=0.4, offset_N=2.0):
     return u, F / 1000.0
 
 
+SPECIMENS = {"A": (0.30, 0.050), "B": (0.31, 0.055), "C": (0.29, 0.045)}  # Mooney–Rivlin (C10, C01), MPa
+
+
+def specimen_curves(cards=SPECIMENS, noise=0.005, seed=32, stretch=np.linspace(1.05, 3.0, 25)):
+    """{id: (stretch, nominal stress MPa)}: each Mooney–Rivlin card's uniaxial curve, relative noise."""
+    from vlab.identify.states import response
+
+    mr = Constitutive(law_for("mooney-rivlin"))
+    rng = np.random.default_rng(seed)
+    out = {}
+    for s, card in cards.items():
+        x = np.linalg.solve(mr.transform, np.asarray(card, float))
+        P = np.real(response(mr, x[None], "uniaxial", stretch, None))[0]
+        out[s] = (stretch, P * (1.0 + noise * rng.standard_normal(len(P))))
+    return out
+
+
 def write(path: Path, header, cols) -> None:
     rows = [",".join(header)] + [",".join(f"{v:.10g}" for v in r) for r in zip(*cols)]
     path.write_text("\n".join(rows) + "\n")
@@ -90,6 +111,8 @@ def main() -> None:
     write(HERE / "dma.csv", ("f", "E1", "E2"), dma(rng))
     write(HERE / "cycles.csv", ("lambda", "P"), cycles(rng))
     write(HERE / "raw-uniaxial.csv", ("ext_mm", "load_kN"), raw_uniaxial())
+    for s, cols in specimen_curves().items():
+        write(HERE / f"specimen-{s}.csv", ("lambda", "P_MPa"), cols)
 
 
 if __name__ == "__main__":

@@ -6,6 +6,7 @@ and its source in vlab.export.card; the header and units in vlab.export.header; 
 vlab.export.command.
 """
 
+import vlab as _vlab
 from vlab.export.abaqus import ABAQUS
 from vlab.export.ansys import ANSYS
 from vlab.export.calculix import CALCULIX
@@ -18,3 +19,5 @@ for _e in (ABAQUS, CALCULIX, ANSYS, LSDYNA, FEBIO, FELUPE):
     register(_e)
 
 __all__ = ["EXPORTERS"]
+
+_vlab._command_module(__name__)  # vlab.export(...) is the Python API's command (vlab/__init__.py)

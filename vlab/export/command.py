@@ -14,7 +14,7 @@ from pathlib import Path
 
 from vlab.fields import SceneError
 
-__all__ = ["export_command", "import_command", "check_targets", "fit_card_writer", "parse_targets"]
+__all__ = ["export_command", "export_texts", "import_command", "check_targets", "fit_card_writer", "parse_targets"]
 
 _MARKS = ("vlab material card", "vlab import-card")
 
@@ -80,6 +80,18 @@ def write_file(path: Path, text: str, force: bool) -> None:
         raise
 
 
+def export_texts(card, solvers: list[str], units: str = "mm", elastic_only: bool = False) -> dict[str, str]:
+    """The file text of ``card`` (vlab.export.card.ExportCard) for each solver, in ``units`` (mm or
+    SI), without its viscoelastic/Mullins parts when ``elastic_only``; SceneError for bad units,
+    ExportError naming the solvers that have the card when one has none."""
+    from vlab.export import card as cards
+
+    u = _units(units)
+    if elastic_only:
+        card = cards.elastic_only(card)
+    return {t: card_text(card, t, u) for t in solvers}
+
+
 def export_command(source: Path, to: str, out: Path | None, units: str, elastic_only: bool, force: bool,
                    say) -> int:
     """Write the card of ``source`` for the solvers in ``to`` (module docstring)."""
@@ -87,13 +99,11 @@ def export_command(source: Path, to: str, out: Path | None, units: str, elastic_
     from vlab.export import card as cards
 
     try:
-        solvers, u = parse_targets(to), _units(units)
+        solvers = parse_targets(to)
+        _units(units)  # a bad --units is named before the source is read
         if out is not None and len(solvers) > 1:
             raise SceneError("--out names one file; give one solver with --to, or no --out")
-        card = cards.load_source(source)
-        if elastic_only:
-            card = cards.elastic_only(card)
-        texts = {t: card_text(card, t, u) for t in solvers}  # every refusal before any file
+        texts = export_texts(cards.load_source(source), solvers, units, elastic_only)  # every refusal before any file
         paths = {t: Path(out) if out is not None else Path(EXPORTERS[t].default_file) for t in solvers}
         for t in solvers:
             write_file(paths[t], texts[t], force)

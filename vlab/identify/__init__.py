@@ -8,6 +8,7 @@ solve.py       bounded least squares from many seeded starts
 uncertainty.py covariance, intervals, correlations, delta-method bands, identifiability
 drucker.py     Drucker stability of a card along each kind and over the (λ1, λ2) plane
 fitting.py     FITFILE -> result dict; ranking.py: several models; report.py: fit.json + index.html
+specimens.py   several specimens (data.specimen): a fit per specimen, the pooled fit, statistics
 card.py        the fitted [material] card (an incompressible fit's K = K_over_mu · μ0, stated)
 fe_loop.py     FE in the loop: a specimen's instrument readings fitted through vlab's own test
 fe_spec.py     its [fe] table; fe_stress.py: flat constants and ∂P/∂p of every model (complex step)

@@ -30,11 +30,39 @@ def _print_fit(console: Console, d: dict) -> None:
     for x in d["datasets"]:
         console.print(f"  {x['name']} ({x['kind']}, {x['role']}): rms {percent(x['rms_relative'])}, "
                       f"max {percent(x['max_relative'])}", highlight=False)
+    _print_specimens(console, d.get("specimens"))
     for w in d["warnings"]:
         console.print(Text.assemble("  ", ("warning", "yellow"), f" {w}"), highlight=False, soft_wrap=True)
     if d["converged"] and not d["trust"]["trustworthy"]:
         console.print(Text.assemble(("card not trustworthy", "red"), ": " + "; ".join(d["trust"]["because"])),
                       highlight=False, soft_wrap=True)
+
+
+def _number(v, f: str = ".4g") -> str:
+    return "—" if v is None else format(v, f)
+
+
+def _print_specimens(console: Console, sp: dict | None) -> None:
+    """fit.json → specimens as the page shows it: each specimen's constants, then per constant the
+    mean, standard deviation, cv and n between specimens beside the pooled value (the card's)."""
+    if not sp:
+        return
+    if sp["statistics"] is None:
+        console.print(f"  specimens: n = {sp['n']} ({sp['reason']})", highlight=False, soft_wrap=True)
+        return
+    console.print(f"  specimens: n = {sp['n']} ({', '.join(sp['ids'])}), each fitted on its own; the pooled fit "
+                  "above is the card", highlight=False, soft_wrap=True)
+    for s, r in sp["per_specimen"].items():
+        vals = ", ".join(f"{k} = {c['value']:.4g}" + (f" ± {c['standard_error']:.2g}" if c["interval"] else "")
+                         for k, c in r["constants"].items())
+        state = "" if r["converged"] else "  NOT converged"
+        console.print(f"    {s}: {vals}{state}", highlight=False, soft_wrap=True)
+    for k, st in sp["statistics"].items():
+        g = _number
+        cv = "—" if st["coefficient_of_variation"] is None else f"{100 * st['coefficient_of_variation']:.3g} %"
+        why = f" ({st['reason']})" if st["reason"] else ""
+        console.print(f"    {k:>10}: mean {g(st['mean'])}, sd {g(st['standard_deviation'], '.3g')}, cv {cv}, "
+                      f"n {st['n']}; pooled {g(st['pooled'])}{why}", highlight=False, soft_wrap=True)
 
 
 def _print_ranking(console: Console, rows: list[dict]) -> None:
@@ -73,19 +101,20 @@ def fit_command(path: Path, out: Path | None, models: str | None, console: Conso
     """``execution`` (vlab.study.sweep.Execution, from --workers/--scheduler): the FE-in-the-loop
     solves on Dask; refused (exit 2) for a fit without a specimen data set. ``export``: solvers
     (--export) whose cards go to OUT/cards/ (vlab.export), checked before the fit starts."""
+    from vlab.identify.request import fit_request
     from vlab.report.folder import ReportFolderError
     from vlab.study.scheduler import SchedulerError
 
     try:
-        text, spec, names, targets = _checked_fit(path, models, execution, export)
+        request = fit_request(path, models, export, distributed=execution is not None)
     except SceneError as exc:
         return _refused(console, "invalid fit file", exc)
     try:
-        dest = _destination(out or Path("reports") / f"{spec.name}-fit", force, spec, path)
+        dest = _destination(out or Path("reports") / f"{request.spec.name}-fit", force, request.spec, path)
     except ReportFolderError as exc:
         return _refused(console, "invalid output folder", exc)
     try:
-        return _fit_and_write(spec, names, dest, dest.path, text, console, execution, targets)
+        return _fit_and_write(request, dest, dest.path, console, execution)
     except SchedulerError as exc:
         return _refused(console, "invalid option", exc)
     except ReportFolderError as exc:
@@ -98,77 +127,25 @@ def _refused(console: Console, what: str, exc: Exception) -> int:
     return 2
 
 
-def _checked_fit(path: Path, models: str | None, execution, export: str | None):
-    """(the fit file's text, spec, the --models names or None, the --export targets) of a fit file
-    and the options, each checked before anything is fitted; SceneError names what is refused."""
-    from vlab.identify.fitfile import parse_fit_text, read_fit_text
+def _fit_and_write(request, dest, out: Path, console: Console, execution=None) -> int:
+    from vlab.identify.request import run_ranking, run_single
 
-    text = read_fit_text(path)  # read once: the text the report keeps is the text fitted
-    spec = parse_fit_text(path, text)
-    names = _model_names(models)
-    if names and any(d.kind in ("relaxation", "dma") for d in spec.datasets):
-        raise SceneError("--models ranks equilibrium fits; a fit file with relaxation or DMA records is fitted "
-                         "with its own [model] (leave out --models)")
-    targets = _export_targets(spec, export, names)
-    if execution is not None and spec.fe is None:
-        raise SceneError("--workers/--scheduler run the whole-test solves of an FE-in-the-loop fit; this fit "
-                         "file has no data set of kind = \"specimen\"")
-    return text, spec, names, targets
+    if request.names:
+        from vlab.identify.ranking import write_ranking
 
-
-def _model_names(models: str | None) -> list[str] | None:
-    """The model names of --models (comma-separated, each one vlab fits), None without it."""
-    from vlab.identify.fitfile import parse_model_name
-
-    if models is None:
-        return None
-    names = [m.strip() for m in models.split(",") if m.strip()]
-    if not names:
-        raise SceneError("--models must list at least one model, e.g. mooney-rivlin,ogden-3")
-    seen: dict[tuple, str] = {}
-    for n in names:  # none repeated ("ogden" and "ogden-1" are one model): a repeat failed late ("File exists")
-        key = parse_model_name(n, "--models")
-        if key in seen:
-            same = "" if seen[key] == n else f" (the same model as {seen[key]!r})"
-            raise SceneError(f"--models lists {n!r} more than once{same}: each model is fitted and ranked once")
-        seen[key] = n
-    return names
-
-
-def _export_targets(spec, export: str | None, names) -> list[str]:
-    """The --export solvers, refused (SceneError) with --models or where a target lacks the card."""
-    if export is None:
-        return []
-    if names:
-        raise SceneError("--export writes the cards of one fitted model; it cannot be combined with --models")
-    from vlab.export.command import check_targets
-
-    return check_targets(spec, export)
-
-
-def _fit_and_write(spec, names, dest, out: Path, text: str, console: Console, execution=None,
-                   targets=()) -> int:
-    if names:
-        from vlab.identify.ranking import fit_models, write_ranking
-
-        rows = write_ranking(spec, fit_models(spec, names), dest, text)
+        rows = write_ranking(request.spec, run_ranking(request), dest, request.text)
         _print_ranking(console, rows)
         console.print(f"report: {out / 'index.html'}", highlight=False, soft_wrap=True)
         if not all(r["converged"] for r in rows):
             return EXIT_FAILED
         return EXIT_OK if rows[0]["trustworthy"] else EXIT_UNTRUSTED
-    from vlab.identify.fitting import fit_any
     from vlab.identify.report import write_fit_report
 
     try:
-        outcome = fit_any(spec, execution)
+        outcome = run_single(request, execution)
     except SceneError as exc:  # found while fitting (e.g. the scene's test does not cover the data)
         return _refused(console, "invalid fit file", exc)
-    if targets:
-        from vlab.export.command import fit_card_writer
-
-        outcome.extras.setdefault("writers", []).append(("cards", fit_card_writer(outcome, list(targets))))
-    d = write_fit_report(outcome, dest, text)
+    d = write_fit_report(outcome, dest, request.text)
     _print_fit(console, d)
     console.print(f"report: {out / 'index.html'}", highlight=False, soft_wrap=True)
     return exit_code(d)

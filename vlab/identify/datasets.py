@@ -49,6 +49,7 @@ class Dataset:
     b: np.ndarray | None
     y: np.ndarray
     extra: dict | None = None
+    specimen: str | None = None  # fit file's specimen = "<id>" (vlab.identify.specimens)
 
     @property
     def points(self) -> int:

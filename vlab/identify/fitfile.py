@@ -8,7 +8,8 @@
     [[data]]   file (resolved against the fit file's folder), kind, columns, stress_measure,
                units, role (fit | validate), weight, name; geometry (the kinds of
                vlab.identify.kinds that need lengths: torsion radius, inflation inner_radius and
-               thickness, mm)
+               thickness, mm); specimen (an id string: data sets of several specimens of one
+               material are fitted per specimen and pooled, vlab.identify.specimens)
     [options]  residual (relative | absolute), starts (1..1000), seed, confidence (0.5..0.999),
                max_evaluations (per start, default 400)
     [fe]       scene (kind = "specimen"), parameters (the card keys fitted), start, max_solves
@@ -16,6 +17,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -114,6 +116,15 @@ def _columns(t: Table, kind: str) -> dict[str, str]:
 
 
 def _dataset(raw, i: int, base: Path) -> Dataset:
+    """One [[data]] table; its ``specimen`` (any kind) is read here and carried by the Dataset."""
+    from vlab.identify.specimens import split_specimen
+
+    rest, specimen = split_specimen(raw, i)
+    d = _dataset_of(rest, i, base)
+    return d if specimen is None else dataclasses.replace(d, specimen=specimen)
+
+
+def _dataset_of(raw, i: int, base: Path) -> Dataset:
     from vlab.identify.records import dataset_hook
     record = dataset_hook(raw, i, base)  # a lab record (relaxation, dma) or a raw machine export
     if record is not None:
@@ -251,6 +262,8 @@ def parse_fit(data: dict, base_dir: Path, default_name: str = "fit") -> FitSpec:
     elif "fe" in data:
         raise SceneError("[fe] is only used with a data set of kind = \"specimen\"")
     check_records(model, effects, datasets, fe)
+    from vlab.identify.specimens import check_specimens
+    check_specimens(model, effects, datasets, fe)
     opts = _options(data.get("options", {}))
     return FitSpec(name, model, datasets, fe=fe, source=data, base_dir=Path(base_dir), effects=effects, **opts)
 

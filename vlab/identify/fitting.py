@@ -21,7 +21,7 @@ from vlab.identify.kinds import FIT_KINDS
 from vlab.identify.kinds.base import floor_of
 from vlab.identify.solve import Objective, max_I1, predict, summarize_starts, timed_multi_start
 
-__all__ = ["FitOutcome", "fit_homogeneous", "curves"]
+__all__ = ["FitOutcome", "fit_homogeneous", "fit_any", "fit_one", "curves"]
 
 
 @dataclass
@@ -291,6 +291,13 @@ def curves(outcome: FitOutcome, d, n: int = 120) -> dict:
 
 
 def fit_any(spec: FitSpec, execution=None) -> FitOutcome:
+    """fit_one of spec; with data sets of two or more specimens (data.specimen) also one fit per
+    specimen and the statistics between them in fit.json → specimens (vlab.identify.specimens)."""
+    from vlab.identify.specimens import fit_specimens
+    return fit_specimens(spec, fit_one, execution)
+
+
+def fit_one(spec: FitSpec, execution=None) -> FitOutcome:
     """The homogeneous fit, or the FE-in-the-loop fit when a data set is a specimen's readings
     (its whole-test solves on Dask with ``execution``, vlab.study.sweep.Execution)."""
     if spec.fe is not None:

@@ -15,7 +15,7 @@ from vlab.identify.drucker import PATHS, stability_map  # noqa: E402
 from vlab.identify.kinds import FIT_KINDS, outputs_of  # noqa: E402
 from vlab.identify.kinds.base import floor_of  # noqa: E402
 
-__all__ = ["plot_curves", "plot_stability_map", "plot_models"]
+__all__ = ["plot_curves", "plot_stability_map", "plot_models", "plot_specimens"]
 
 _XLABEL = {"simple-shear": "shear γ", "biaxial": "point", "specimen": "strain", "volumetric": "volume ratio J"}
 
@@ -25,8 +25,8 @@ def _closed_panel(ax, rax, d, cur, confidence: float, label: str, colour: str) -
     the axial force of torsion, on a right-hand axis); residuals of every block below."""
     xlabel, ylabels = FIT_KINDS[d.kind].labels
     n, m = len(d.a), len(cur["a"])
-    axes = [ax] + [ax.twinx() for _ in outputs_of(d)[1:]]
-    for k, (name, axk, style) in enumerate(zip(outputs_of(d), axes, ("o", "s"))):
+    panes = [ax] + [ax.twinx() for _ in outputs_of(d)[1:]]  # a right-hand axis per further output
+    for k, (name, axk, style) in enumerate(zip(outputs_of(d), panes, ("o", "s"))):
         yk, ck, bk = d.y[k * n:(k + 1) * n], cur["y"][k * m:(k + 1) * m], cur["band"][k * m:(k + 1) * m]
         axk.plot(d.a, yk, style, color=colour, ms=4, mfc=colour if k == 0 else "none", label=f"{label}: {name}")
         axk.plot(cur["a"], ck, "-" if k == 0 else "--", color="k", lw=1.2)
@@ -37,8 +37,8 @@ def _closed_panel(ax, rax, d, cur, confidence: float, label: str, colour: str) -
         rel = (cur["at_data"][k * n:(k + 1) * n] - yk) / np.maximum(np.abs(yk), np.where(floor > 0, floor, 1.0))
         rax.plot(d.a, 100 * rel, style + "-", color=colour, ms=3, lw=0.8, mfc=colour if k == 0 else "none",
                  label=name)
-    handles = [h for a in axes for h in a.get_legend_handles_labels()[0]]
-    ax.legend(handles=handles, fontsize=7, loc="center left" if len(axes) > 1 else "best")
+    handles = [h for a in panes for h in a.get_legend_handles_labels()[0]]
+    ax.legend(handles=handles, fontsize=7, loc="center left" if len(panes) > 1 else "best")
     ax.grid(alpha=0.3)
     rax.axhline(0, color="k", lw=0.6)
     rax.set_ylabel("residual (%)")
@@ -170,6 +170,31 @@ def plot_models(spec, ranked, path: Path) -> None:
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7)
     fig.suptitle(f"{spec.name}: models against the data", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def plot_specimens(name: str, panels: list[dict], path: Path) -> None:
+    """One panel per kind (vlab.identify.specimens.band_panels): the envelope of the specimens'
+    fitted curves (grey band), each specimen's curve and data in its colour, the pooled fit (black)."""
+    fig, axes = plt.subplots(1, len(panels), figsize=(4.6 * len(panels), 4.2), squeeze=False)
+    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for ax, p in zip(axes[0], panels):
+        ax.fill_between(p["a"], p["lo"], p["hi"], color="0.6", alpha=0.35, label="specimens' fits (envelope)")
+        ids = list(p["curves"])
+        for s, a, y in p["data"]:
+            c = colours[ids.index(s) % len(colours)] if s in ids else "0.4"
+            ax.plot(a, y, "o", ms=3, color=c, label=f"specimen {s}")
+        for j, (s, y) in enumerate(p["curves"].items()):
+            ax.plot(p["a"], y, "-", lw=0.8, color=colours[j % len(colours)])
+        ax.plot(p["a"], p["pooled"], "-", color="k", lw=1.6, label="pooled fit (the card)")
+        ax.set_xlabel(_XLABEL.get(p["kind"], "stretch λ"))
+        ax.set_ylabel(f"{'true' if p['measure'] == 'true' else 'nominal'} stress (MPa)")
+        ax.set_title(p["kind"], fontsize=9)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+    fig.suptitle(f"{name}: specimens and the pooled fit", fontsize=10)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)

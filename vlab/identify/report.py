@@ -96,6 +96,36 @@ def _fe_section(d: dict) -> str:
             + _table(["constant", "FE fit", "homogeneous fit", "difference", "difference (standard errors)"], rows))
 
 
+def _specimens_section(d: dict) -> str:
+    """fit.json → specimens: each specimen's constants with their intervals, then the statistics
+    between specimens per constant beside the pooled value (the card's)."""
+    sp = d.get("specimens")
+    if not sp:
+        return ""
+    if sp["statistics"] is None:
+        return f"<h2>Specimens</h2><p>n = {sp['n']}: {html.escape(sp['reason'])}</p>"
+    names = list(sp["statistics"])
+    rows = []
+    for s, r in sp["per_specimen"].items():
+        cells = [html.escape(s), _f(r["converged"]), str(r["points"]),
+                 "—" if r["rms_relative"] is None else f"{100 * r['rms_relative']:.3g} %"]
+        for k in names:
+            c = r["constants"].get(k)
+            iv = c and c["interval"]
+            cells.append("—" if c is None else f"{_f(c['value'], 5)}" + (f" ({_f(iv[0])} … {_f(iv[1])})" if iv else
+                                                                         " (no interval)"))
+        rows.append(cells)
+    stats = [[html.escape(k), _f(st["mean"], 5), _f(st["standard_deviation"], 3),
+              "—" if st["coefficient_of_variation"] is None else f"{100 * st['coefficient_of_variation']:.3g} %",
+              str(st["n"]), f"{_f(st['min'], 5)} … {_f(st['max'], 5)}", _f(st["pooled"], 5),
+              _f(st["pooled_within_range"]), html.escape(st["reason"] or "")] for k, st in sp["statistics"].items()]
+    return (f"<h2>Specimens</h2><p>{sp['n']} specimens, each fitted on its own ({100 * d['confidence']:g} % "
+            f"intervals); {html.escape(sp['note'])}.</p>"
+            + _table(["specimen", "converged", "points", "rms relative"] + names, rows)
+            + _table(["constant", "mean", "standard deviation", "cv", "n", "range", "pooled", "pooled in range",
+                      "note"], stats))
+
+
 def _cards(d: dict) -> str:
     """The solver cards of ``vlab fit --export`` (vlab.export), linked."""
     if not d.get("cards"):
@@ -137,6 +167,7 @@ def page(d: dict, images: list[tuple[str, str]]) -> str:
 <h2>Drucker stability</h2>
 {_table(['kind', 'tension', 'compression', 'stable over the fitted range'], _stability_rows(d['stability']))}
 {_fe_section(d)}
+{_specimens_section(d)}
 <h2>Card</h2><pre>{html.escape(d['card']['toml'])}</pre><p>{html.escape(d['card']['note'])}</p>{_cards(d)}
 <p>Timing: fit {d['timing']['fit_s']:.3g} s, total {d['timing']['total_s']:.3g} s.</p>
 </body></html>"""

@@ -34,6 +34,10 @@ class Instruments:
                                  CentreStressProbe.build(space, specimen, oracle))
         self.probe = provided.probe(kind, space, specimen, oracle) if oracle is not None else None
         self.homogeneity: list[dict] = []
+        self.bending = None  # the face gauges of a misaligned test (vlab.measure.bending)
+        if test.misalignment is not None:
+            from vlab.measure.bending import FaceGauges
+            self.bending = FaceGauges(space, specimen)
         self.seconds = 0.0
 
     def __call__(self, level: Level) -> None:
@@ -43,6 +47,8 @@ class Instruments:
             self.body.history.keep_cells(level.evaluation)
         if self.probe is not None:
             self.homogeneity.append(self.probe.read(level.evaluation.F, self.recorder.curve.force[0][-1]))
+        if self.bending is not None:
+            self.bending.read(level.evaluation.u)
         self.seconds += time.perf_counter() - t
 
 
@@ -55,6 +61,7 @@ class Measured:
     uncertainty: dict | None
     cruciform: dict | None
     homogeneity: dict | None
+    bending: dict | None = None  # ASTM E1012 percent bending from the face gauges (misaligned tests)
 
 
 def measure(prepared: Prepared, instruments: Instruments) -> Measured:
@@ -69,11 +76,15 @@ def measure(prepared: Prepared, instruments: Instruments) -> Measured:
         curve, constants, uncertainty = measure_with_noise(scene.effect("noise"), curve, prepared.specimen,
                                                            scene.measure)
     rows = instruments.homogeneity
+    bending = None
+    if instruments.bending is not None:
+        from vlab.measure.bending import bending_report
+        bending = bending_report(instruments.bending, instruments.recorder.curve, window)
     return Measured(curve, constants, _reference(prepared, curve),
                     crosshead=provided.crosshead(kind_of(scene.test), fitted_part(curve, scene), window, fit),
                     uncertainty=uncertainty,
                     cruciform=centre_report(curve, window, fit),
-                    homogeneity=_homogeneity_report(curve, rows, window) if rows else None)
+                    homogeneity=_homogeneity_report(curve, rows, window) if rows else None, bending=bending)
 
 
 def fitted_part(curve: Curve, scene) -> Curve:

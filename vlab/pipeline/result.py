@@ -39,6 +39,7 @@ class Diagnostics:
     uncertainty: dict | None = None  # measured.uncertainty (effects.noise)
     cruciform: dict | None = None  # centre stress, correction factors
     homogeneity: dict | None = None  # gauge-section spread at small strain and at the end
+    bending: dict | None = None  # ASTM E1012 percent bending of a misaligned test (measure/bending.py)
     stability: list[dict] = field(default_factory=list)  # inertia per level
     lateral_deflection: list[float] = field(default_factory=list)  # mm, per level
     critical: dict | None = None  # first loss of stability, its classification

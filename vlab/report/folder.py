@@ -17,7 +17,8 @@ Rules (the instrument never destroys the user's data):
 - Folders get the permissions of a plain ``mkdir`` (0o777 minus the umask), files those of a plain
   ``open`` (0o666 minus the umask).
 - Any OS error while writing (a file in the way, read-only or full file system, a name too long)
-  removes the temporary folder and the parent folders it created and becomes a ReportFolderError
+  removes the temporary folder and the parent folders it created (with the ``_assets`` folder of
+  shared files a report put in one, vlab.report.shared) and becomes a ReportFolderError
   naming the folder and the cause (a full disk says so: free space and run again). The folder the
   report was to replace is then as it was.
 - A read-only ``out`` (or a read-only folder inside it) is refused before any work, like a
@@ -352,6 +353,16 @@ def _failure(dest: Destination, exc: OSError, target: Path) -> ReportFolderError
                              f"nothing was written")
 
 
+def _remove_shared(made: Path) -> None:
+    """The shared files (vlab.report.shared) a failed report put in a parent folder it made: all
+    vlab's, since the folder did not exist before this report."""
+    from vlab.report.shared import ASSETS
+
+    assets = made / ASSETS
+    if assets.is_dir() and not assets.is_symlink():
+        shutil.rmtree(assets, ignore_errors=True)
+
+
 @contextmanager
 def report_folder(out: "Path | str | Destination", kind: str = "report"):
     """Yield an empty temporary folder; on success it becomes ``out`` (module docstring)."""
@@ -371,6 +382,7 @@ def report_folder(out: "Path | str | Destination", kind: str = "report"):
         if tmp is not None:
             shutil.rmtree(tmp, ignore_errors=True)
         for folder in reversed(made):
+            _remove_shared(folder)
             try:
                 folder.rmdir()
             except OSError:

@@ -1,5 +1,7 @@
 """The interactive 3-D view of a report: ``view3d.html`` next to ``index.html``, with plotly.js
-(``plotly.min.js`` from the plotly package, shipped in the folder: no network) drawing the
+(``plotly.min.js`` from the plotly package, no network: one copy shared by the reports of a folder
+in ``../_assets/plotly-<version>.min.js`` (vlab.report.shared), else shipped in the report folder,
+or inlined in a single-file report) drawing the
 deformed specimens as WebGL meshes the reader rotates and zooms, with a field menu, a model menu
 and a load-level slider; the gauge marks are points, the undeformed outline grey lines.
 
@@ -104,26 +106,47 @@ def field_ranges(snapshots: list[Snapshot]) -> dict:
     return {name: list(common_range(snapshots, name, slice(None))) for name in FIELDS}
 
 
-def write_view(snapshots: list[Snapshot], folder: Path, title: str, inline: bool = False) -> dict:
-    """Write ``view3d.html`` (and ``plotly.min.js`` unless ``inline``); returns what it wrote."""
+def plotly_source(folder: Path, shared_root: Path | None, inline: bool) -> tuple[str, list[str], str | None]:
+    """How the page gets plotly.js: (the script tag, files written into ``folder``, the shared
+    copy's path relative to ``folder`` or None). Inlined when ``inline``; else the copy shared in
+    ``shared_root/_assets/`` when it can be (vlab.report.shared), else a copy in ``folder``."""
+    import plotly
+
+    from vlab.report.shared import share
+
+    src = Path(plotly.__file__).parent / "package_data" / PLOTLY_JS
+    if inline:
+        return f"<script>{src.read_text(encoding='utf-8')}</script>", [], None
+    shared = None if shared_root is None else share(src, shared_root, f"plotly-{plotly.__version__}.min.js")
+    if shared is not None:
+        return f'<script src="{html.escape(shared)}"></script>', [], shared
+    shutil.copyfile(src, folder / PLOTLY_JS)
+    return f'<script src="{PLOTLY_JS}"></script>', [PLOTLY_JS], None
+
+
+def _missing_note(shared: str | None) -> str:
+    return (f"plotly.js did not load from {shared}: this report uses the copy its reports folder shares. "
+            "Keep the _assets folder beside the report folder when moving it (move or copy both), or "
+            "write the report with --single-file to carry its own copy." if shared else
+            f"plotly.js did not load ({PLOTLY_JS} is missing from the report folder).")
+
+
+def write_view(snapshots: list[Snapshot], folder: Path, title: str, inline: bool = False,
+               shared_root: Path | None = None) -> dict:
+    """Write ``view3d.html`` (plotly.js as :func:`plotly_source` chooses); returns what it wrote."""
     import plotly
 
     folder = Path(folder)
-    src = Path(plotly.__file__).parent / "package_data" / PLOTLY_JS
+    script, own, shared = plotly_source(folder, shared_root, inline)
     data = {"title": title, "models": [model_payload(s) for s in snapshots], "ranges": field_ranges(snapshots),
-            "view": view_box(snapshots),
+            "view": view_box(snapshots), "plotly_missing": _missing_note(shared),
             "fields": {k: f"{label} [{unit}]" for k, (label, unit) in FIELDS.items()}}
     payload = json.dumps(data, separators=(",", ":")).replace("</", "<\\/")
-    if inline:
-        script = f"<script>{src.read_text(encoding='utf-8')}</script>"
-    else:
-        shutil.copyfile(src, folder / PLOTLY_JS)
-        script = f'<script src="{PLOTLY_JS}"></script>'
     page = (Path(__file__).parent / "assets" / "view3d.html").read_text(encoding="utf-8")
     page = (page.replace("{{TITLE}}", html.escape(title)).replace("{{PLOTLY}}", script)
             .replace("{{DATA}}", payload).replace("{{VIEWER}}",
                                                   (Path(__file__).parent / "assets" / "view3d.js").read_text()))
     (folder / "view3d.html").write_text(page, encoding="utf-8")
-    files = ["view3d.html"] + ([] if inline else [PLOTLY_JS])
-    return {"file": "view3d.html", "files": files, "plotly_version": plotly.__version__,
+    files = ["view3d.html"] + own
+    return {"file": "view3d.html", "files": files, "plotly_version": plotly.__version__, "plotly_shared": shared,
             "bytes": {f: (folder / f).stat().st_size for f in files}}

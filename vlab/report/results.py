@@ -91,6 +91,7 @@ def result_to_dict(result: RunResult) -> dict:
         "curve": curve_columns(result) | {"units": dict(_kind(result).units)},
         "reference": result.reference,
         "homogeneity": d.homogeneity,
+        "bending": d.bending,  # test.misalignment: ASTM E1012 percent bending (measure/bending.py)
         "cruciform": d.cruciform,
         "solver": _solver(result),
         "timing": result.timing,

@@ -18,6 +18,7 @@ import csv
 import datetime as _dt
 import json
 import logging
+import os
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -82,13 +83,14 @@ def write_report(outcomes: list, out: Path, scene, scene_text: str | None,
                          f"{', '.join(o.model for o in outcomes)}")
     datas = [o.data for o in outcomes]
     test_kind = kind_of_data(datas[0])
-    departures = _departures(outcomes) if not single and test_kind.lateral_ratio else {}
+    departures = comparison_departures(outcomes)
     kind = "true" if options.true_measures else "engineering"
     job = figure_job(datas, options.true_measures, departures, test_kind.lateral_ratio)
     with report_folder(out, "run" if single else "compare") as tmp:
         drawing = start_figures(job | {"folder": str(tmp)}, worker)
         try:
-            links, rendered, renders, notes, view = _beside_figures(outcomes, tmp, scene.name, options)
+            links, rendered, renders, notes, view = _beside_figures(outcomes, tmp, scene.name, options,
+                                                                    shared_root(out))
         except BaseException:
             drawing.cancel()  # before the folder is discarded: the worker writes into it
             raise
@@ -106,14 +108,24 @@ def write_report(outcomes: list, out: Path, scene, scene_text: str | None,
     return summary
 
 
-def _beside_figures(outcomes: list, tmp: Path, title: str, options: ReportOptions) -> tuple:
+def _beside_figures(outcomes: list, tmp: Path, title: str, options: ReportOptions, shared: Path | None) -> tuple:
     """What is written while the figures are drawn: the model files, renders and 3-D view;
     (links, render figures, renders, notes, view)."""
     single = len(outcomes) == 1
     links = {o.model: _write_model_files(o, tmp, "." if single else o.model, options) for o in outcomes}
     rendered: list = []
     renders, notes = _renders(outcomes, tmp, options, rendered)
-    return links, rendered, renders, notes, _interactive(outcomes, tmp, title, options)
+    return links, rendered, renders, notes, _interactive(outcomes, tmp, title, options, shared)
+
+
+def comparison_departures(outcomes: list) -> dict:
+    """comparison.json's ``departures_from_neo_hookean``: where each model's stress first departs
+    from Neo-Hookean's, for several models of a kind with a lateral ratio ({} otherwise)."""
+    from vlab.report.kind_rows import kind_of_data
+
+    if len(outcomes) == 1 or not kind_of_data(outcomes[0].data).lateral_ratio:
+        return {}
+    return _departures(outcomes)
 
 
 def _departures(outcomes: list) -> dict:
@@ -173,13 +185,25 @@ def _renders(outcomes, tmp: Path, options: ReportOptions, figures: list) -> tupl
         return {"skipped": str(exc)}, [f"3D renders skipped: {exc}"]
 
 
-def _interactive(outcomes, tmp: Path, title: str, options: ReportOptions) -> dict | None:
-    """view3d.html: the deformed specimens in the reader's browser (rotate, zoom, field, level)."""
+def shared_root(out) -> Path | None:
+    """Where the report's shared files go (vlab.report.shared): the folder holding the report
+    folder, whose ``_assets/`` its sibling reports share; None for a report named ``_assets``."""
+    from vlab.report.folder import destination
+    from vlab.report.shared import ASSETS
+
+    target = Path(os.path.abspath(destination(out).path))
+    return None if target.name == ASSETS else target.parent
+
+
+def _interactive(outcomes, tmp: Path, title: str, options: ReportOptions, shared: Path | None) -> dict | None:
+    """view3d.html: the deformed specimens in the reader's browser (rotate, zoom, field, level),
+    plotly.js shared with the other reports in ``shared``/_assets/ where it can be."""
     if not options.render:
         return None
     from vlab.report.interactive import write_view
 
-    return write_view([o.snapshot for o in outcomes], tmp, title, inline=options.single_file)
+    return write_view([o.snapshot for o in outcomes], tmp, title, inline=options.single_file,
+                      shared_root=shared)
 
 
 def _render_caption(meta: dict, when: str) -> str:

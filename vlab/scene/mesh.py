@@ -134,6 +134,9 @@ def check_symmetry(mesh: MeshSpec, test: TestSpec, specimen: Specimen) -> None:
     cruciforms are.)"""
     from vlab.loading.kinds import kind_of
 
+    if mesh.symmetry != "none" and test.misalignment is not None:
+        raise SceneError(f"mesh.symmetry must be 'none' with test.misalignment (a misaligned grip bends the "
+                         f"specimen: the field is not mirror-symmetric), got {mesh.symmetry!r}")
     if mesh.symmetry != "none" and not kind_of(test).symmetric:
         raise SceneError(f"mesh.symmetry must be 'none' for test.kind = {test.kind!r} (its loading is not "
                          f"mirror-symmetric), got {mesh.symmetry!r}")

@@ -1,5 +1,6 @@
 """``[test]``: kind, grips, the kind's load (``stretch`` or ``shear``), steps, protocol (monotonic,
-load-unload, cyclic, relaxation, creep) with its time keys, and a buckling imperfection.
+load-unload, cyclic, relaxation, creep) with its time keys, a buckling imperfection and a
+misaligned load train (``misalignment = {offset = mm, tilt = degrees}``, vlab.loading.misalignment).
 
 The kind comes from the test-kind registry (vlab/loading/kinds/), which parses its own load key:
 grip stretches in 0.2..10 (< 1 is compression) for uniaxial, biaxial and planar tests, the amount
@@ -38,6 +39,7 @@ class TestSpec:
     shear: tuple[float, ...] = ()  # simple shear: (γ,) at t = 1 (cyclic: the largest amplitude)
     twist: tuple[float, ...] = ()  # torsion: (ψ,) at t = 1, rad/mm
     options: tuple[tuple[str, str], ...] = ()  # the kind's own choice keys (TestKind.option_keys), as given
+    misalignment: tuple[float, float] | None = None  # (offset mm, tilt degrees) of the moving grip; None: aligned
 
     def option(self, key: str) -> str:
         """The value of one of the kind's choice keys (its default when not given)."""
@@ -55,7 +57,7 @@ def parse_test(raw: Any, shape: str = "block") -> TestSpec:
 
     load_keys = tuple(dict.fromkeys(k.load_key for k in KINDS.values()))
     option_keys = tuple(dict.fromkeys(key for k in KINDS.values() for key in k.option_keys))
-    t = fields.Table("test", raw, ("kind", "grips") + load_keys + option_keys + ("steps", "imperfection")
+    t = fields.Table("test", raw, ("kind", "grips") + load_keys + option_keys + ("steps", "imperfection", "misalignment")
                      + PROTOCOL_KEYS)
     tests = SPECIMEN_TESTS[shape]
     kind = KINDS[t.choice("kind", tuple(KINDS))]
@@ -87,7 +89,8 @@ def parse_test(raw: Any, shape: str = "block") -> TestSpec:
                     protocol=_parse_protocol(t, protocol_name, targets, kind),
                     imperfection=_imperfection(t, kind.name, targets),
                     shear=targets if kind.load_key == "shear" else (),
-                    twist=targets if kind.load_key == "twist" else (), options=options)
+                    twist=targets if kind.load_key == "twist" else (), options=options,
+                    misalignment=_misalignment(t, kind.name, grips, shape))
 
 
 def _options(t: fields.Table, kind, option_keys: tuple[str, ...]) -> tuple[tuple[str, str], ...]:
@@ -198,3 +201,24 @@ def _imperfection(t: fields.Table, kind: str, stretch: tuple[float, ...]) -> flo
         raise SceneError(f"{t.field('imperfection')} applies to uniaxial compression (test.stretch < 1), "
                          f"got test.stretch = {list(stretch)}")
     return value
+
+
+MISALIGNED_SHAPES = ("block", "dogbone")  # a thickness along z whose faces carry the strain gauges
+
+
+def _misalignment(t: fields.Table, kind: str, grips: str, shape: str) -> tuple[float, float] | None:
+    """``[test] misalignment = {offset = e, tilt = θ}``: the moving grip's offset e (mm, along z,
+    any sign) and tilt θ (degrees, |θ| < 90) of the load axis (vlab.loading.misalignment), for a
+    uniaxial test of a block or dogbone in clamped grips (a roller grip prescribes no lateral
+    motion to misalign)."""
+    if "misalignment" not in t.raw:
+        return None
+    field, raw = t.field("misalignment"), t.raw["misalignment"]
+    if kind != "uniaxial" or grips != "clamped" or shape not in MISALIGNED_SHAPES:
+        raise SceneError(f"{field} applies to a uniaxial test in clamped grips (test.grips = 'clamped') of a "
+                         f"{' or '.join(MISALIGNED_SHAPES)}; got test.kind = {kind!r}, test.grips = {grips!r}, "
+                         f"specimen.shape = {shape!r}")
+    m = fields.Table(field, raw, ("offset", "tilt"))
+    offset = m.number("offset", 0.0, ge=-1e3, le=1e3, note=" (mm, along the thickness z)")
+    tilt = m.number("tilt", 0.0, gt=-90.0, lt=90.0, note=" (degrees)")
+    return offset, tilt

@@ -11,7 +11,8 @@ from vlab.report import figures as plt  # pyplot-free Agg figures
 
 from vlab.report.folder import destination, report_folder  # noqa: E402
 from vlab.study.cost import CostAnalysis, run_seconds  # noqa: E402
-from vlab.study.table import html_table, page, table_rows, write_csv  # noqa: E402
+from vlab.study.commands import ERROR_COLUMNS, cost_record, cost_table  # noqa: E402,F401  (ERROR_COLUMNS: public here too)
+from vlab.study.table import html_table, page, write_csv  # noqa: E402
 
 ERROR_FLOOR = 1e-17  # log axes: errors at exactly zero are drawn at this floor
 
@@ -47,15 +48,9 @@ def plot_error_time(summaries: list[dict], analysis: CostAnalysis, target: float
     plt.save(fig, path)
 
 
-ERROR_COLUMNS = (("rel. error E", ("errors", "E")), ("rel. error ν", ("errors", "nu")),
-                 ("rel. error final force", ("errors", "final_force")),
-                 ("rel. error final stress", ("errors", "final_stress")), ("largest error", ("errors", "max")))
-
-
 def write_cost_report(folder: Path, title: str, summaries: list[dict], analysis: CostAnalysis,
                       target: float, meta: dict) -> Path:
-    rows_in = [s | {"errors": e or {}} for s, e in zip(summaries, analysis.errors)]
-    headers, rows = table_rows(rows_in, extra=ERROR_COLUMNS)
+    headers, rows = cost_table(summaries, analysis)
     reference = "".join(
         f"<tr><th>{html.escape(q)}</th><td class=num>{_num(analysis.reference.get(q))}</td>"
         f"<td>{_num(analysis.orders.get(q), 3)}</td><td>{html.escape(analysis.notes.get(q, ''))}</td></tr>"
@@ -82,12 +77,7 @@ def write_cost_report(folder: Path, title: str, summaries: list[dict], analysis:
     with report_folder(folder, "cost") as tmp:
         plot_error_time(summaries, analysis, target, tmp / "error_time.png")
         write_csv(headers, rows, tmp / "cost.csv")
-        (tmp / "cost.json").write_text(json.dumps(
-            {"meta": meta, "reference_kind": analysis.reference_kind, "reference": analysis.reference,
-             "observed_order": analysis.orders, "family_fits": analysis.fits, "notes": analysis.notes, "round_off": analysis.round_off,
-             "pareto_front": analysis.front, "recommended": analysis.best,
-             "recommendation": analysis.recommendation, "errors": analysis.errors, "runs": summaries},
-            indent=1, default=str))
+        (tmp / "cost.json").write_text(json.dumps(cost_record(meta, analysis, summaries), indent=1, default=str))
         (tmp / "index.html").write_text(page(title, body), encoding="utf-8")
     return destination(folder).path / "index.html"
 

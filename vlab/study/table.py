@@ -90,6 +90,8 @@ def page(title: str, body: str) -> str:
 
 def write_sweep_report(folder: Path, title: str, summaries: list[dict], meta: dict) -> Path:
     """``folder``/sweep.csv, sweep.json (every summary + meta) and index.html, written atomically."""
+    from vlab.study.commands import sweep_record
+
     headers, rows = table_rows(summaries)
     failed = sum(s["status"] != "ok" for s in summaries)
     intro = (f"<p>{len(summaries)} runs: {len(summaries) - failed} completed, {failed} failed or invalid "
@@ -103,6 +105,6 @@ def write_sweep_report(folder: Path, title: str, summaries: list[dict], meta: di
                   f"</small></p>")
     with report_folder(folder, "sweep") as tmp:
         write_csv(headers, rows, tmp / "sweep.csv")
-        (tmp / "sweep.json").write_text(json.dumps({"meta": meta, "runs": summaries}, indent=1, default=str))
+        (tmp / "sweep.json").write_text(json.dumps(sweep_record(meta, summaries), indent=1, default=str))
         (tmp / "index.html").write_text(page(title, intro + html_table(headers, rows)), encoding="utf-8")
     return destination(folder).path / "index.html"

@@ -80,6 +80,19 @@ def _quantity(name, spec, rows, u_gum, y, X, nominal_value, seed) -> dict | None
             "gum_over_monte_carlo": ratio, "contributions": contributions}
 
 
+def _bending(nominal: dict, summaries: list[dict]) -> dict | None:
+    """The ASTM E1012 percent bending at the gauge centre (a budget with alignment entries): the
+    nominal run's, and the samples' mean, standard deviation and largest |B|; None without."""
+    b0 = nominal["measured"].get("percent_bending")
+    b = np.array([s["measured"]["percent_bending"] for s in summaries
+                  if s["status"] == "ok" and s["measured"].get("percent_bending") is not None], float)
+    if b0 is None and not len(b):
+        return None
+    return {"nominal": b0, "mean": float(b.mean()) if len(b) else None,
+            "u": float(b.std(ddof=1)) if len(b) > 1 else None, "max_abs": float(np.abs(b).max()) if len(b) else None,
+            "definition": "ASTM E1012: (e_top - e_bottom) / (e_top + e_bottom) x 100 at the gauge centre"}
+
+
 def compute_budget(source: dict, spec: UncertaintySpec, base_dir: str | Path, runner: Runner,
                    window_lo: float) -> tuple[dict, BudgetRuns]:
     """budget.json's dict and the samples' runs (``runner`` executes a list of GridPoints)."""
@@ -108,6 +121,7 @@ def compute_budget(source: dict, spec: UncertaintySpec, base_dir: str | Path, ru
            "runs": {"paired": len(points), "samples": len(mc_points),
                     "cache_hits": paired.cache_hits + mc.cache_hits, "computed": paired.computed + mc.computed,
                     "seconds": {"paired": paired.seconds, "samples": mc.seconds}}}
+    out["percent_bending"] = _bending(nominal, mc.summaries)
     for which, name in ((0, "E"), (1, "nu")):
         rows, u_gum = _gum(spec, paired.summaries, index, which)
         ys = [values[i][which] for i in ok]

@@ -73,10 +73,20 @@ def scene_source(source: dict, spec: UncertaintySpec, d: dict, noise: dict | Non
         if s.kind == "window" and d.get(s.name, 0.0):
             lo, hi = measure.get("modulus_window", (0.0005, 0.0025))
             measure["modulus_window"] = [_r(lo + d[s.name]), _r(hi + d[s.name])]
+    _misalign(out, spec, d)
     if noise:
         effects = out.setdefault("effects", {})
         effects["noise"] = dict(effects.get("noise", {})) | noise
     return out
+
+
+def _misalign(out: dict, spec: UncertaintySpec, d: dict) -> None:
+    """test.misalignment of a sample: the scene's (0, 0 if absent) plus the drawn offset and tilt."""
+    if not any(s.kind in ("offset", "tilt") for s in spec.sources):
+        return
+    test = out["test"]
+    base = dict(test.get("misalignment", {}))
+    test["misalignment"] = {k: _r(base.get(k, 0.0) + _by_kind(spec, d, k)) for k in ("offset", "tilt")}
 
 
 def lab_values(measured: dict, spec: UncertaintySpec, d: dict) -> tuple[float | None, float | None]:

@@ -16,6 +16,9 @@
     resolution = true              # quantise the readings at the classes' resolution
     window_shift = 0.0001          # strain: half-width of a rectangular shift of the modulus window
     material = { E = 0.02 }        # relative standard uncertainty of card constants (normal)
+    alignment = { offset = 0.05, tilt = 0.1 }  # standard uncertainties (normal) of the moving grip's
+                                   # offset (mm) and tilt (degrees), test.grips = "clamped"
+                                   # (vlab.loading.misalignment; results.json → bending)
 
 Shapes: block (width = size[1], thickness = size[2], the extensometer over measure.gauge_length or
 L/2) and dogbone (its dimensions), in a uniaxial test.
@@ -33,7 +36,7 @@ from vlab.uncertainty.classes import EXTENSOMETER, LOAD_CELL, standard_tolerance
 __all__ = ["Source", "UncertaintySpec", "parse_uncertainty", "KEYS"]
 
 KEYS = ("samples", "seed", "distribution", "width", "thickness", "gauge_length", "micrometer",
-        "load_cell_class", "extensometer_class", "resolution", "window_shift", "material")
+        "load_cell_class", "extensometer_class", "resolution", "window_shift", "material", "alignment")
 
 
 @dataclass(frozen=True)
@@ -43,7 +46,8 @@ class Source:
     ``kind``: where it acts — "width", "thickness", "gauge" (the extensometer's gauge length, mm),
     "gauge_rel" (relative), "material" (relative, of ``key``), "window" (strain), "load_cell",
     "extensometer", "transverse" (relative errors of the readings), "micrometer_width",
-    "micrometer_thickness" (mm, the lab's measurement). ``fe``: whether it changes the FE run.
+    "micrometer_thickness" (mm, the lab's measurement), "offset" (mm), "tilt" (degrees) of the moving
+grip (test.misalignment). ``fe``: whether it changes the FE run.
     """
 
     name: str
@@ -61,7 +65,7 @@ class Source:
 
     @property
     def fe(self) -> bool:
-        return self.kind in ("width", "thickness", "gauge", "gauge_rel", "material", "window")
+        return self.kind in ("width", "thickness", "gauge", "gauge_rel", "material", "window", "offset", "tilt")
 
     def draw(self, rng) -> float:
         if self.distribution == "normal":
@@ -153,6 +157,27 @@ def _window(t: Table, scene) -> list[Source]:
     return [Source("modulus window position", "window", "rectangular", shift, "strain", "scene")] if shift > 0 else []
 
 
+ALIGNMENT_LIMITS = {"offset": (" (mm, standard uncertainty)", None), "tilt": (" (degrees, standard uncertainty)", 10.0)}
+
+
+def _alignment(t: Table, scene) -> list[Source]:
+    """``alignment = {offset = u_e, tilt = u_θ}``: normal draws of the moving grip's offset (mm) and
+    tilt (degrees) about test.misalignment (0 if absent); u_θ <= 10° keeps the draws below 90°."""
+    if "alignment" not in t.raw:
+        return []
+    at = Table(t.field("alignment"), t.raw["alignment"], tuple(ALIGNMENT_LIMITS))
+    if scene.test.grips != "clamped":
+        raise SceneError(f"{t.field('alignment')} misaligns a clamped grip: it needs test.grips = 'clamped' "
+                         f"(a roller grip prescribes no lateral motion), got {scene.test.grips!r}")
+    out = []
+    for key, (note, le) in ALIGNMENT_LIMITS.items():
+        u = at.number(key, 0.0, ge=0, le=le, note=note)
+        if u > 0:
+            unit = "mm" if key == "offset" else "degrees"
+            out.append(Source(f"grip {key}", key, "normal", 2.0 * u, unit, "scene"))
+    return out
+
+
 def parse_uncertainty(raw, scene) -> UncertaintySpec:
     """The validated [uncertainty] table of a parsed scene (raw: the table's dict)."""
     t = Table("uncertainty", raw, KEYS)
@@ -177,7 +202,7 @@ def parse_uncertainty(raw, scene) -> UncertaintySpec:
     resolution = t.get("resolution", True)
     if not isinstance(resolution, bool):
         raise SceneError(f"{t.field('resolution')} must be true or false, got {fields.show(resolution)}")
-    src += _window(t, scene) + _material(t, scene)
+    src += _window(t, scene) + _material(t, scene) + _alignment(t, scene)
     return UncertaintySpec(samples, seed, tuple(src), nominal,
                            None if lc is None else lc | {"class": lc_class},
                            None if ex is None else ex | {"class": ex_class}, resolution, micrometer)

@@ -123,3 +123,16 @@ def run_suite(cases: list[Case], context: CaseContext,
         if progress is not None:
             progress(result)
     return results
+
+
+def suite_mode(fast_only: bool, names: list[str] | None) -> str:
+    """results.json's "mode": "selected" (cases named), "fast" (the fast subset) or "full"."""
+    return "selected" if names else "fast" if fast_only else "full"
+
+
+def run_timed(cases: list[Case], context: CaseContext,
+              progress: Callable[[CaseResult], None] | None = None) -> tuple[list[CaseResult], float]:
+    """The cases' results and the suite's wall time (s)."""
+    start = time.perf_counter()
+    results = run_suite(cases, context, progress)
+    return results, time.perf_counter() - start

@@ -33,6 +33,19 @@ class Uniaxial(TestKind):
                              f"got {fields.show(v)}")
         return (stretch_value(t.field("stretch"), v),)
 
+    def loading(self, specimen, X, test):
+        """The grips' prescribed displacements; a misaligned moving grip (test.misalignment) also
+        moves laterally and turns (vlab.loading.misalignment)."""
+        loading = super().loading(specimen, X, test)
+        if test.misalignment is None:
+            return loading
+        import dataclasses
+
+        from vlab.loading.misalignment import misalign
+
+        u_hat = misalign(loading.u_hat, X, loading.moving_dofs[0], *test.misalignment)
+        return dataclasses.replace(loading, u_hat=u_hat)
+
     def state(self, material, values):
         from vlab.materials.homogeneous import homogeneous_uniaxial
 

@@ -50,4 +50,5 @@ D.models.forEach((M, i) => $("model").add(new Option(M.name, i)));
 Object.entries(D.fields).forEach(([k, label]) => $("field").add(new Option(label, k)));
 $("model").onchange = setModel; $("field").onchange = draw; $("level").oninput = draw;
 window.addEventListener("resize", draw);
-setModel();
+if (typeof Plotly === "undefined") $("view").textContent = D.plotly_missing;  // moved without ../_assets
+else setModel();
