@@ -17,3 +17,25 @@ def block_scene(model: str = "neo-hookean", stretch=1.2, *, grips: str = "roller
     if solver:
         data["solver"] = solver
     return parse_scene(data)
+
+
+def one_element_block_toml(name: str, steps: int = 1) -> str:
+    """The smallest scene the CLI tests run: one linear hexahedron pulled to stretch 1.01 on roller
+    grips (a run takes well under a second), as TOML text named ``name``."""
+    return f"""
+name = "{name}"
+[specimen]
+shape = "block"
+size = [10.0, 10.0, 10.0]
+[mesh]
+size = 10.0
+[material]
+model = "linear"
+E = 10.0
+nu = 0.3
+[test]
+kind = "uniaxial"
+grips = "roller"
+stretch = 1.01
+steps = {steps}
+"""

@@ -22,27 +22,12 @@ import pytest
 from typer.testing import CliRunner
 
 from vlab.cli import app
+from helpers_scenes import one_element_block_toml
 
 runner = CliRunner()
 SPECIMENS = Path(__file__).parent.parent / "specimens"
 FAST = ["--no-render", "--no-estimate", "-q"]
-SCENE = """
-name = "contract-block"
-[specimen]
-shape = "block"
-size = [10.0, 10.0, 10.0]
-[mesh]
-size = 10.0
-[material]
-model = "linear"
-E = 10.0
-nu = 0.3
-[test]
-kind = "uniaxial"
-grips = "roller"
-stretch = 1.01
-steps = 1
-"""
+SCENE = one_element_block_toml("contract-block")
 
 
 @pytest.fixture

@@ -22,26 +22,11 @@ import pytest
 from typer.testing import CliRunner
 
 from vlab.cli import app
+from helpers_scenes import one_element_block_toml
 
 runner = CliRunner()
 FAST = ["--no-render", "--no-estimate", "-q"]
-SCENE = """
-name = "robust-block"
-[specimen]
-shape = "block"
-size = [10.0, 10.0, 10.0]
-[mesh]
-size = 10.0
-[material]
-model = "linear"
-E = 10.0
-nu = 0.3
-[test]
-kind = "uniaxial"
-grips = "roller"
-stretch = 1.01
-steps = 2
-"""
+SCENE = one_element_block_toml("robust-block", steps=2)
 SHEAR = SCENE.replace('kind = "uniaxial"\ngrips = "roller"\nstretch = 1.01',
                       'kind = "simple-shear"\ngrips = "kinematic"\nshear = 0.1')
 OGDEN = SCENE.replace('model = "linear"\nE = 10.0\nnu = 0.3', 'model = "ogden"\nmu = [1.0]\nalpha = [ALPHA]\nK = 10.0')
@@ -229,9 +214,10 @@ def test_a_stopped_shear_test_prints_shear_not_stretch(capsys):
             "failure": {"step": 1, "stretch": [0.2], "reason": "why", "last_converged_stretch": [0.1],
                         "residual_history": [1e-3]}}
     cli._print_summary(data)
-    err = capsys.readouterr().err
-    assert "at step 1, shear [0.2]" in err and "last converged shear [0.1]" in err
-    assert "stretch" not in err and "E and nu G" not in err
+    printed = capsys.readouterr()
+    text = printed.out + printed.err  # the summary is a result (stdout), its warnings go to stderr
+    assert "at step 1, shear [0.2]" in text and "last converged shear [0.1]" in text
+    assert "stretch" not in text and "E and nu G" not in text
 
 
 # --- 3. wording ------------------------------------------------------------------------------

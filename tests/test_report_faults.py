@@ -20,26 +20,11 @@ from typer.testing import CliRunner
 
 from vlab.cli import app
 from vlab.report.folder import MANIFEST, ReportFolderError, report_folder
+from helpers_scenes import one_element_block_toml
 
 runner = CliRunner()
 ROOT = Path(__file__).resolve().parents[1]
-SCENE = """
-name = "fault-block"
-[specimen]
-shape = "block"
-size = [10.0, 10.0, 10.0]
-[mesh]
-size = 10.0
-[material]
-model = "linear"
-E = 10.0
-nu = 0.3
-[test]
-kind = "uniaxial"
-grips = "roller"
-stretch = 1.01
-steps = 1
-"""
+SCENE = one_element_block_toml("fault-block")
 FAST = ["--no-render", "--no-estimate", "-q"]
 
 

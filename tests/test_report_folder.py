@@ -13,26 +13,11 @@ import pytest
 from typer.testing import CliRunner
 
 from vlab.cli import app
+from helpers_scenes import one_element_block_toml
 
 runner = CliRunner()
 
-SCENE = """
-name = "folder-block"
-[specimen]
-shape = "block"
-size = [10.0, 10.0, 10.0]
-[mesh]
-size = 10.0
-[material]
-model = "linear"
-E = 10.0
-nu = 0.3
-[test]
-kind = "uniaxial"
-grips = "roller"
-stretch = 1.01
-steps = 1
-"""
+SCENE = one_element_block_toml("folder-block")
 FAST = ["--no-render", "--no-estimate", "-q"]
 
 
