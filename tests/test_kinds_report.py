@@ -79,3 +79,18 @@ def test_a_single_model_report_shows_no_departure_rows_since_nothing_is_compared
     write_report([outcome_of(run_scene(scene("neo-hookean", test)))], tmp_path / "r", scene("neo-hookean", test),
                  None, OPTIONS)
     assert "s_NH" not in (tmp_path / "r" / "index.html").read_text(encoding="utf-8")
+
+
+def test_an_inflation_report_names_its_pressure_maximum_or_says_there_is_none():
+    from vlab.report.kind_rows import kind_rows
+
+    def data(limit):
+        return {"scene": {"source": {"test": {"kind": "inflation"}}},
+                "measured": {"limit_point": limit, "initial_slope": 0.3943, "pressure_at_end": 0.0316,
+                             "stretch_at_end": 2.5}}
+
+    rows = dict(kind_rows([data({"stretch": 1.4261, "pressure": 0.047195, "bracket": [1.4, 1.5]}), data(None)]))
+    peak, none = rows["pressure maximum (limit point)"]
+    assert "λ_a = 1.4261" in peak and "p = 0.047195 MPa" in peak and "1.4 and 1.5" in peak
+    assert none == "none in the recorded range"
+    assert rows["initial slope dp/dλ_a [MPa]"] == ["0.3943", "0.3943"]

@@ -18,8 +18,8 @@ def _f(value, digits: int = 5) -> str:
 
 
 def kind_rows(models: list[dict]) -> list[tuple[str, list[str]]]:
-    """The table rows of what planar, simple-shear, confined-compression and torsion tests measure
-    (none for other kinds)."""
+    """The table rows of what planar, simple-shear, confined-compression, torsion and inflation tests
+    measure (none for other kinds)."""
     rows = _ROWS.get(kind_of_data(models[0]).name)
     return rows(models) if rows else []
 
@@ -88,5 +88,26 @@ def _torsion_rows(models: list[dict]) -> list[tuple[str, list[str]]]:
     ]
 
 
+def _limit_point(d: dict) -> str:
+    """The pressure maximum (stretch, pressure, the bracket of recorded levels it lies in), or why
+    there is none."""
+    lp = d["measured"].get("limit_point")
+    if not lp:
+        return "none in the recorded range"
+    lo, hi = lp.get("bracket") or (None, None)
+    return f"λ_a = {_f(lp['stretch'])}, p = {_f(lp['pressure'])} MPa (between recorded λ_a {_f(lo)} and {_f(hi)})"
+
+
+def _inflation_rows(models: list[dict]) -> list[tuple[str, list[str]]]:
+    """Inflation: the pressure maximum (a property of the balloon), the initial slope dp/dλ_a and
+    the pressure and inner stretch at the end."""
+    return [
+        ("pressure maximum (limit point)", [_limit_point(d) for d in models]),
+        ("initial slope dp/dλ_a [MPa]", [_f(d["measured"].get("initial_slope")) for d in models]),
+        ("pressure p at the end [MPa], inner stretch λ_a",
+         [f"{_f(d['measured'].get('pressure_at_end'))}, {_f(d['measured'].get('stretch_at_end'))}" for d in models]),
+    ]
+
+
 _ROWS = {"planar": _planar_rows, "simple-shear": _shear_rows, "confined-compression": _confined_rows,
-         "torsion": _torsion_rows}
+         "torsion": _torsion_rows, "inflation": _inflation_rows}
