@@ -19,23 +19,23 @@ def block_scene(model: str = "neo-hookean", stretch=1.2, *, grips: str = "roller
     return parse_scene(data)
 
 
-def one_element_block_toml(name: str, steps: int = 1) -> str:
-    """The smallest scene the CLI tests run: one linear hexahedron pulled to stretch 1.01 on roller
-    grips (a run takes well under a second), as TOML text named ``name``."""
+def block_toml(name: str, *, material: str = 'model = "linear"\nE = 10.0\nnu = 0.3', mesh: str = "size = 10.0",
+               stretch: float = 1.01, steps: int = 1) -> str:
+    """A 10 mm cube pulled uniaxially on roller grips, as TOML text: by default the smallest scene
+    the CLI tests run (one linear hexahedron to stretch 1.01, well under a second). ``material``
+    and ``mesh`` are the tables' lines, as tests replace them."""
     return f"""
 name = "{name}"
 [specimen]
 shape = "block"
 size = [10.0, 10.0, 10.0]
 [mesh]
-size = 10.0
+{mesh}
 [material]
-model = "linear"
-E = 10.0
-nu = 0.3
+{material}
 [test]
 kind = "uniaxial"
 grips = "roller"
-stretch = 1.01
+stretch = {stretch:g}
 steps = {steps}
 """

@@ -14,6 +14,7 @@ from typer.testing import CliRunner
 
 import vlab
 from vlab.cli import app
+from helpers_scenes import block_toml
 
 ROOT = Path(__file__).resolve().parents[1]
 TRELOAR = ROOT / "specimens" / "treloar1944" / "treloar-uniaxial.toml"
@@ -23,23 +24,8 @@ runner = CliRunner()
 #: study shows the one run's time and memory twice where the first study measured two)
 VOLATILE = {"timing", "fit_s", "seconds", "total_seconds", "date", "cache_hit", "cache_hits", "computed", "files",
             "cached", "wall_s", "total_s", "memory"}
-TINY = """name = "api-tiny"
-[specimen]
-shape = "block"
-size = [10.0, 10.0, 10.0]
-[mesh]
-size = 5.0
-cell = "hex"
-[material]
-model = "neo-hookean"
-E = 10.0
-nu = 0.3
-[test]
-kind = "uniaxial"
-grips = "roller"
-stretch = 1.1
-steps = 2
-"""
+TINY = block_toml("api-tiny", material='model = "neo-hookean"\nE = 10.0\nnu = 0.3', mesh='size = 5.0\ncell = "hex"',
+                  stretch=1.1, steps=2)
 
 
 def steady(o):

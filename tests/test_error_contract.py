@@ -22,12 +22,12 @@ import pytest
 from typer.testing import CliRunner
 
 from vlab.cli import app
-from helpers_scenes import one_element_block_toml
+from helpers_scenes import block_toml
 
 runner = CliRunner()
 SPECIMENS = Path(__file__).parent.parent / "specimens"
 FAST = ["--no-render", "--no-estimate", "-q"]
-SCENE = one_element_block_toml("contract-block")
+SCENE = block_toml("contract-block")
 
 
 @pytest.fixture

@@ -23,6 +23,7 @@ import pytest
 from typer.testing import CliRunner
 
 from vlab.cli import app
+from helpers_scenes import block_toml
 
 runner = CliRunner()
 FAST = ["--no-render", "--no-estimate", "-q"]
@@ -35,22 +36,7 @@ file = "u.csv"
 kind = "uniaxial"
 columns = { stretch = "lambda", stress = "P" }
 '''
-BLOCK = '''name = "b"
-[specimen]
-shape = "block"
-size = [10.0, 10.0, 10.0]
-[mesh]
-size = 10.0
-[material]
-model = "neo-hookean"
-E = 3.0
-nu = 0.45
-[test]
-kind = "uniaxial"
-grips = "roller"
-stretch = 1.1
-steps = 2
-'''
+BLOCK = block_toml("b", material='model = "neo-hookean"\nE = 3.0\nnu = 0.45', stretch=1.1, steps=2)
 
 
 def _refused(result, *needles: str) -> None:

@@ -22,11 +22,11 @@ import pytest
 from typer.testing import CliRunner
 
 from vlab.cli import app
-from helpers_scenes import one_element_block_toml
+from helpers_scenes import block_toml
 
 runner = CliRunner()
 FAST = ["--no-render", "--no-estimate", "-q"]
-SCENE = one_element_block_toml("robust-block", steps=2)
+SCENE = block_toml("robust-block", steps=2)
 SHEAR = SCENE.replace('kind = "uniaxial"\ngrips = "roller"\nstretch = 1.01',
                       'kind = "simple-shear"\ngrips = "kinematic"\nshear = 0.1')
 OGDEN = SCENE.replace('model = "linear"\nE = 10.0\nnu = 0.3', 'model = "ogden"\nmu = [1.0]\nalpha = [ALPHA]\nK = 10.0')

@@ -20,11 +20,11 @@ from typer.testing import CliRunner
 
 from vlab.cli import app
 from vlab.report.folder import MANIFEST, ReportFolderError, report_folder
-from helpers_scenes import one_element_block_toml
+from helpers_scenes import block_toml
 
 runner = CliRunner()
 ROOT = Path(__file__).resolve().parents[1]
-SCENE = one_element_block_toml("fault-block")
+SCENE = block_toml("fault-block")
 FAST = ["--no-render", "--no-estimate", "-q"]
 
 

@@ -13,11 +13,11 @@ import pytest
 from typer.testing import CliRunner
 
 from vlab.cli import app
-from helpers_scenes import one_element_block_toml
+from helpers_scenes import block_toml
 
 runner = CliRunner()
 
-SCENE = one_element_block_toml("folder-block")
+SCENE = block_toml("folder-block")
 FAST = ["--no-render", "--no-estimate", "-q"]
 
 

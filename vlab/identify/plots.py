@@ -63,8 +63,7 @@ def _panel(ax, rax, d, cur, confidence: float):
         ax.fill_between(cur["a"], cur["y"] - cur["band"], cur["y"] + cur["band"], color="k", alpha=0.18,
                         label=f"{100 * confidence:g} % band (delta method)")
         x = d.a
-    ax.set_ylabel("pressure (MPa)" if d.kind == "volumetric" else
-                  f"{'true' if d.measure == 'true' else 'nominal'} stress (MPa)")
+    ax.set_ylabel(_stress_label(d.kind, d.measure))
     ax.legend(fontsize=7)
     ax.grid(alpha=0.3)
     floor = 0.01 * np.max(np.abs(d.y))
@@ -165,14 +164,21 @@ def plot_models(spec, ranked, path: Path) -> None:
         ax.set_title(f"{d.name} ({d.kind}{', held out' if held else ''})", fontsize=9)
         ax.set_xlabel(FIT_KINDS[d.kind].labels[0] if d.kind in FIT_KINDS else _XLABEL.get(d.kind, "stretch λ"))
         ax.set_ylabel(" and ".join(FIT_KINDS[d.kind].labels[1][o] for o in outputs_of(d)) if d.kind in FIT_KINDS
-                      else "pressure (MPa)" if d.kind == "volumetric" else
-                      f"{'true' if d.measure == 'true' else 'nominal'} stress (MPa)")
+                      else _stress_label(d.kind, d.measure))
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7)
     fig.suptitle(f"{spec.name}: models against the data", fontsize=10)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
+
+
+def _stress_label(kind: str, measure: str) -> str:
+    """The y label of a homogeneous data set: the pressure of a volumetric test, else the stress
+    measure the data give (true or nominal)."""
+    if kind == "volumetric":
+        return "pressure (MPa)"
+    return f"{'true' if measure == 'true' else 'nominal'} stress (MPa)"
 
 
 def plot_specimens(name: str, panels: list[dict], path: Path) -> None:
@@ -190,7 +196,7 @@ def plot_specimens(name: str, panels: list[dict], path: Path) -> None:
             ax.plot(p["a"], y, "-", lw=0.8, color=colours[j % len(colours)])
         ax.plot(p["a"], p["pooled"], "-", color="k", lw=1.6, label="pooled fit (the card)")
         ax.set_xlabel(_XLABEL.get(p["kind"], "stretch λ"))
-        ax.set_ylabel(f"{'true' if p['measure'] == 'true' else 'nominal'} stress (MPa)")
+        ax.set_ylabel(_stress_label(p["kind"], p["measure"]))
         ax.set_title(p["kind"], fontsize=9)
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7)
