@@ -108,6 +108,18 @@ def test_sweep_on_two_local_workers_then_all_from_cache(tmp_path):
     assert all(s["cache_hit"] for s in second.summaries)
 
 
+def test_points_that_are_one_scene_are_computed_once_and_share_its_summary(tmp_path, cluster):
+    """A cost study's knobs meet at the base scene (its own mesh size, steps, rtol, model): those
+    points are one run. Computed twice, each copy kept its own wall time and the Pareto front of the
+    computed study differed from the same study served from the cache."""
+    points = expand_grid(SMALL, [parse_axis("material.nu=0.3,0.3,0.45")])
+    first = run_sweep(points, RunKnobs(), SummaryCache(tmp_path / "cache"), cluster)
+    assert (first.computed, first.cache_hits) == (2, 0)
+    a, b, c = first.summaries
+    assert {k: v for k, v in a.items() if k != "label"} == {k: v for k, v in b.items() if k != "label"}
+    assert a["timing"] == b["timing"] != c["timing"]
+
+
 def test_a_killed_sweep_resumes_with_the_rest(tmp_path, cluster):
     scene = tmp_path / "slow.toml"
     scene.write_text('name = "kill"\n[specimen]\nshape = "block"\nsize = [10.0, 8.0, 6.0]\n'

@@ -73,12 +73,21 @@ def run_sweep(points: list[GridPoint], knobs: RunKnobs, cache: SummaryCache,
             summaries[i] = hit | {"cache_hit": True, "label": points[i].label}
     outcome = SweepOutcome([], cache_hits=sum(s is not None for s in summaries))
     missing = [i for i, s in enumerate(summaries) if s is None]
+    # points with one key are one run (a cost study's knobs meet at the base scene): computed once,
+    # so every copy carries the same summary, as it would from the cache
+    first = {}
+    for i in missing:
+        first.setdefault(keys[i], i)
+    unique = sorted(first.values())
     report = _Reporter(progress, len(points), summaries)
     report(0)
-    if missing:
-        _compute(points, keys, missing, knobs, cache, execution, summaries, report, outcome)
+    if unique:
+        _compute(points, keys, unique, knobs, cache, execution, summaries, report, outcome)
+    for i in missing:
+        if summaries[i] is None:
+            summaries[i] = summaries[first[keys[i]]] | {"label": points[i].label}
     outcome.summaries = summaries  # type: ignore[assignment]
-    outcome.computed = len(missing)
+    outcome.computed = len(unique)
     return outcome
 
 
