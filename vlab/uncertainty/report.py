@@ -20,7 +20,7 @@ from vlab.uncertainty.budget import QUANTITIES  # noqa: E402
 
 __all__ = ["write_budget"]
 
-_LABEL = {"E": "E (MPa)", "nu": "ν", "E_crosshead": "E from the crosshead (MPa)"}
+_LABEL = {"E": "E (MPa)", "nu": "ν", "E_crosshead": "E, crosshead (MPa)"}
 
 
 def _tornado(q: dict, path: Path) -> None:
