@@ -25,6 +25,7 @@ __all__ = ["TestSpec", "PROTOCOL_KEYS", "GRIP_KINDS", "parse_test"]
 
 PROTOCOL_KEYS = ("protocol", "amplitudes", "min_stretch", "strain_rate", "ramp_time", "hold_time",
                  "hold_steps", "force")
+OTHER_KEYS = ("steps", "imperfection", "misalignment", "grip_slip")  # test keys every kind reads
 GRIP_KINDS = ("roller", "clamped", "kinematic", "plates", "die", "cavity")  # test.grips
 
 
@@ -60,9 +61,7 @@ def parse_test(raw: Any, shape: str = "block") -> TestSpec:
 
     load_keys = tuple(dict.fromkeys(k.load_key for k in KINDS.values()))
     option_keys = tuple(dict.fromkeys(key for k in KINDS.values() for key in k.option_keys))
-    t = fields.Table("test", raw, ("kind", "grips") + load_keys + option_keys + ("steps", "imperfection", "misalignment",
-                                                                                  "grip_slip")
-                     + PROTOCOL_KEYS)
+    t = fields.Table("test", raw, ("kind", "grips") + load_keys + option_keys + OTHER_KEYS + PROTOCOL_KEYS)
     tests = SPECIMEN_TESTS[shape]
     kind = KINDS[t.choice("kind", tuple(KINDS))]
     if kind.name not in tests:
