@@ -198,6 +198,22 @@ def test_a_budget_in_both_planes_ranks_the_thickness_tilt_and_reports_each_plane
     assert pb["max_abs"] == max(s["measured"]["percent_bending"] for s in runs.summaries)
 
 
+def test_a_sample_s_misalignment_is_the_scene_s_plus_its_draws_in_each_plane():
+    """A scene misaligned in the thickness plane (the scalar form: tilt θ_y, offset e_z) budgeted in
+    both planes: each drawn deviation lands on its own component, the slip on test.grip_slip."""
+    from vlab.uncertainty.model import scene_source
+
+    src = _source({"tilt": 0.2, "offset": 0.03},
+                  uncertainty={"alignment": {"offset": [0.01, 0.02], "tilt": [0.1, 0.3]}, "grip_slip": 1e-4})
+    spec = parse_uncertainty(src["uncertainty"], parse_scene(src))
+    d = {"grip offset (width y)": 0.5, "grip offset (thickness z)": 0.25, "grip tilt (about y, thickness plane)": 1.0,
+         "grip tilt (about z, width plane)": -2.0, "grip slip": -2e-5}
+    test = scene_source(src, spec, d)["test"]
+    assert test["misalignment"] == {"offset": [0.5, 0.28], "tilt": [1.2, -2.0]}
+    assert test["grip_slip"] == pytest.approx(3e-5)
+    assert parse_scene(scene_source(src, spec, d)).test.misalignment == (0.5, 0.28, 1.2, -2.0)
+
+
 @pytest.mark.parametrize("table, needle", [
     ({"alignment": {"tilt": -0.1}}, "uncertainty.alignment.tilt must be >= 0"),
     ({"alignment": {"offset": -1}}, "uncertainty.alignment.offset must be >= 0"),

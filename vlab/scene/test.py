@@ -224,19 +224,32 @@ def _misalignment(t: fields.Table, kind: str, grips: str, shape: str) -> tuple[f
                          f"{' or '.join(MISALIGNED_SHAPES)}; got test.kind = {kind!r}, test.grips = {grips!r}, "
                          f"specimen.shape = {shape!r}")
     m = fields.Table(field, raw, ("offset", "tilt"))
-    e_y, e_z = _pair(m, "offset", "[e_y, e_z]", dict(ge=-1e3, le=1e3, note=" (mm)"), scalar_first=False)
-    th_y, th_z = _pair(m, "tilt", "[theta_y, theta_z]", dict(gt=-90.0, lt=90.0, note=" (degrees)"), scalar_first=True)
+    e_y, e_z = _pair(m, "offset", "[e_y, e_z]", dict(ge=-1e3, le=1e3, note=" (mm)"))
+    th_y, th_z = _pair(m, "tilt", "[theta_y, theta_z]", dict(gt=-90.0, lt=90.0, note=" (degrees)"))
     return e_y, e_z, th_y, th_z
 
 
-def _pair(m: fields.Table, key: str, what: str, limits: dict, scalar_first: bool) -> tuple[float, float]:
-    """A number (the thickness plane's component: second of an offset, first of a tilt) or a list of
-    two, each within ``limits``; (0, 0) if absent."""
+#: a number given for the offset or the tilt is the thickness plane's component: the second of
+#: [e_y, e_z], the first of [θ_y, θ_z]
+THICKNESS_INDEX = {"offset": 1, "tilt": 0}
+
+
+def misalignment_pair(key: str, value) -> tuple[float, float]:
+    """test.misalignment's ``key`` ("offset" or "tilt") as its two components, a number being the
+    thickness plane's (THICKNESS_INDEX)."""
+    if isinstance(value, (list, tuple)):
+        return float(value[0]), float(value[1])
+    out = [0.0, 0.0]
+    out[THICKNESS_INDEX[key]] = float(value)
+    return out[0], out[1]
+
+
+def _pair(m: fields.Table, key: str, what: str, limits: dict) -> tuple[float, float]:
+    """The validated ``key``: a number or a list of two, each within ``limits``; (0, 0) if absent."""
     raw = m.raw.get(key, 0.0)
     if isinstance(raw, list):
         return fields.vector(m.field(key), raw, 2, what, **limits)
-    v = m.number(key, 0.0, **limits)
-    return (v, 0.0) if scalar_first else (0.0, v)
+    return misalignment_pair(key, m.number(key, 0.0, **limits))
 
 
 def _grip_slip(t: fields.Table, kind: str) -> float:

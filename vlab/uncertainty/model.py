@@ -28,6 +28,7 @@ import copy
 
 import numpy as np
 
+from vlab.scene.test import misalignment_pair
 from vlab.uncertainty.spec import UncertaintySpec
 
 __all__ = ["sample_deltas", "scene_source", "lab_values", "resolutions"]
@@ -83,14 +84,6 @@ def scene_source(source: dict, spec: UncertaintySpec, d: dict, noise: dict | Non
     return out
 
 
-def _pair(raw, scalar_first: bool) -> list[float]:
-    """test.misalignment's offset or tilt as two numbers (a number is the thickness plane's:
-    the second of an offset [e_y, e_z], the first of a tilt [θ_y, θ_z])."""
-    if isinstance(raw, list):
-        return [float(v) for v in raw]
-    return [float(raw), 0.0] if scalar_first else [0.0, float(raw)]
-
-
 def _grips(out: dict, spec: UncertaintySpec, d: dict) -> None:
     """test.misalignment of a sample: the scene's (0 if absent) plus the drawn offsets and tilts;
     test.grip_slip: the drawn slip compliance (its centre plus the deviation)."""
@@ -101,7 +94,7 @@ def _grips(out: dict, spec: UncertaintySpec, d: dict) -> None:
     if not any(s.kind.startswith(("offset_", "tilt_")) for s in spec.sources):
         return
     base = dict(test.get("misalignment", {}))
-    offset, tilt = _pair(base.get("offset", 0.0), False), _pair(base.get("tilt", 0.0), True)
+    offset, tilt = (misalignment_pair(k, base.get(k, 0.0)) for k in ("offset", "tilt"))
     test["misalignment"] = {
         "offset": [_r(offset[0] + _by_kind(spec, d, "offset_y")), _r(offset[1] + _by_kind(spec, d, "offset_z"))],
         "tilt": [_r(tilt[0] + _by_kind(spec, d, "tilt_y")), _r(tilt[1] + _by_kind(spec, d, "tilt_z"))]}
