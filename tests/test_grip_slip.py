@@ -101,3 +101,20 @@ def test_the_budget_draws_slip_on_0_to_c_max_the_crosshead_e_carries_it_the_exte
 def test_bad_slip_is_refused_naming_the_field(src, needle):
     with pytest.raises(SceneError, match=needle.replace(".", r"\.").replace("(", r"\(")):
         parse_scene(src)
+
+
+@pytest.mark.parametrize("command, extra, field", [
+    ("run", "grip_slip = -0.001\n", "test.grip_slip"),
+    ("budget", "[uncertainty]\ngrip_slip = -0.001\n", "uncertainty.grip_slip"),
+])
+def test_the_cli_exits_2_naming_the_slip_field_and_writes_nothing(tmp_path, command, extra, field):
+    from typer.testing import CliRunner
+
+    from helpers_scenes import block_toml
+    from vlab.cli import app
+
+    scene = tmp_path / "slip.toml"
+    scene.write_text(block_toml("slip") + extra)
+    res = CliRunner().invoke(app, [command, str(scene), "--out", str(tmp_path / "out")])
+    assert res.exit_code == 2 and f"{field} must be >= 0" in " ".join(res.output.split()), res.output
+    assert "Traceback" not in res.output and not (tmp_path / "out").exists()
