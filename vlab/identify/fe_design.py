@@ -1,0 +1,165 @@
+"""FE-in-the-loop test design: the Fisher information of a card's constants from vlab's own virtual
+test of a specimen (``vlab design`` on a fit file with a ``kind = "specimen"`` data set).
+
+A candidate specimen test t is a scene (the fit file's fe.scene or another specimen file), an
+extensometer gauge length G (mm) and an extensometer strain range [e_lo, e_hi] read at n evenly
+spaced strains e_i. The scene is run once at the card's constants p (vlab.identify.fe_sensitivity.
+simulate: the load cell's force F (N) and the extensometer strain e at every recorded level with
+their exact sensitivities, one back-substitution per constant with the step's own factorization).
+The lab records the force at the strains e_i, F(e_i) from the cubic spline through the levels; its
+sensitivity at fixed strain is S_i = dF/dp − F'(e) de/dp (the strain itself moves with p between
+clamped grips) — the rows vlab fit's Levenberg–Marquardt uses (vlab.identify.fe_loop.residuals).
+With the fit's residual convention (relative: r_i = (F_i − F̂_i)/max(|F̂_i|, 0.01 max|F̂|), absolute:
+r_i = F_i − F̂_i in N) and the readings' scatter s,
+
+    F_t = J_tᵀ J_t / s²,   J_t = ∂r/∂p = S_i / scale_i      (n × n_p; a cruciform: 2n rows)
+
+and from there as for homogeneous tests (vlab.identify.design.assess): Cov = F⁻¹, standard errors,
+correlations, D, A, verdict. A cruciform's y readings are taken at the instants the x extensometer
+reads e_i (the y strain interpolated along the path by a cubic spline).
+
+Shorter ranges (the same start, a quarter to all of the range) reuse the run: the test is
+hyperelastic and quasi-static, so its states up to a smaller strain are those of the longer run.
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from scipy.interpolate import CubicSpline
+
+from vlab.fields import SceneError
+from vlab.identify.datasets import Dataset
+from vlab.identify.fe_loop import residuals
+from vlab.identify.fe_sensitivity import simulate
+from vlab.identify.fe_spec import check_scene, load_scene
+
+__all__ = ["SpecimenTest", "SpecimenRun", "specimen_runs", "specimen_rows", "data_rows", "strain_range"]
+
+
+@dataclass(frozen=True)
+class SpecimenTest:
+    """One candidate FE test: ``scene`` (file) with an extensometer of ``gauge_length`` mm, read at
+    ``points`` strains evenly spaced over [lo, hi] (extensometer strain, axis x)."""
+
+    scene: str
+    name: str
+    kind: str
+    shape: str
+    gauge_length: float
+    lo: float
+    hi: float
+    points: int = 20
+
+    @property
+    def label(self) -> str:
+        return (f"specimen {self.name} ({self.kind}, {self.shape}, gauge {self.gauge_length:.4g} mm) "
+                f"strain {self.lo:.3g}..{self.hi:.3g}")
+
+    def record(self) -> dict:
+        return {"kind": "specimen", "scene": self.scene, "test": self.kind, "shape": self.shape,
+                "gauge_length_mm": self.gauge_length, "range": [self.lo, self.hi],
+                "range_of": "extensometer strain", "points": self.points}
+
+
+@dataclass(frozen=True)
+class SpecimenRun:
+    """A candidate scene with its gauge length, run once at the card's constants."""
+
+    test: SpecimenTest
+    sim: object  # vlab.identify.fe_sensitivity.Simulation
+    seconds: float
+
+    def describe(self) -> dict:
+        s = self.sim
+        return {"scene": self.test.scene, "test": self.test.kind, "shape": self.test.shape,
+                "gauge_length_mm": self.test.gauge_length, "area0_mm2": s.area0.tolist(), "dofs": s.dofs,
+                "levels": int(len(s.strain)), "end_strain": s.strain[-1].tolist(), "from_cache": bool(s.cached),
+                "seconds": self.seconds}
+
+
+def _with_gauge(raw: dict, shape: str, gauge: float) -> dict:
+    """The raw scene with its extensometer's gauge length set: a dog-bone's marks are a dimension
+    of the specimen (specimen.gauge_length), every other shape's are measure.gauge_length."""
+    raw = copy.deepcopy(raw)
+    table = "specimen" if shape == "dogbone" else "measure"
+    raw.setdefault(table, {})["gauge_length"] = float(gauge)
+    return raw
+
+
+def _candidate(fe: dict, path: Path | None, gauge: float | None):
+    """(fe dict of the candidate: the fit's card and volumetric energy on the candidate's specimen,
+    mesh and test; its SpecimenTest without a range)."""
+    from vlab.loading.kinds import kind_of
+    from vlab.pipeline.prepare import build_specimen
+    from vlab.scene import parse_scene
+
+    if path is None:
+        path, raw, scene = Path(fe["scene_path"]), fe["scene_raw"], fe["scene"]
+        label = "fe.scene"
+    else:
+        label = f"--specimens {path.name}"
+        path, raw, scene = load_scene(path.resolve(), label)
+        check_scene(scene, fe["model"], label)
+    if gauge is not None:
+        raw = _with_gauge(raw, scene.specimen.shape, gauge)
+        try:
+            scene = parse_scene(raw, path.name, path.parent)
+        except SceneError as exc:
+            raise SceneError(f"--gauge-lengths {gauge:g} on {label}: {exc}") from None
+    length = build_specimen(scene).extensometers[0].length
+    if gauge is not None and abs(length - gauge) > 1e-9 * gauge:
+        raise SceneError(f"--gauge-lengths {gauge:g}: the {scene.specimen.shape} of {label} places its "
+                         f"extensometer marks {length:g} mm apart whatever the gauge length asked")
+    # the fit's own scene keeps the axes its data read (a cruciform may be read on x only)
+    axes = tuple(fe["axes"]) if path == Path(fe["scene_path"]) else tuple(kind_of(scene.test).axes)
+    cand = fe | {"scene_path": str(path), "scene_raw": raw, "scene": scene, "axes": axes}
+    return cand, SpecimenTest(str(path), path.stem, scene.test.kind, scene.specimen.shape, float(length), 0.0, 0.0)
+
+
+def specimen_runs(fe: dict, values: dict, specimens, gauges, lo: float, hi: float, points: int) -> list[SpecimenRun]:
+    """Each scene (None: the fit's own, then ``specimens``) at each gauge length (None: the
+    scene's own, then ``gauges``), run at the full constants ``values`` (fixed ones included)."""
+    out = []
+    for path in [None, *specimens]:
+        for gauge in [None, *gauges]:
+            cand, test = _candidate(fe, path, gauge)
+            t0 = time.perf_counter()
+            try:
+                sim = simulate(cand, values)
+            except RuntimeError as exc:
+                raise SceneError(f"{test.name}: {exc}") from None
+            out.append(SpecimenRun(dataclasses.replace(test, lo=lo, hi=hi, points=points), sim,
+                                   time.perf_counter() - t0))
+    return out
+
+
+def specimen_rows(sim, test: SpecimenTest, relative: bool) -> np.ndarray:
+    """J_t = ∂r/∂p of the readings at ``test``'s strains, per unit scatter (n × n_p, or 2n × n_p)."""
+    e = np.linspace(test.lo, test.hi, test.points)
+    b = None
+    if sim.strain.shape[1] == 2:  # a cruciform: the y extensometer read at the same instants
+        b = CubicSpline(np.r_[0.0, sim.strain[:, 0]], np.r_[0.0, sim.strain[:, 1]])(e)
+    d = Dataset(test.label, test.scene, "specimen", "fit", 1.0, "nominal", e, b,
+                np.ones(len(e) * (1 if b is None else 2)))
+    _, _, predicted = residuals(sim, d, False)
+    _, J, _ = residuals(sim, dataclasses.replace(d, y=predicted), relative)
+    return J
+
+
+def data_rows(spec, values: dict) -> np.ndarray:
+    """∂r/∂p of the fit file's own specimen readings at ``values`` (one run of fe.scene)."""
+    sim = simulate(spec.fe, values)
+    sets = [d for d in spec.datasets if d.kind == "specimen" and d.role == "fit"]
+    return np.vstack([residuals(sim, d, spec.residual == "relative")[1] for d in sets])
+
+
+def strain_range(spec) -> tuple[float, float]:
+    """The extensometer strain range (axis x) of the fit file's specimen readings."""
+    sets = [d for d in spec.datasets if d.kind == "specimen" and d.role == "fit"]
+    return min(float(np.min(d.a)) for d in sets), max(float(np.max(d.a)) for d in sets)
