@@ -15,6 +15,7 @@ from vlab.identify.design import PlannedTest, assess, plan_rows
 from vlab.identify.fe_design import SpecimenTest, specimen_rows
 from vlab.identify.fe_loop import closed_form
 from vlab.identify.fe_sensitivity import simulate
+from vlab.identify.states import response
 
 
 def _block(kind: str, material: str, grips: str = "roller", stretch: float = 1.5, steps: int = 10) -> str:
@@ -52,6 +53,32 @@ def test_a_roller_block_predicts_the_homogeneous_uniaxial_standard_errors(tmp_pa
         for n in params:
             assert got["standard_errors"][n] == pytest.approx(hom["standard_errors"][n], rel=tol), (n, points)
         assert got["D"] == pytest.approx(hom["D"], rel=tol)
+
+
+@pytest.mark.parametrize("gauge,elongation_sd", [(5.0, 0.001), (2.0, 0.001), (5.0, 0.01)])
+def test_extensometer_scatter_enters_as_the_effective_variance_of_the_closed_form(tmp_path, gauge, elongation_sd):
+    """Errors in both variables, to first order: a strain scatter σ_e = σ_u/G adds (∂P/∂λ σ_e)² to
+    each reading's variance, so I(μ) = Σ (∂P/∂μ / P)² / (s² + (∂P/∂λ σ_e / P)²) with P(λ; μ) the
+    closed form's uniaxial stress (derivatives by central differences here, 1e-6 steps). The
+    roller block's spline reproduces it to 1e-5 (its derivative between recorded levels)."""
+    values, s = {"mu": 0.4, "K": 2.0}, 0.01
+    fe = _fe(tmp_path / "block.toml", _block("uniaxial", NH), ("mu",), "neo-hookean")
+    sim = simulate(fe, values)
+    model = closed_form(fe | {"fixed": values}, "fixed")
+
+    def P(mu, lam):
+        return np.real(response(model, np.array([[mu]]), "uniaxial", lam))[0]
+
+    for points in (10, 37):
+        lam, h = np.linspace(1.05, 1.5, points), 1e-6
+        dmu, dlam = (P(0.4 + h, lam) - P(0.4 - h, lam)) / (2 * h), (P(0.4, lam + h) - P(0.4, lam - h)) / (2 * h)
+        p, se_e = P(0.4, lam), elongation_sd / gauge
+        expected = 1.0 / np.sqrt(np.sum((dmu / p) ** 2 / (s * s + (dlam * se_e / p) ** 2)))
+        test = SpecimenTest(fe["scene_path"], "block", "uniaxial", "block", gauge, 0.05, 0.5, points)
+        got = assess(specimen_rows(sim, test, True, s, elongation_sd), s, [0.4], ["mu"])["standard_errors"]["mu"]
+        assert got == pytest.approx(expected, rel=1e-5)
+        no_strain_noise = assess(specimen_rows(sim, test, True), s, [0.4], ["mu"])["standard_errors"]["mu"]
+        assert got > no_strain_noise * (1 + 1e-3)  # the effect is there (1 % to 26 % here)
 
 
 def _readings(tmp_path: Path, fe: dict, values: dict) -> None:
@@ -117,6 +144,14 @@ def test_cli_fits_the_readings_and_plans_gauge_lengths_around_the_fitted_card(tm
     assert len(singles) == 4 and max(se) == pytest.approx(min(se), rel=1e-4)  # 3 gauges + the closed form
     assert d["present_data"]["verdict"] == "well-posed" and d["answer"].startswith("add ")
     assert (tmp_path / "out" / "index.html").is_file()
+    # an extensometer that scatters by 5 µm: the longest gauge length reads the strain best
+    res = CliRunner().invoke(app, ["design", str(f), "--out", str(tmp_path / "out2"), "--gauge-lengths", "2,8",
+                                   "--points", "10", "--range", "specimen=0.05:0.5", "--extensometer-std", "0.005",
+                                   "--expect", "mu=0.4", "--noise", "0.01", "--combine", "1"])
+    assert res.exit_code == 0, res.output
+    d = json.loads((tmp_path / "out2" / "design.json").read_text())
+    assert [e["tests"][0]["gauge_length_mm"] for e in d["candidates"]] == [8.0, 5.0, 2.0]
+    assert d["candidates"][-1]["standard_errors"]["mu"] > 1.01 * d["candidates"][0]["standard_errors"]["mu"]
 
 
 @pytest.mark.parametrize("args,needle", [
@@ -128,6 +163,7 @@ def test_cli_fits_the_readings_and_plans_gauge_lengths_around_the_fitted_card(tm
     (["--combine", "3"], "--combine 3: must be 1..2"),
     (["--specimens", "{tmp}/other.toml"], "--specimens other.toml: the scene's material.model is 'mooney-rivlin'"),
     (["--expect", "K=2"], "--expect 'K=2'"),
+    (["--extensometer-std", "-0.001"], "--extensometer-std -0.001: must be >= 0"),
 ])
 def test_cli_bad_specimen_design_input_exits_2_and_writes_nothing(tmp_path, args, needle):
     fe = _fe(tmp_path / "scene.toml", _block("uniaxial", NH), ("mu",), "neo-hookean")

@@ -602,13 +602,15 @@ def design(fitfile: Path = typer.Argument(..., help="Fit file (TOML): homogeneou
                                                    "to plan beside fe.scene, e.g. a.toml,b.toml."),
            gauges: Optional[str] = typer.Option(None, "--gauge-lengths", help="FE in the loop: extensometer gauge "
                                                 "lengths (mm) to plan beside each scene's own, e.g. 10,20."),
+           elongation_sd: Optional[float] = typer.Option(None, "--extensometer-std", help="FE in the loop: the "
+                                                         "extensometer's elongation scatter (mm, sd; default 0)."),
            out: Optional[Path] = typer.Option(None, "--out", "-o", help="Output folder (default reports/<name>-design)."),
            force: bool = FORCE):
     """Which test next: Fisher information, predicted standard errors, D/A-optimality (design.json, index.html)."""
     from vlab.identify.design_command import design_command
 
     raise typer.Exit(design_command(fitfile, out, candidates, ranges, points, combine, noise, console, force,
-                                    expect, specimens, gauges))
+                                    expect, specimens, gauges, elongation_sd))
 
 
 @app.command()

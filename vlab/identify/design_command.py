@@ -59,6 +59,14 @@ def parse_ranges(text: str | None) -> dict[str, tuple[float, float]]:
     return out
 
 
+def _elongation_sd(value: float | None) -> float:
+    if value is None:
+        return 0.0
+    if not (np.isfinite(value) and value >= 0):
+        raise SceneError(f"--extensometer-std {value!r}: must be >= 0 (mm of elongation, standard deviation)")
+    return float(value)
+
+
 def parse_list(text: str | None, option: str, kind: str) -> list:
     """"a.toml,b.toml" → [Path, ...] (kind "path"); "10,20" → [float > 0, ...] (kind "mm")."""
     if text is None:
@@ -153,10 +161,11 @@ VALLEY = ("the file's data do not identify the fitted card, so the design is aro
 
 
 def design_fe(spec, kinds, ranges, points: int, max_size: int | None, noise: float | None, expect: np.ndarray | None,
-              specimens, gauges) -> dict:
+              specimens, gauges, elongation_sd: float = 0.0) -> dict:
     """design.json's dict for a fit file with specimen data (FE in the loop): candidate specimen
     tests — the fit's scene and ``specimens``, each at its own and at ``gauges`` gauge lengths,
-    over the extensometer strain range — and, when ``kinds`` are given, homogeneous tests of the
+    over the extensometer strain range, with an extensometer elongation scatter ``elongation_sd`` (mm)
+    — and, when ``kinds`` are given, homogeneous tests of the
     scene's law (relative residuals only: a force scatter in N is no stress scatter), around the
     fitted (or expected) constants. Without both --expect and --noise the file is fitted first."""
     from vlab.identify.datasets import Dataset
@@ -182,8 +191,8 @@ def design_fe(spec, kinds, ranges, points: int, max_size: int | None, noise: flo
     s = _noise(outcome, noise, scale)
     lo, hi = ranges.get("specimen") or strain_range(spec)
     runs = specimen_runs(fe, values, specimens, gauges, lo, hi, points)
-    tests = [(r.test, specimen_rows(r.sim, r.test, relative)) for r in runs]
-    options = [(q, specimen_rows(r.sim, q, relative)) for r in runs for q in range_options(r.test)]
+    tests = [(r.test, specimen_rows(r.sim, r.test, relative, s, elongation_sd)) for r in runs]
+    options = [(q, specimen_rows(r.sim, q, relative, s, elongation_sd)) for r in runs for q in range_options(r.test)]
     if kinds:
         model = closed_form(fe, "fit")
         x = np.linalg.solve(model.transform, [values[n] for n in model.names])
@@ -194,7 +203,8 @@ def design_fe(spec, kinds, ranges, points: int, max_size: int | None, noise: flo
         tests += [(q, plan_rows(model, x, q, relative)[:, cols]) for q in plans]
         options += [(q, plan_rows(model, x, q, relative)[:, cols]) for pl in plans for q in range_options(pl)]
     combos = combine(tests, s, p, names, max_size)
-    now, nxt = add_each(data_rows(spec, values), options, s, p, names)
+    own = runs[0].test.gauge_length  # the fit's scene at its own gauge length: the present readings
+    now, nxt = add_each(data_rows(spec, values, s, elongation_sd, own), options, s, p, names)
     warnings = []
     if outcome is not None and expect is None and not outcome.data["identifiability"]["identifiable"]:
         warnings.append(VALLEY)
@@ -208,7 +218,8 @@ def design_fe(spec, kinds, ranges, points: int, max_size: int | None, noise: flo
             "next": nxt, "candidates": combos,
             "fe": {"scene": fe["scene_path"], "parameters": names,
                    "held": {k: v for k, v in fe["fixed"].items() if k not in names},
-                   "strain_range": [lo, hi], "runs": [r.describe() for r in runs],
+                   "strain_range": [lo, hi], "extensometer_std_mm": elongation_sd,
+                   "runs": [r.describe() for r in runs],
                    "seconds": time.perf_counter() - t0}}
 
 
@@ -263,7 +274,8 @@ def page(d: dict) -> str:
 
 def design_command(path: Path, out: Path | None, candidates: str | None, ranges: str | None, points: int,
                    max_size: int | None, noise: float | None, console: Console, force: bool = False,
-                   expect: str | None = None, specimens: str | None = None, gauges: str | None = None) -> int:
+                   expect: str | None = None, specimens: str | None = None, gauges: str | None = None,
+                   elongation_sd: float | None = None) -> int:
     from vlab.identify.command import _destination
     from vlab.identify.fitfile import load_fit
     from vlab.report.folder import ReportFolderError, report_folder
@@ -280,10 +292,12 @@ def design_command(path: Path, out: Path | None, candidates: str | None, ranges:
         if spec.fe is not None:
             kinds = () if candidates is None else parse_candidates(candidates)
             d = design_fe(spec, kinds, spans, points, max_size, noise, parse_expect(expect, spec.fe["parameters"]),
-                          parse_list(specimens, "--specimens", "path"), parse_list(gauges, "--gauge-lengths", "mm"))
+                          parse_list(specimens, "--specimens", "path"), parse_list(gauges, "--gauge-lengths", "mm"),
+                          _elongation_sd(elongation_sd))
         else:
-            if specimens is not None or gauges is not None or "specimen" in spans:
-                raise SceneError("--specimens, --gauge-lengths and --range specimen=... plan FE-in-the-loop tests: "
+            if specimens is not None or gauges is not None or elongation_sd is not None or "specimen" in spans:
+                raise SceneError("--specimens, --gauge-lengths, --extensometer-std and --range specimen=... plan "
+                                 "FE-in-the-loop tests: "
                                  "they need a fit file with a data set of kind = \"specimen\" and an [fe] table")
             kinds = parse_candidates(candidates)
             max_size = min(COMBINE, len(kinds)) if max_size is None else max_size

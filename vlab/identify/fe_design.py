@@ -18,6 +18,13 @@ and from there as for homogeneous tests (vlab.identify.design.assess): Cov = F�
 correlations, D, A, verdict. A cruciform's y readings are taken at the instants the x extensometer
 reads e_i (the y strain interpolated along the path by a cubic spline).
 
+An extensometer whose elongation reading scatters (sd σ_u mm, independent readings) reads the
+strain with sd σ_u/G: the gauge length's effect. Each reading's residual then has the variance
+s² + (F'(e_i) σ_u/(G scale_i))² (F' = dF/de), and its row enters F_t with the weight s²/that
+(the effective-variance form of the Fisher information for errors in both variables, to first
+order). Without it (σ_u = 0, the default) the gauge length matters only through the strain field
+the marks see.
+
 Shorter ranges (the same start, a quarter to all of the range) reuse the run: the test is
 hyperelastic and quasi-static, so its states up to a smaller strain are those of the longer run.
 """
@@ -39,7 +46,8 @@ from vlab.identify.fe_loop import residuals
 from vlab.identify.fe_sensitivity import simulate
 from vlab.identify.fe_spec import check_scene, load_scene
 
-__all__ = ["SpecimenTest", "SpecimenRun", "specimen_runs", "specimen_rows", "data_rows", "strain_range"]
+__all__ = ["SpecimenTest", "SpecimenRun", "specimen_runs", "specimen_rows", "strain_noise_weights", "data_rows",
+           "strain_range"]
 
 
 @dataclass(frozen=True)
@@ -139,8 +147,9 @@ def specimen_runs(fe: dict, values: dict, specimens, gauges, lo: float, hi: floa
     return out
 
 
-def specimen_rows(sim, test: SpecimenTest, relative: bool) -> np.ndarray:
-    """J_t = ∂r/∂p of the readings at ``test``'s strains, per unit scatter (n × n_p, or 2n × n_p)."""
+def specimen_rows(sim, test: SpecimenTest, relative: bool, s: float = 1.0, elongation_sd: float = 0.0) -> np.ndarray:
+    """J_t = ∂r/∂p of the readings at ``test``'s strains, per unit scatter (n × n_p, or 2n × n_p);
+    with an extensometer scatter (``elongation_sd`` mm) weighted as ``strain_noise_weights``."""
     e = np.linspace(test.lo, test.hi, test.points)
     b = None
     if sim.strain.shape[1] == 2:  # a cruciform: the y extensometer read at the same instants
@@ -148,15 +157,38 @@ def specimen_rows(sim, test: SpecimenTest, relative: bool) -> np.ndarray:
     d = Dataset(test.label, test.scene, "specimen", "fit", 1.0, "nominal", e, b,
                 np.ones(len(e) * (1 if b is None else 2)))
     _, _, predicted = residuals(sim, d, False)
-    _, J, _ = residuals(sim, dataclasses.replace(d, y=predicted), relative)
-    return J
+    d = dataclasses.replace(d, y=predicted)
+    _, J, _ = residuals(sim, d, relative)
+    return J * strain_noise_weights(sim, d, relative, s, elongation_sd / test.gauge_length)[:, None]
 
 
-def data_rows(spec, values: dict) -> np.ndarray:
-    """∂r/∂p of the fit file's own specimen readings at ``values`` (one run of fe.scene)."""
+def strain_noise_weights(sim, d, relative: bool, s: float, strain_sd: float) -> np.ndarray:
+    """Effective-variance weights of readings whose strain also scatters (sd ``strain_sd`` = the
+    extensometer's elongation sd / its gauge length): a strain error δe moves the residual by
+    √weight F'(e) δe / scale, so each reading's variance is s² + weight (F'(e_i) strain_sd / scale_i)² and its
+    row of J is weighted by w_i = s / √(that), F' = dF/de of the force spline (N per unit strain),
+    scale_i as the residual's (max(|F_i|, 0.01 max|F|) per axis, relative; 1, absolute)."""
+    if strain_sd == 0.0:
+        return np.ones(len(d.y))
+    parts, n = [(0, d.a)] + ([(1, d.b)] if d.b is not None else []), d.points
+    slope, scale = [], []
+    for a, e in parts:
+        slope.append(CubicSpline(np.r_[0.0, sim.strain[:, a]], np.r_[0.0, sim.force[:, a]])(e, 1))
+        y = np.abs(d.y[a * n:(a + 1) * n])
+        scale.append(np.maximum(y, 0.01 * np.max(y)) if relative else np.ones_like(y))
+    moved = np.sqrt(d.weight) * np.concatenate(slope) * strain_sd / np.concatenate(scale)
+    return s / np.sqrt(s * s + moved ** 2)
+
+
+def data_rows(spec, values: dict, s: float = 1.0, elongation_sd: float = 0.0, gauge_length: float = 1.0) -> np.ndarray:
+    """∂r/∂p of the fit file's own specimen readings at ``values`` (one run of fe.scene), weighted
+    for an extensometer scatter as ``strain_noise_weights``."""
     sim = simulate(spec.fe, values)
+    relative = spec.residual == "relative"
     sets = [d for d in spec.datasets if d.kind == "specimen" and d.role == "fit"]
-    return np.vstack([residuals(sim, d, spec.residual == "relative")[1] for d in sets])
+    return np.vstack([residuals(sim, d, relative)[1]
+                      * strain_noise_weights(sim, d, relative, s, elongation_sd / gauge_length)[:, None]
+                      for d in sets])
 
 
 def strain_range(spec) -> tuple[float, float]:
