@@ -159,7 +159,8 @@ def specimen_rows(sim, test: SpecimenTest, relative: bool, s: float = 1.0, elong
     _, _, predicted = residuals(sim, d, False)
     d = dataclasses.replace(d, y=predicted)
     _, J, _ = residuals(sim, d, relative)
-    return J * strain_noise_weights(sim, d, relative, s, elongation_sd / test.gauge_length)[:, None]
+    strain_sd = elongation_sd / test.gauge_length if elongation_sd else 0.0
+    return J * strain_noise_weights(sim, d, relative, s, strain_sd)[:, None]
 
 
 def strain_noise_weights(sim, d, relative: bool, s: float, strain_sd: float) -> np.ndarray:
@@ -186,8 +187,8 @@ def data_rows(spec, values: dict, s: float = 1.0, elongation_sd: float = 0.0, ga
     sim = simulate(spec.fe, values)
     relative = spec.residual == "relative"
     sets = [d for d in spec.datasets if d.kind == "specimen" and d.role == "fit"]
-    return np.vstack([residuals(sim, d, relative)[1]
-                      * strain_noise_weights(sim, d, relative, s, elongation_sd / gauge_length)[:, None]
+    strain_sd = elongation_sd / gauge_length if elongation_sd else 0.0
+    return np.vstack([residuals(sim, d, relative)[1] * strain_noise_weights(sim, d, relative, s, strain_sd)[:, None]
                       for d in sets])
 
 
