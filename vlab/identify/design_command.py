@@ -170,7 +170,7 @@ def design_fe(spec, kinds, ranges, points: int, max_size: int | None, noise: flo
     fitted (or expected) constants. Without both --expect and --noise the file is fitted first."""
     from vlab.identify.datasets import Dataset
     from vlab.identify.design import add_each, combine, plan_rows, range_options
-    from vlab.identify.fe_design import data_rows, specimen_rows, specimen_runs, strain_range
+    from vlab.identify.fe_design import data_rows, specimen_candidates, specimen_rows, specimen_runs, strain_range
     from vlab.identify.fe_loop import closed_form, fit_specimen
 
     fe, names = spec.fe, list(spec.fe["parameters"])
@@ -184,13 +184,14 @@ def design_fe(spec, kinds, ranges, points: int, max_size: int | None, noise: flo
         raise SceneError(f"--combine {max_size}: must be 1..{count} (the number of candidate tests: scenes × gauge "
                          "lengths, plus the homogeneous kinds)")
     t0 = time.perf_counter()
+    candidates = specimen_candidates(fe, specimens, gauges)  # bad scenes and gauge lengths before any solve
     outcome = fit_specimen(spec) if expect is None or noise is None else None
     p = expect if expect is not None else np.array([outcome.data["parameters"][n] for n in names])
     values = fe["fixed"] | dict(zip(names, map(float, p)))
     scale = 1.0 if relative else max(float(np.max(np.abs(d.y))) for d in spec.datasets)
     s = _noise(outcome, noise, scale)
     lo, hi = ranges.get("specimen") or strain_range(spec)
-    runs = specimen_runs(fe, values, specimens, gauges, lo, hi, points)
+    runs = specimen_runs(candidates, values, lo, hi, points)
     tests = [(r.test, specimen_rows(r.sim, r.test, relative, s, elongation_sd)) for r in runs]
     options = [(q, specimen_rows(r.sim, q, relative, s, elongation_sd)) for r in runs for q in range_options(r.test)]
     if kinds:
@@ -251,6 +252,22 @@ def _rows(entries, names, extra: bool) -> str:
     return "".join(out)
 
 
+def _runs_table(fe: dict | None) -> str:
+    """An FE design's specimen runs: each scene at each gauge length, run once at the card."""
+    if not fe:
+        return ""
+    rows = "".join(f"<tr><td>{html.escape(Path(r['scene']).name)}</td><td>{html.escape(r['test'])}</td>"
+                   f"<td>{html.escape(r['shape'])}</td><td>{r['gauge_length_mm']:.4g}</td><td>{r['dofs']}</td>"
+                   f"<td>{_cell(r['end_strain'][0])}</td><td>{r['seconds']:.2f}{' (cache)' if r['from_cache'] else ''}"
+                   f"</td></tr>" for r in fe["runs"])
+    return (f"<h2>Specimen tests (FE in the loop)</h2><p>Constants {', '.join(map(html.escape, fe['parameters']))} "
+            f"planned over the extensometer strain {fe['strain_range'][0]:.4g}..{fe['strain_range'][1]:.4g}; "
+            f"extensometer scatter {fe['extensometer_std_mm']:.4g} mm; each scene run once at the card "
+            f"({fe['seconds']:.1f} s in all, the fit included).</p><table><tr><th>scene</th><th>test</th>"
+            f"<th>shape</th><th>gauge length (mm)</th><th>DOFs</th><th>end strain</th><th>run (s)</th></tr>"
+            f"{rows}</table>")
+
+
 def page(d: dict) -> str:
     from vlab.report.html import _STYLE
 
@@ -266,6 +283,7 @@ def page(d: dict) -> str:
             f"{html.escape(d['noise']['source'])}). D = det(Cov_rel)^(1/2p), A = √(tr Cov_rel / p): relative "
             f"standard errors, smaller is better. Present data: {html.escape(now['verdict'])}"
             f"{' — ' + html.escape(now['reason']) if now['reason'] else ''}.</p>"
+            f"{_runs_table(d.get('fe'))}"
             f"<h2>Add one test to the present data</h2><table><tr><th>test</th>{se_h}{red_h}{tail}</tr>"
             f"{_rows(d['next'], names, True)}</table>"
             f"<h2>Candidate tests alone and combined</h2><table><tr><th>tests</th>{se_h}{tail}</tr>"

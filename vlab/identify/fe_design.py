@@ -46,7 +46,7 @@ from vlab.identify.fe_loop import residuals
 from vlab.identify.fe_sensitivity import simulate
 from vlab.identify.fe_spec import check_scene, load_scene
 
-__all__ = ["SpecimenTest", "SpecimenRun", "specimen_runs", "specimen_rows", "strain_noise_weights", "data_rows",
+__all__ = ["SpecimenTest", "SpecimenRun", "specimen_candidates", "specimen_runs", "specimen_rows", "strain_noise_weights", "data_rows",
            "strain_range"]
 
 
@@ -130,20 +130,24 @@ def _candidate(fe: dict, path: Path | None, gauge: float | None):
     return cand, SpecimenTest(str(path), path.stem, scene.test.kind, scene.specimen.shape, float(length), 0.0, 0.0)
 
 
-def specimen_runs(fe: dict, values: dict, specimens, gauges, lo: float, hi: float, points: int) -> list[SpecimenRun]:
-    """Each scene (None: the fit's own, then ``specimens``) at each gauge length (None: the
-    scene's own, then ``gauges``), run at the full constants ``values`` (fixed ones included)."""
+def specimen_candidates(fe: dict, specimens, gauges) -> list:
+    """(fe dict, SpecimenTest) of each scene (the fit's own, then ``specimens``) at each gauge
+    length (the scene's own, then ``gauges``): validated and meshed, not run (SceneError first)."""
+    return [_candidate(fe, path, gauge) for path in [None, *specimens] for gauge in [None, *gauges]]
+
+
+def specimen_runs(candidates, values: dict, lo: float, hi: float, points: int) -> list[SpecimenRun]:
+    """Each candidate run at the full constants ``values`` (fixed ones included), its readings
+    planned at ``points`` strains over [lo, hi]."""
     out = []
-    for path in [None, *specimens]:
-        for gauge in [None, *gauges]:
-            cand, test = _candidate(fe, path, gauge)
-            t0 = time.perf_counter()
-            try:
-                sim = simulate(cand, values)
-            except RuntimeError as exc:
-                raise SceneError(f"{test.name}: {exc}") from None
-            out.append(SpecimenRun(dataclasses.replace(test, lo=lo, hi=hi, points=points), sim,
-                                   time.perf_counter() - t0))
+    for cand, test in candidates:
+        t0 = time.perf_counter()
+        try:
+            sim = simulate(cand, values)
+        except RuntimeError as exc:
+            raise SceneError(f"{test.name}: {exc}") from None
+        out.append(SpecimenRun(dataclasses.replace(test, lo=lo, hi=hi, points=points), sim,
+                               time.perf_counter() - t0))
     return out
 
 
