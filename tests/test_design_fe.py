@@ -55,6 +55,28 @@ def test_a_roller_block_predicts_the_homogeneous_uniaxial_standard_errors(tmp_pa
         assert got["D"] == pytest.approx(hom["D"], rel=tol)
 
 
+def test_a_biaxial_roller_block_is_read_on_both_axes_as_two_equibiaxial_tests(tmp_path):
+    """Equal stretches on a roller block: both load cells read the equibiaxial closed form's force,
+    each with its own 1 % noise, so F = 2 F_equibiaxial and every SE is the equibiaxial one / √2
+    (to the solver's tolerance on recorded levels, to 1e-4 between them)."""
+    values = {"mu": 0.4, "K": 2.0}
+    text = _block("biaxial", NH).replace("size = [10.0, 4.0, 4.0]", "size = [10.0, 10.0, 4.0]").replace(
+        "stretch = 1.5", "stretch = [1.5, 1.5]")
+    fe = _fe(tmp_path / "biaxial.toml", text, ("mu", "K"), "neo-hookean") | {"axes": (0, 1)}
+    sim = simulate(fe, values)
+    model = closed_form(fe | {"fixed": values}, "fit")
+    x = np.linalg.solve(model.transform, [values[n] for n in model.names])
+    for points, tol in ((10, 1e-8), (12, 1e-4)):
+        hom = assess(plan_rows(model, x, PlannedTest("equibiaxial", 1.05, 1.5, points), True), 0.01, [0.4, 2.0],
+                     ["mu", "K"])
+        test = SpecimenTest(fe["scene_path"], "biaxial", "biaxial", "block", 5.0, 0.05, 0.5, points)
+        rows = specimen_rows(sim, test, True)
+        assert rows.shape == (2 * points, 2)
+        got = assess(rows, 0.01, [0.4, 2.0], ["mu", "K"])
+        for n in ("mu", "K"):
+            assert got["standard_errors"][n] * np.sqrt(2) == pytest.approx(hom["standard_errors"][n], rel=tol)
+
+
 @pytest.mark.parametrize("gauge,elongation_sd", [(5.0, 0.001), (2.0, 0.001), (5.0, 0.01)])
 def test_extensometer_scatter_enters_as_the_effective_variance_of_the_closed_form(tmp_path, gauge, elongation_sd):
     """Errors in both variables, to first order: a strain scatter σ_e = σ_u/G adds (∂P/∂λ σ_e)² to
