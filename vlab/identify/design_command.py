@@ -204,8 +204,8 @@ def design_fe(spec, kinds, ranges, points: int, max_size: int | None, noise: flo
         tests += [(q, plan_rows(model, x, q, relative)[:, cols]) for q in plans]
         options += [(q, plan_rows(model, x, q, relative)[:, cols]) for pl in plans for q in range_options(pl)]
     combos = combine(tests, s, p, names, max_size)
-    own = runs[0].test.gauge_length  # the fit's scene at its own gauge length: the present readings
-    now, nxt = add_each(data_rows(spec, values, s, elongation_sd, own), options, s, p, names)
+    # runs[0] is fe.scene at its own gauge length: the run the present readings come from
+    now, nxt = add_each(data_rows(spec, runs[0], s, elongation_sd), options, s, p, names)
     warnings = []
     if outcome is not None and expect is None and not outcome.data["identifiability"]["identifiable"]:
         warnings.append(VALLEY)

@@ -185,10 +185,11 @@ def strain_noise_weights(sim, d, relative: bool, s: float, strain_sd: float) -> 
     return s / np.sqrt(s * s + moved ** 2)
 
 
-def data_rows(spec, values: dict, s: float = 1.0, elongation_sd: float = 0.0, gauge_length: float = 1.0) -> np.ndarray:
-    """∂r/∂p of the fit file's own specimen readings at ``values`` (one run of fe.scene), weighted
-    for an extensometer scatter as ``strain_noise_weights``."""
-    sim = simulate(spec.fe, values)
+def data_rows(spec, own: SpecimenRun, s: float = 1.0, elongation_sd: float = 0.0) -> np.ndarray:
+    """∂r/∂p of the fit file's own specimen readings, from ``own`` (fe.scene at its own gauge
+    length, run at the design's constants), weighted for an extensometer scatter as
+    ``strain_noise_weights``."""
+    sim, gauge_length = own.sim, own.test.gauge_length
     relative = spec.residual == "relative"
     sets = [d for d in spec.datasets if d.kind == "specimen" and d.role == "fit"]
     strain_sd = elongation_sd / gauge_length if elongation_sd else 0.0
