@@ -52,3 +52,28 @@ def test_the_scenes_a_tutorial_shows_are_valid(page):
         raw = tomllib.loads(block)
         if "specimen" in raw:  # a scene (a fit file has [[data]] instead)
             vlab.Scene.from_dict(raw, base_dir=ROOT / "specimens")
+
+
+def _cli():
+    import typer.main
+
+    from vlab.cli import app
+
+    return typer.main.get_command(app)
+
+
+@pytest.mark.parametrize("page", TUTORIALS, ids=lambda p: p.stem)
+def test_the_commands_a_tutorial_shows_parse(page):
+    """Each `vlab …` line of a page's bash blocks names a command and options the command line has,
+    with values of the right type (parsed by the CLI's own parser, not run), and the shipped files
+    it names exist."""
+    import shlex
+
+    group = _cli()
+    lines = [line for block in _blocks(page, "bash") for line in block.splitlines() if line.startswith("vlab ")]
+    for line in lines:
+        name, *args = shlex.split(line)[1:]
+        assert name in group.commands, f"{page.name}: {line!r}: no command {name!r}"
+        group.commands[name].make_context(name, list(args))  # a click UsageError names the bad option
+        for arg in args:
+            assert not arg.startswith("specimens/") or (ROOT / arg).exists(), f"{page.name}: {line!r}: no {arg}"
