@@ -13,7 +13,8 @@ Contract. An ``Exporter`` entry says, for the name given to ``vlab export --to``
 - ``write(card, units) -> str``: the file text of a validated ``ExportCard`` (vlab.export.card)
   in the target's convention, constants with at least 12 significant digits, in ``units``
   (vlab.export.header.Units);
-- ``read(text, where) -> ExportCard``: the inverse (``vlab import-card``); malformed input raises
+- ``read(text, where, units) -> ExportCard``: the inverse (``vlab import-card``; ``units`` as for
+  ``write``, from the file's vlab header or ``--units``); malformed input raises
   ``CardFormatError`` naming ``where`` and the line;
 - ``parts``: the card parts the target writes. Today every target writes ``"hyperelastic"``;
   a viscoelastic (Prony) or Mullins part is added to a target by listing it here and writing it
