@@ -69,7 +69,7 @@ class ExportCard:
         label = f"ogden-{self.terms}" if self.model == "ogden" else self.model
         vol = "" if self.volumetric is None else f", volumetric {self.volumetric}"
         extra = [p for p in self.parts if p != "hyperelastic"]
-        return f"{label} card{vol}" + (f" with its {' and '.join(extra)} part" if extra else "")
+        return f"{label} card{vol}" + (f" with its {' and '.join(extra)} part{'s' if len(extra) > 1 else ''}" if extra else "")
 
 
 def _law(card: ExportCard):
