@@ -20,6 +20,9 @@ noise (seeded), so a fit of them can be checked against the constants below.
   vlab.identify.records.cyclic: softened long-term response plus Maxwell branches); uniaxial cycles to
   1.5, 2, 2.5 in stretch steps of 0.05 at |dλ/dt| = 0.05 /s and 0.5 /s, each peak held 10 s (4 rows);
   0.5 % noise (seed 33); fitted by joint.fit.toml.
+- relax-A.csv, relax-B.csv, relax-C.csv: relaxation records (the ramp and hold of relaxation.csv) of three
+  specimens, Neo-Hookean mu = 0.58, 0.60, 0.62 MPa with one Prony series beta = [0.5, 0.3], tau = [1, 10] s,
+  0.5 % noise (seed 34); fitted per specimen and pooled by specimens-relaxation.fit.toml.
 - raw-uniaxial.csv: a machine export (force in kN, extensometer displacement in mm, gauge 25 mm, 6 × 2 mm)
   of a Neo-Hookean strip (mu = 0.6 MPa) with a 0.4 mm toe and a 2 N load-cell offset.
 """
@@ -141,6 +144,9 @@ def main() -> None:
     joint = np.random.default_rng(33)
     write(HERE / "cycles-slow.csv", ("t", "lambda", "P"), rate_cycles(joint, 0.05))
     write(HERE / "cycles-fast.csv", ("t", "lambda", "P"), rate_cycles(joint, 0.5))
+    spread = np.random.default_rng(34)
+    for s, mu in (("A", 0.58), ("B", 0.60), ("C", 0.62)):
+        write(HERE / f"relax-{s}.csv", ("t", "lambda", "P"), relaxation(spread, mu=mu))
 
 
 if __name__ == "__main__":
