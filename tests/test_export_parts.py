@@ -277,14 +277,15 @@ def test_a_malformed_part_is_named_and_exits_2(tmp_path, name, text, line, what)
 
 
 # --- vlab fit --export writes the parts -------------------------------------------------------
-@pytest.mark.parametrize("fitfile,part", [("relaxation.fit.toml", "viscoelastic"), ("cycles.fit.toml", "mullins")])
-def test_a_fit_of_records_exports_its_parts_to_abaqus(tmp_path, fitfile, part):
+@pytest.mark.parametrize("fitfile,part,targets", [("relaxation.fit.toml", "viscoelastic", ("abaqus", "ansys", "febio")),
+                                                   ("cycles.fit.toml", "mullins", ("abaqus", "ansys"))])
+def test_a_fit_of_records_exports_its_parts_to_abaqus(tmp_path, fitfile, part, targets):
     out = tmp_path / "fit"
     res = runner.invoke(app, ["fit", str(ROOT / "specimens" / "records" / fitfile), "--out", str(out),
-                              "--export", "abaqus,ansys"])
+                              "--export", ",".join(targets)])
     assert res.exit_code == 0, res.output
     fitted = json.loads((out / "fit.json").read_text())["card"]["effects"][part]
-    for target in ("abaqus", "ansys"):
+    for target in targets:
         back = EXPORTERS[target].read((out / "cards" / EXPORTERS[target].default_file).read_text(), "c", UNITS["mm"])
         for key, want in fitted.items():
             for a, b in zip(np.atleast_1d(back.effects[part][key]), np.atleast_1d(want)):
