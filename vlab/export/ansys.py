@@ -25,7 +25,8 @@ Neo-Hookean ground for the Prony part, an incompressible fit's card for both):
   §4.7 "Viscoelasticity", large-deformation form after Simo): the deviatoric second Piola–
   Kirchhoff stress of the hyperelastic law is relaxed with G(t)/G0 = α∞ + Σᵢ αᵢ e^(−t/τᵢ),
   α∞ = 1 − Σαᵢ, TBDATA α1, τ1, α2, τ2, …. The TB,HYPER constants of a viscoelastic material are
-  its *instantaneous* (t = 0) response, so vlab's long-term constants are written × (1 + Σβ)
+  its *instantaneous* (t = 0) response (the Material Reference's viscoelasticity chapter, as
+  recalled: no stored copy of that sentence was found to re-read; docs/export.md says so), so vlab's long-term constants are written × (1 + Σβ)
   (= 1/α∞) and αᵢ = βᵢ/(1 + Σβ): the shear relaxation modulus is μ0 (1 + Σ βᵢ e^(−t/τᵢ)), τᵢ in
   s. No ``BULK`` table: vlab's bulk modulus does not relax (d is written as is).
 - ``TB,CDM,1,1,3,PSE2`` (Material Reference "Mullins Effect", the modified Ogden–Roxburgh
