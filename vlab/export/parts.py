@@ -33,42 +33,33 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from vlab.fields import SceneError, Table, number
+from vlab.fields import SceneError, Table
 
 __all__ = ["PART_KEYS", "parse_parts", "neo_hookean_ground", "split_neo_hookean", "normalised", "relative",
            "needs", "prony_lines"]
 
 PART_KEYS = {"viscoelastic": ("tau", "beta"), "mullins": ("r", "m", "beta")}
-MAX_TERMS = 20
-
-
-def _series(t: Table, key: str, n: int | None, **bounds) -> tuple[float, ...]:
-    v = t.get(key)
-    if not isinstance(v, (list, tuple)) or not 1 <= len(v) <= MAX_TERMS or (n is not None and len(v) != n):
-        want = f"{n}" if n is not None else f"1..{MAX_TERMS}"
-        raise SceneError(f"{t.field(key)} must be a list of {want} numbers (one per Prony term), got {v!r}")
-    return tuple(number(f"{t.field(key)}[{i}]", x, **bounds) for i, x in enumerate(v))
 
 
 def parse_parts(effects: dict | None, where: str) -> dict:
     """{"viscoelastic": {"tau": (s, …), "beta": (…)}, "mullins": {"r", "m" (MPa), "beta"}} of a
-    card's [effects] tables (other effects are not material parts and are ignored); a SceneError
-    names ``where`` and the key, with the range allowed (the scene grammar's)."""
+    card's [effects] tables, validated by the scene grammar's own parsers (vlab.effects.viscoelastic,
+    vlab.effects.mullins: the same keys, ranges and messages); other effects are not material
+    parts and are ignored. A SceneError names ``where`` and the key."""
+    from vlab.effects.mullins import parse_params
+    from vlab.effects.viscoelastic import parse as parse_prony
+
     out = {}
-    for name, keys in PART_KEYS.items():
-        raw = (effects or {}).get(name)
-        if raw is None:
-            continue
-        try:
-            t = Table(f"effects.{name}", raw, keys)
-            if name == "viscoelastic":
-                tau = _series(t, "tau", None, gt=0, le=1e9)
-                out[name] = {"tau": tau, "beta": _series(t, "beta", len(tau), ge=0, le=1e4)}
-            else:
-                out[name] = {"r": t.number("r", gt=1.0), "m": t.number("m", gt=0.0, note=" (MPa)"),
-                             "beta": t.number("beta", 0.0, ge=0.0)}
-        except SceneError as exc:
-            raise SceneError(f"{where}: {exc}") from None
+    try:
+        if (effects or {}).get("viscoelastic") is not None:
+            spec = parse_prony(Table("effects.viscoelastic", effects["viscoelastic"], PART_KEYS["viscoelastic"]),
+                               None, None)
+            out["viscoelastic"] = {"tau": spec.tau, "beta": spec.beta}
+        if (effects or {}).get("mullins") is not None:
+            law = parse_params(effects["mullins"], "effects.mullins", None)  # the ground law is the card's
+            out["mullins"] = {"r": law.r, "m": law.m, "beta": law.beta}
+    except ValueError as exc:  # a SceneError, or the law's own check
+        raise SceneError(f"{where}: {exc}") from None
     return out
 
 
