@@ -263,6 +263,8 @@ MALFORMED = [
      "line 3", "TIME=PRONY only"),
     ("a.inp", "*HYPERELASTIC, MOONEY-RIVLIN\n0.3, 0.0, 0.01\n*MULLINS EFFECT\n0.5, 0.3\n", "", "effects.mullins.r"),
     ("a.mac", "TB,HYPER,1,1,2,MOONEY\nTBDATA,1,0.3,0,0.01\nTB,PRONY,1,1,1,BULK\nTBDATA,1,0.2,1.0\n", "line 3", "SHEAR"),
+    ("a.inp", "*HYPERELASTIC, OGDEN, N=1\n0.3, 2.5, 0.01\n*VISCOELASTIC, TIME=PRONY\n0.2, 0.0, 1.0\n", "a.inp",
+     "Neo-Hookean ground"),
     ("a.mac", "TB,HYPER,1,1,2,MOONEY\nTBDATA,1,0.3,0,0.01\nTB,CDM,1,1,3,PSE1\nTBDATA,1,2,0.3,0\n", "line 3", "PSE2"),
 ]
 
@@ -274,6 +276,16 @@ def test_a_malformed_part_is_named_and_exits_2(tmp_path, name, text, line, what)
     res = runner.invoke(app, ["import-card", str(src), "--out", str(tmp_path / "c.toml")])
     assert res.exit_code == 2 and line in res.output and what in res.output, res.output
     assert not (tmp_path / "c.toml").exists()
+
+
+def test_an_imported_deviatoric_only_part_says_it_is_vlabs_at_j_1(tmp_path):
+    src = tmp_path / "a.inp"
+    src.write_text(card_text(_card("mr-fit", {"mullins": MULLINS}), "abaqus", UNITS["mm"]))
+    out = tmp_path / "c.toml"
+    res = runner.invoke(app, ["import-card", str(src), "--out", str(out)])
+    assert res.exit_code == 0, res.output
+    text = out.read_text()
+    assert "the same model at J = 1" in text.splitlines()[1] and "[effects.mullins]" in text
 
 
 # --- vlab fit --export writes the parts -------------------------------------------------------

@@ -48,7 +48,7 @@ import re
 
 from vlab.export.card import ExportCard, Source, with_parts
 from vlab.export.header import commented, header, num
-from vlab.export.parts import needs, normalised, relative
+from vlab.export.parts import imported, needs, normalised, relative
 from vlab.export.registry import CardFormatError, Exporter, Mapping
 
 __all__ = ["ABAQUS", "MAPPINGS", "write_deck", "read_deck"]
@@ -233,7 +233,10 @@ def read_deck(text: str, where: str, units) -> ExportCard:
     base = ExportCard(model, params, 2.0 / D / units.stress, volumetric, density)
     table = material_table(base)
     card = card_from_table(table, where, name=name, source=Source("import", where))
-    return with_parts(card, _parts(blocks, where, units), where)
+    try:
+        return imported(with_parts(card, _parts(blocks, where, units), where), where, "abaqus")
+    except ValueError as exc:
+        raise CardFormatError(str(exc)) from None
 
 
 def _parts(blocks, where: str, units) -> dict:

@@ -41,7 +41,7 @@ from dataclasses import replace
 
 from vlab.export.card import ExportCard, Source, with_parts
 from vlab.export.header import commented, header, num
-from vlab.export.parts import needs, normalised, relative
+from vlab.export.parts import imported, needs, normalised, relative
 from vlab.export.registry import CardFormatError, Exporter, Mapping
 
 __all__ = ["ANSYS"]
@@ -251,7 +251,10 @@ def read(text: str, where: str, units) -> ExportCard:
             raise CardFormatError(f"{where}, line {n}: TB,PRONY over TB,HYPER,{opt} is not vlab's viscoelastic model")
         base = _scaled(base, 1.0 / (1.0 + sum(parts["viscoelastic"]["beta"])))
     card = card_from_table(material_table(base), where, source=Source("import", where))
-    return with_parts(card, parts, where)
+    try:
+        return imported(with_parts(card, parts, where), where, "ansys")
+    except ValueError as exc:
+        raise CardFormatError(str(exc)) from None
 
 
 ANSYS = Exporter("ansys", "ansys.mac", "!", MAPPINGS, write, read, notes=NOTES, doc=__doc__,

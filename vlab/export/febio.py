@@ -39,7 +39,7 @@ import xml.etree.ElementTree as ET
 
 from vlab.export.card import ExportCard, Source, with_parts
 from vlab.export.header import header, num
-from vlab.export.parts import needs
+from vlab.export.parts import imported, needs
 from vlab.export.registry import CardFormatError, Exporter, Mapping
 
 __all__ = ["FEBIO"]
@@ -154,7 +154,10 @@ def read(text: str, where: str, units) -> ExportCard:
     rho = _value(outer, "density", where)
     base = ExportCard(base.model, base.params, base.K, base.volumetric, None if rho is None else rho / units.density)
     card = card_from_table(material_table(base), where, name=outer.get("name") or "vlab", source=Source("import", where))
-    return with_parts(card, parts, where)
+    try:
+        return imported(with_parts(card, parts, where), where, "febio", any_J=("viscoelastic",))
+    except ValueError as exc:
+        raise CardFormatError(str(exc)) from None
 
 
 def _prony(el, where: str) -> dict:

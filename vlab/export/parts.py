@@ -36,7 +36,7 @@ from dataclasses import replace
 from vlab.fields import SceneError, Table
 
 __all__ = ["PART_KEYS", "parse_parts", "neo_hookean_ground", "split_neo_hookean", "normalised", "relative",
-           "needs", "prony_lines"]
+           "needs", "prony_lines", "imported"]
 
 PART_KEYS = {"viscoelastic": ("tau", "beta"), "mullins": ("r", "m", "beta")}
 
@@ -121,6 +121,25 @@ def needs(card, target: str, max_terms: int | None = None, any_J: tuple[str, ...
         return (f"{target}'s {part} part acts on the deviatoric part only, vlab's on the whole stress: the same "
                 "model at J = 1 only, so only an incompressible fit's card (its K a stand-in) is written")
     return None
+
+
+def imported(card, where: str, target: str, any_J: tuple[str, ...] = ()):
+    """A card read from ``target``'s file with its parts: refused (ValueError naming ``where``) when
+    its Prony part is not vlab's model at any J (a ground law other than Neo-Hookean), and noted
+    (the card's source note) when a part is vlab's model at J = 1 only."""
+    from dataclasses import replace as _replace
+
+    parts = [p for p in card.parts if p in PART_KEYS]
+    if "viscoelastic" in parts and not neo_hookean_ground(card):
+        raise ValueError(f"{where}: {target}'s Prony series relaxes this {card.model} ground law's own deviatoric "
+                         "stress; vlab's viscoelastic effect has Neo-Hookean branches of μ0, the same model only for "
+                         "a Neo-Hookean ground (C01 = 0, C20 = C30 = 0, Ogden α = 2)")
+    at_one = [p for p in parts if p not in any_J]
+    if not at_one:
+        return card
+    note = (f"{target}'s {' and '.join(at_one)} part acts on the deviatoric part only, vlab's on the whole stress: "
+            "the same model at J = 1 (incompressible; use [mesh] formulation = \"mixed\")")
+    return _replace(card, source=_replace(card.source, note=note) if card.source else card.source)
 
 
 def prony_lines(card) -> list[str]:
