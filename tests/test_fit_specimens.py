@@ -175,3 +175,44 @@ def test_the_shipped_relaxation_specimens_draw_their_band(tmp_path):
     sp = json.loads((out / "fit.json").read_text())["specimens"]
     assert sp["figure"] == "specimens.png" and sp["figure_reason"] is None and (out / "specimens.png").exists()
     assert "specimens.png" in (out / "index.html").read_text()
+
+
+def test_the_records_band_of_cycles_without_time_and_of_dma_sweeps():
+    import dataclasses
+    from types import SimpleNamespace
+
+    from vlab.identify.datasets import Dataset
+    from vlab.identify.fitfile import FitSpec
+    from vlab.identify.records.cyclic import stress_along
+    from vlab.identify.records.prony import PronySpec, dynamic_moduli
+    from vlab.identify.records.softening import MullinsSpec
+    from vlab.identify.specimens import record_band_panels
+
+    nh = Constitutive(law_for("neo-hookean"))
+    lam = np.r_[np.linspace(1.1, 2.0, 10), np.linspace(1.9, 1.0, 10)]
+    xs = {"A": np.r_[0.55, 2.0, 0.3, 0.1], "B": np.r_[0.65, 1.5, 0.2, 0.0]}
+    mullins = {"mullins": MullinsSpec()}
+    cyc = lambda x: np.real(stress_along(nh, mullins, x[None], "uniaxial", lam)[0])  # noqa: E731
+    extra = {"test": "uniaxial", "stretch": lam, "time": None, "mask": np.ones(len(lam), bool), "branch": "all"}
+    sets = tuple(dataclasses.replace(Dataset(s, f"{s}.csv", "cyclic", "fit", 1.0, "nominal", lam, None, cyc(x),
+                                             extra=extra), specimen=s) for s, x in xs.items())
+    spec = FitSpec("c", nh, sets, effects=mullins)
+    fit = lambda x: SimpleNamespace(spec=spec, x=x, converged=True)  # noqa: E731
+    (p,) = record_band_panels(fit(xs["A"]), spec, {s: fit(x) for s, x in xs.items()})
+    assert p["xlabel"] == "row of the history" and np.array_equal(p["a"], np.arange(1, 21))
+    assert np.allclose(p["lo"], np.minimum(cyc(xs["A"]), cyc(xs["B"])), rtol=1e-14)
+
+    prony = {"viscoelastic": PronySpec(1)}
+    f = np.geomspace(0.1, 10.0, 7)
+    xd = {"A": np.r_[0.5, 0.4, 0.3], "B": np.r_[0.6, 0.2, 1.0]}
+    sl = {s: dynamic_moduli(nh, PronySpec(1), x[None], f, "tensile") for s, x in xd.items()}
+    sets = tuple(dataclasses.replace(Dataset(s, f"{s}.csv", "dma", "fit", 1.0, "nominal", f, None,
+                                             np.r_[sl[s][0][0], sl[s][1][0]], extra={"modulus": "tensile"}),
+                                     specimen=s) for s in xd)
+    spec = FitSpec("d", nh, sets, effects=prony)
+    fit = lambda x: SimpleNamespace(spec=spec, x=x, converged=True)  # noqa: E731
+    storage, loss = record_band_panels(fit(xd["A"]), spec, {s: fit(x) for s, x in xd.items()})
+    assert storage["log_x"] and storage["ylabel"] == "storage modulus (MPa)" and loss["ylabel"] == "loss modulus (MPa)"
+    assert np.allclose(storage["hi"], np.maximum(sl["A"][0][0], sl["B"][0][0]), rtol=1e-14)
+    assert np.allclose(loss["lo"], np.minimum(sl["A"][1][0], sl["B"][1][0]), rtol=1e-14)
+    assert np.allclose(loss["data"][1][2], sl["B"][1][0], rtol=1e-14)
