@@ -105,8 +105,8 @@ def needs(card, target: str, max_terms: int | None = None, any_J: tuple[str, ...
     if not parts:
         return None
     if len(parts) > 1:
-        return ("the card has both a viscoelastic and a Mullins part; a vlab scene carries one history law, "
-                "so no target's combination is checked against vlab's")
+        return ("the card has both a viscoelastic and a Mullins part: vlab softens the long-term response and "
+                "not the Maxwell branches, and no target documents its combination as that model")
     part = parts[0]
     if part == "viscoelastic":
         n = len(card.effects["viscoelastic"]["tau"])
