@@ -18,7 +18,7 @@ from typing import Any
 from vlab import fields
 from vlab.fields import SceneError
 from vlab.loading.protocol import HOLDS, PROTOCOLS, ProtocolSpec
-from vlab.scene.specimen import SPECIMEN_TESTS
+from vlab.geometry.shapes import SHAPES
 
 __all__ = ["TestSpec", "PROTOCOL_KEYS", "GRIP_KINDS", "parse_test"]
 
@@ -62,7 +62,7 @@ def parse_test(raw: Any, shape: str = "block") -> TestSpec:
     load_keys = tuple(dict.fromkeys(k.load_key for k in KINDS.values()))
     option_keys = tuple(dict.fromkeys(key for k in KINDS.values() for key in k.option_keys))
     t = fields.Table("test", raw, ("kind", "grips") + load_keys + option_keys + OTHER_KEYS + PROTOCOL_KEYS)
-    tests = SPECIMEN_TESTS[shape]
+    tests = SHAPES[shape].tests  # the registry now: a shape registered by a script counts
     kind = KINDS[t.choice("kind", tuple(KINDS))]
     if kind.name not in tests:
         raise SceneError(f"{t.field('kind')} must be one of {', '.join(tests)} for specimen.shape = "
