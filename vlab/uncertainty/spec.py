@@ -35,6 +35,7 @@ from dataclasses import dataclass
 
 from vlab import fields
 from vlab.fields import SceneError, Table
+from vlab.scene.test import misalignment_pair
 from vlab.uncertainty.classes import EXTENSOMETER, LOAD_CELL, standard_tolerances
 
 __all__ = ["Source", "UncertaintySpec", "parse_uncertainty", "KEYS", "FE_KINDS"]
@@ -171,22 +172,21 @@ def _window(t: Table, scene) -> list[Source]:
 
 
 ALIGNMENT_LIMITS = {"offset": (" (mm, standard uncertainty)", None), "tilt": (" (degrees, standard uncertainty)", 10.0)}
-#: a number is the thickness plane's component, a list of two gives (width plane, thickness plane)
-ALIGNMENT_PLANES = {"offset": (("offset_y", "width y"), ("offset_z", "thickness z")),
-                    "tilt": (("tilt_z", "about z, width plane"), ("tilt_y", "about y, thickness plane"))}
+#: the sources' kinds and labels, in test.misalignment's order of each pair ([e_y, e_z], [θ_y, θ_z])
+ALIGNMENT_SOURCES = {"offset": (("offset_y", "width y"), ("offset_z", "thickness z")),
+                     "tilt": (("tilt_y", "about y, thickness plane"), ("tilt_z", "about z, width plane"))}
 
 
 def _alignment_pair(at: Table, key: str, note: str, le) -> list[tuple[str, str, float]]:
-    """(kind, label, u) of ``alignment.key``: a number u (the thickness plane's) or a list
-    [u_y, u_z] (offset) / [u_θy, u_θz] (tilt), as test.misalignment orders them."""
+    """(kind, label, u) of ``alignment.key``: a list of two in test.misalignment's order, or a
+    number, the thickness plane's (vlab.scene.test.misalignment_pair)."""
     raw = at.raw.get(key, 0.0)
-    (kind_w, label_w), (kind_t, label_t) = ALIGNMENT_PLANES[key]
-    if not isinstance(raw, list):
-        return [(kind_t, label_t, at.number(key, 0.0, ge=0, le=le, note=note))]
-    what = "[u_ey, u_ez]" if key == "offset" else "[u_theta_y, u_theta_z]"
-    first, second = fields.vector(at.field(key), raw, 2, what, ge=0, le=le, note=note)
-    by_kind = {"offset_y": first, "offset_z": second, "tilt_y": first, "tilt_z": second}
-    return [(k, label, by_kind[k]) for k, label in ((kind_w, label_w), (kind_t, label_t))]
+    if isinstance(raw, list):
+        what = "[u_ey, u_ez]" if key == "offset" else "[u_theta_y, u_theta_z]"
+        pair = fields.vector(at.field(key), raw, 2, what, ge=0, le=le, note=note)
+    else:
+        pair = misalignment_pair(key, at.number(key, 0.0, ge=0, le=le, note=note))
+    return [(kind, label, u) for (kind, label), u in zip(ALIGNMENT_SOURCES[key], pair)]
 
 
 def _alignment(t: Table, scene) -> list[Source]:
