@@ -236,3 +236,44 @@ def check_interactive_view(folder: Path, tmp_path: Path, name: str) -> None:
     assert plot.std() > STD_FLOOR
     hsv = np.asarray(Image.fromarray(plot.astype(np.uint8)).convert("HSV"), dtype=float)
     assert np.mean((hsv[..., 1] > 90) & (hsv[..., 2] > 60)) > 0.01  # the coloured specimen is drawn
+
+
+def test_budget_report_in_the_browser(tmp_path):
+    """`vlab budget`'s page with alignment in both planes and grip slip (a clamped 40 × 10 × 2 bar,
+    six samples): the histogram and the three tornado charts load in Chromium and are not blank,
+    and the percent-bending table gives the nominal run's B and the samples' mean, u and largest."""
+    from types import SimpleNamespace
+
+    from vlab.cli_io import report_destination
+    from vlab.scene import parse_scene
+    from vlab.study.summary import RunKnobs, summarize
+    from vlab.uncertainty.budget import compute_budget
+    from vlab.uncertainty.report import write_budget
+    from vlab.uncertainty.spec import parse_uncertainty
+
+    src = {"name": "shot-budget", "specimen": {"shape": "block", "size": [40.0, 10.0, 2.0]},
+           "mesh": {"size": 2.0, "cell": "hex"}, "material": {"model": "linear", "E": 1000.0, "nu": 0.3},
+           "test": {"kind": "uniaxial", "grips": "clamped", "stretch": 1.003, "steps": 2},
+           "uncertainty": {"samples": 6, "alignment": {"tilt": [0.1, 0.1]}, "grip_slip": 2e-4,
+                           "extensometer_class": "none", "resolution": False}}
+    scene = parse_scene(src)
+    spec = parse_uncertainty(src["uncertainty"], scene)
+
+    def runner(points, what):
+        s = [summarize(p.source, RunKnobs(), p.label, p.base_dir) | {"cache_hit": False} for p in points]
+        return SimpleNamespace(summaries=s, cache_hits=0, computed=len(s), seconds={})
+
+    budget, runs = compute_budget(src, spec, tmp_path, runner, scene.measure.modulus_window[0])
+    index = write_budget(report_destination(tmp_path / "budget", False), {"scene": "shot-budget"} | budget, spec,
+                         runs, "")
+    report = page_errors(index, tmp_path, "budget")
+    assert report["errors"] == [], report
+    assert sorted(src for src, _ in report["images"]) == ["histogram.png", "tornado_E.png", "tornado_E_crosshead.png",
+                                                          "tornado_nu.png"]
+    assert all(width > 0 for _, width in report["images"]), report["images"]  # every figure loaded
+    shot = screenshot(index, "budget-report", tmp_path)
+    assert shot.std() > STD_FLOOR
+    assert_images_shown(index.parent)
+    text = index.read_text(encoding="utf-8")
+    pb = budget["percent_bending"]
+    assert "ASTM E1012 percent bending" in text and f"{pb['max_abs']:.4g}" in text and f"{pb['u']:.4g}" in text

@@ -60,7 +60,7 @@ def first_loading(curve: Curve) -> Curve:
                  strain={a: v[:n] for a, v in curve.strain.items()},
                  transverse_strain=curve.transverse_strain[:n], thickness_strain=curve.thickness_strain[:n],
                  area0=dict(curve.area0), time=curve.time[:n], kind=curve.kind,
-                 extra={k: v[:n] for k, v in curve.extra.items()})
+                 extra={k: v[:n] for k, v in curve.extra.items()}, slip=curve.slip)
 
 
 def elastic_constants(curve: Curve, window: tuple[float, float], method: str) -> ElasticConstants:
@@ -92,11 +92,12 @@ def biaxial_constants(curve: Curve, window, method) -> ElasticConstants:
 
 def crosshead_modulus(curve: Curve, window, method) -> dict | None:
     """The modulus a lab without an extensometer would report: slope of engineering stress
-    against crosshead strain λ_grip − 1 = Δ(grip separation)/(initial grip separation), fitted
-    over the same |strain| window (uniaxial tests: vlab.loading.kinds.uniaxial). It includes the
-    fillets' and tabs' compliance and the grips' lateral constraint, so on a dogbone it is not E."""
+    against crosshead strain Δ(grip separation)/(initial grip separation) = λ_grip − 1 + C F/L_grip
+    (C F the slip in the grips, Curve.crosshead_strain), fitted over the same |strain| window
+    (uniaxial tests: vlab.loading.kinds.uniaxial). It includes the fillets' and tabs' compliance,
+    the grips' lateral constraint and their slip, so on a dogbone it is not E."""
     try:
-        fit = fit_line(np.array(curve.stretch[0]) - 1.0, curve.column("stress", 0), window, method)
+        fit = fit_line(curve.crosshead_strain(0), curve.column("stress", 0), window, method)
     except FitError as exc:
         return {"E": None, "fit": None, "note": f"not measured: {exc}"}
     return {"E": fit.slope, "fit": fit.as_dict(), "note": ""}

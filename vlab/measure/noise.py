@@ -91,6 +91,7 @@ def noisy_curve(curve: Curve, spec: NoiseSpec, gauges: GaugeLengths) -> Curve:
         time=list(curve.time),
         kind=curve.kind,
         extra={k: list(v) for k, v in curve.extra.items()},
+        slip=curve.slip,
     )
 
 

@@ -40,10 +40,18 @@ class Curve:
     centre: dict[str, list[float]] = field(default_factory=dict)  # FE centre averages (cruciform)
     kind: str = "uniaxial"  # the test kind (vlab.loading.kinds) whose record this is
     extra: dict[str, list[float]] = field(default_factory=dict)  # the kind's other readings (normal force, ...)
+    slip: float = 0.0  # 1/N: the grips' slip compliance over the grip separation, C/L_grip (test.grip_slip)
 
     @property
     def axes(self) -> list[int]:
         return sorted(self.stretch)
+
+    def crosshead_strain(self, axis: int = 0) -> np.ndarray:
+        """What the crosshead reads, as strain: (Δ + C F)/L_grip = λ_grip − 1 + (C/L_grip) F, the
+        clamps' travel plus the specimen's slip in the grips, C F (C the slip compliance, mm/N,
+        test.grip_slip; the slip grows with the force, so the crosshead modulus falls to
+        E_c/(1 + C k), k = F/Δ the specimen's stiffness, and the extensometer does not see it)."""
+        return np.array(self.stretch[axis]) - 1.0 + self.slip * np.array(self.force[axis])
 
     def column(self, name: str, axis: int = 0) -> np.ndarray:
         """Derived column: engineering/true stress and strain for ``axis``."""

@@ -32,6 +32,8 @@ class Instruments:
         kind = kind_of(test)
         self.recorder = Recorder(space, specimen, kind, test.targets, prepared.loading, oracle,
                                  CentreStressProbe.build(space, specimen, oracle))
+        if test.grip_slip:  # the crosshead reads the clamps' travel plus the slip C F (Curve.crosshead_strain)
+            self.recorder.curve.slip = test.grip_slip / specimen.grip_separation[0]
         self.probe = provided.probe(kind, space, specimen, oracle) if oracle is not None else None
         self.homogeneity: list[dict] = []
         self.bending = None  # the face gauges of a misaligned test (vlab.measure.bending)

@@ -1,6 +1,7 @@
 """``[test]``: kind, grips, the kind's load (``stretch`` or ``shear``), steps, protocol (monotonic,
 load-unload, cyclic, relaxation, creep) with its time keys, a buckling imperfection and a
-misaligned load train (``misalignment = {offset = mm, tilt = degrees}``, vlab.loading.misalignment).
+misaligned load train (``misalignment = {offset = mm, tilt = degrees}``, vlab.loading.misalignment)
+and slip in the grips (``grip_slip = mm/N``: the crosshead reads the clamps' travel plus the slip).
 
 The kind comes from the test-kind registry (vlab/loading/kinds/), which parses its own load key:
 grip stretches in 0.2..10 (< 1 is compression) for uniaxial, biaxial and planar tests, the amount
@@ -24,6 +25,7 @@ __all__ = ["TestSpec", "PROTOCOL_KEYS", "GRIP_KINDS", "parse_test"]
 
 PROTOCOL_KEYS = ("protocol", "amplitudes", "min_stretch", "strain_rate", "ramp_time", "hold_time",
                  "hold_steps", "force")
+OTHER_KEYS = ("steps", "imperfection", "misalignment", "grip_slip")  # test keys every kind reads
 GRIP_KINDS = ("roller", "clamped", "kinematic", "plates", "die", "cavity")  # test.grips
 
 
@@ -39,7 +41,9 @@ class TestSpec:
     shear: tuple[float, ...] = ()  # simple shear: (γ,) at t = 1 (cyclic: the largest amplitude)
     twist: tuple[float, ...] = ()  # torsion: (ψ,) at t = 1, rad/mm
     options: tuple[tuple[str, str], ...] = ()  # the kind's own choice keys (TestKind.option_keys), as given
-    misalignment: tuple[float, float] | None = None  # (offset mm, tilt degrees) of the moving grip; None: aligned
+    # (offset_y, offset_z mm, tilt_y, tilt_z degrees) of the moving grip; None: aligned
+    misalignment: tuple[float, float, float, float] | None = None
+    grip_slip: float = 0.0  # mm/N: the grips' slip compliance, seen by the crosshead only (uniaxial)
 
     def option(self, key: str) -> str:
         """The value of one of the kind's choice keys (its default when not given)."""
@@ -57,8 +61,7 @@ def parse_test(raw: Any, shape: str = "block") -> TestSpec:
 
     load_keys = tuple(dict.fromkeys(k.load_key for k in KINDS.values()))
     option_keys = tuple(dict.fromkeys(key for k in KINDS.values() for key in k.option_keys))
-    t = fields.Table("test", raw, ("kind", "grips") + load_keys + option_keys + ("steps", "imperfection", "misalignment")
-                     + PROTOCOL_KEYS)
+    t = fields.Table("test", raw, ("kind", "grips") + load_keys + option_keys + OTHER_KEYS + PROTOCOL_KEYS)
     tests = SHAPES[shape].tests  # the registry now: a shape registered by a script counts
     kind = KINDS[t.choice("kind", tuple(KINDS))]
     if kind.name not in tests:
@@ -90,7 +93,7 @@ def parse_test(raw: Any, shape: str = "block") -> TestSpec:
                     imperfection=_imperfection(t, kind.name, targets),
                     shear=targets if kind.load_key == "shear" else (),
                     twist=targets if kind.load_key == "twist" else (), options=options,
-                    misalignment=_misalignment(t, kind.name, grips, shape))
+                    misalignment=_misalignment(t, kind.name, grips, shape), grip_slip=_grip_slip(t, kind.name))
 
 
 def _options(t: fields.Table, kind, option_keys: tuple[str, ...]) -> tuple[tuple[str, str], ...]:
@@ -206,11 +209,13 @@ def _imperfection(t: fields.Table, kind: str, stretch: tuple[float, ...]) -> flo
 MISALIGNED_SHAPES = ("block", "dogbone")  # a thickness along z whose faces carry the strain gauges
 
 
-def _misalignment(t: fields.Table, kind: str, grips: str, shape: str) -> tuple[float, float] | None:
-    """``[test] misalignment = {offset = e, tilt = θ}``: the moving grip's offset e (mm, along z,
-    any sign) and tilt θ (degrees, |θ| < 90) of the load axis (vlab.loading.misalignment), for a
-    uniaxial test of a block or dogbone in clamped grips (a roller grip prescribes no lateral
-    motion to misalign)."""
+def _misalignment(t: fields.Table, kind: str, grips: str, shape: str) -> tuple[float, float, float, float] | None:
+    """``[test] misalignment = {offset = [e_y, e_z], tilt = [θ_y, θ_z]}``: the moving grip's offset
+    (mm, along the width y and the thickness z, any sign) and tilt (degrees about y, bending in the
+    thickness plane, and about z, bending in the width plane; each |θ| < 90) of the load axis
+    (vlab.loading.misalignment), for a uniaxial test of a block or dogbone in clamped grips (a
+    roller grip prescribes no lateral motion to misalign). A single number is the thickness
+    plane's: ``offset = e`` is e_z, ``tilt = θ`` is θ_y."""
     if "misalignment" not in t.raw:
         return None
     field, raw = t.field("misalignment"), t.raw["misalignment"]
@@ -219,6 +224,40 @@ def _misalignment(t: fields.Table, kind: str, grips: str, shape: str) -> tuple[f
                          f"{' or '.join(MISALIGNED_SHAPES)}; got test.kind = {kind!r}, test.grips = {grips!r}, "
                          f"specimen.shape = {shape!r}")
     m = fields.Table(field, raw, ("offset", "tilt"))
-    offset = m.number("offset", 0.0, ge=-1e3, le=1e3, note=" (mm, along the thickness z)")
-    tilt = m.number("tilt", 0.0, gt=-90.0, lt=90.0, note=" (degrees)")
-    return offset, tilt
+    e_y, e_z = _pair(m, "offset", "[e_y, e_z]", dict(ge=-1e3, le=1e3, note=" (mm)"))
+    th_y, th_z = _pair(m, "tilt", "[theta_y, theta_z]", dict(gt=-90.0, lt=90.0, note=" (degrees)"))
+    return e_y, e_z, th_y, th_z
+
+
+#: a number given for the offset or the tilt is the thickness plane's component: the second of
+#: [e_y, e_z], the first of [θ_y, θ_z]
+THICKNESS_INDEX = {"offset": 1, "tilt": 0}
+
+
+def misalignment_pair(key: str, value) -> tuple[float, float]:
+    """test.misalignment's ``key`` ("offset" or "tilt") as its two components, a number being the
+    thickness plane's (THICKNESS_INDEX)."""
+    if isinstance(value, (list, tuple)):
+        return float(value[0]), float(value[1])
+    out = [0.0, 0.0]
+    out[THICKNESS_INDEX[key]] = float(value)
+    return out[0], out[1]
+
+
+def _pair(m: fields.Table, key: str, what: str, limits: dict) -> tuple[float, float]:
+    """The validated ``key``: a number or a list of two, each within ``limits``; (0, 0) if absent."""
+    raw = m.raw.get(key, 0.0)
+    if isinstance(raw, list):
+        return fields.vector(m.field(key), raw, 2, what, **limits)
+    return misalignment_pair(key, m.number(key, 0.0, **limits))
+
+
+def _grip_slip(t: fields.Table, kind: str) -> float:
+    """``[test] grip_slip = C`` (mm/N, >= 0): the specimen slips in the grips by C·F, so the crosshead
+    reads the clamps' travel plus C·F (vlab.measure.recorder.Curve.crosshead_strain); uniaxial only."""
+    if "grip_slip" not in t.raw:
+        return 0.0
+    if kind != "uniaxial":
+        raise SceneError(f"{t.field('grip_slip')} applies to test.kind = 'uniaxial' (the crosshead modulus), "
+                         f"got {kind!r}")
+    return t.number("grip_slip", 0.0, ge=0.0, le=10.0, note=" (mm/N, the grips' slip compliance)")

@@ -105,15 +105,17 @@ def _run(scene, knobs: RunKnobs) -> dict:
 def measured_quantities(data: dict) -> dict:
     """E, ν and the force/stress/stretch at the peak grip stretch (the last reading of a monotonic
     test; cyclic and load–unload tests end unloaded) of a results.json dict (None if not measured);
-with the ASTM E1012 percent bending at the gauge centre where the test was misaligned."""
+    with the crosshead modulus and, where the test was misaligned, the ASTM E1012 percent bending at the
+    gauge centre (four gauges, and each pair's signed two-gauge value)."""
     curve = data["curve"]
     stretch = curve.get("stretch") or []
     peak = int(np.argmax(np.abs(np.asarray(stretch, dtype=float) - 1.0))) if stretch else -1
     last = (lambda key: curve[key][peak] if curve.get(key) else None)
-    out = {"E": data["measured"]["E"], "nu": data["measured"]["nu"], "final_force": last("force"),
-           "final_stress": last("stress"), "final_stretch": last("stretch")}
+    out = {"E": data["measured"]["E"], "nu": data["measured"]["nu"], "E_crosshead": data["measured"].get("E_crosshead"),
+           "final_force": last("force"), "final_stress": last("stress"), "final_stretch": last("stretch")}
     bending = (data.get("bending") or {}).get("small_strain")  # a misaligned test's face gauges
-    return out | ({"percent_bending": bending["percent_bending"]} if bending else {})
+    keys = ("percent_bending", "percent_bending_thickness", "percent_bending_width")
+    return out | ({k: bending[k] for k in keys} if bending else {})
 
 
 def effective_size(result) -> dict:

@@ -20,7 +20,10 @@ from vlab.uncertainty.analysis import gum_budget, monte_carlo, sobol_first_order
 from vlab.uncertainty.model import lab_values, resolutions, sample_deltas, scene_source
 from vlab.uncertainty.spec import UncertaintySpec
 
-__all__ = ["BudgetRuns", "BudgetError", "compute_budget"]
+__all__ = ["BudgetRuns", "BudgetError", "compute_budget", "QUANTITIES"]
+
+#: budget.json's quantities, in lab_values' order: the extensometer's E and ν, the crosshead's E
+QUANTITIES = ("E", "nu", "E_crosshead")
 
 #: runner(points, what) -> vlab.study.sweep.SweepOutcome (the CLI's sweep with a progress bar)
 Runner = Callable[[list, str], object]
@@ -36,6 +39,7 @@ class BudgetRuns:
     summaries: list[dict]
     E: list
     nu: list
+    E_crosshead: list
 
 
 def _paired_points(source, spec: UncertaintySpec, base_dir: str) -> tuple[list, dict]:
@@ -83,14 +87,21 @@ def _quantity(name, spec, rows, u_gum, y, X, nominal_value, seed) -> dict | None
 def _bending(nominal: dict, summaries: list[dict]) -> dict | None:
     """The ASTM E1012 percent bending at the gauge centre (a budget with alignment entries): the
     nominal run's, and the samples' mean, standard deviation and largest |B|; None without."""
-    b0 = nominal["measured"].get("percent_bending")
-    b = np.array([s["measured"]["percent_bending"] for s in summaries
-                  if s["status"] == "ok" and s["measured"].get("percent_bending") is not None], float)
-    if b0 is None and not len(b):
+    if nominal["measured"].get("percent_bending") is None and not any(
+            s["status"] == "ok" and s["measured"].get("percent_bending") is not None for s in summaries):
         return None
-    return {"nominal": b0, "mean": float(b.mean()) if len(b) else None,
-            "u": float(b.std(ddof=1)) if len(b) > 1 else None, "max_abs": float(np.abs(b).max()) if len(b) else None,
-            "definition": "ASTM E1012: (e_top - e_bottom) / (e_top + e_bottom) x 100 at the gauge centre"}
+
+    def stats(key: str) -> dict:
+        b = np.array([s["measured"][key] for s in summaries
+                      if s["status"] == "ok" and s["measured"].get(key) is not None], float)
+        return {"nominal": nominal["measured"].get(key), "mean": float(b.mean()) if len(b) else None,
+                "u": float(b.std(ddof=1)) if len(b) > 1 else None,
+                "max_abs": float(np.abs(b).max()) if len(b) else None}
+
+    return stats("percent_bending") | {
+        "thickness_plane": stats("percent_bending_thickness"), "width_plane": stats("percent_bending_width"),
+        "definition": "ASTM E1012, four gauges at the gauge centre: sqrt(b_y^2 + b_z^2) / a x 100; each plane's "
+                      "pair signed: (e1 - e2) / (e1 + e2) x 100"}
 
 
 def compute_budget(source: dict, spec: UncertaintySpec, base_dir: str | Path, runner: Runner,
@@ -108,7 +119,7 @@ def compute_budget(source: dict, spec: UncertaintySpec, base_dir: str | Path, ru
     mc_points = [GridPoint({"sample": i}, scene_source(source, spec, d, res | {"seed": noise_seed + i} if res else None),
                            base_dir) for i, d in enumerate(deltas)]
     mc = runner(mc_points, "samples")
-    values = [lab_values(s["measured"], spec, d) if s["status"] == "ok" else (None, None)
+    values = [lab_values(s["measured"], spec, d) if s["status"] == "ok" else (None, None, None)
               for s, d in zip(mc.summaries, deltas)]
     ok = [i for i, v in enumerate(values) if v[0] is not None]
     X = np.array([[deltas[i][s.name] for s in spec.sources] for i in ok]).reshape(len(ok), len(spec.sources))
@@ -122,9 +133,9 @@ def compute_budget(source: dict, spec: UncertaintySpec, base_dir: str | Path, ru
                     "cache_hits": paired.cache_hits + mc.cache_hits, "computed": paired.computed + mc.computed,
                     "seconds": {"paired": paired.seconds, "samples": mc.seconds}}}
     out["percent_bending"] = _bending(nominal, mc.summaries)
-    for which, name in ((0, "E"), (1, "nu")):
+    for which, name in enumerate(QUANTITIES):
         rows, u_gum = _gum(spec, paired.summaries, index, which)
         ys = [values[i][which] for i in ok]
         Xq = X if all(v is not None for v in ys) else X[[j for j, v in enumerate(ys) if v is not None]]
         out[name] = _quantity(name, spec, rows, u_gum, ys, Xq, nominal_lab[which], spec.seed)
-    return out, BudgetRuns(deltas, mc.summaries, [v[0] for v in values], [v[1] for v in values])
+    return out, BudgetRuns(deltas, mc.summaries, *([v[k] for v in values] for k in range(len(QUANTITIES))))

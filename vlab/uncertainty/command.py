@@ -36,7 +36,7 @@ def _spec(parsed, samples: Optional[int]):
 def _print(budget: dict, index: Path) -> None:
     from vlab.cli_io import say
 
-    for name, label in (("E", "E"), ("nu", "nu")):
+    for name, label in (("E", "E"), ("nu", "nu"), ("E_crosshead", "E (crosshead)")):
         q = budget.get(name)
         if q is None:
             continue
@@ -48,6 +48,11 @@ def _print(budget: dict, index: Path) -> None:
             say(f"  {r['input']:<36} share {share:>8}  Sobol {sob}")
     say(f"{budget['runs']['paired'] + budget['runs']['samples']} runs ({budget['runs']['cache_hits']} cached, "
         f"{budget['runs']['computed']} computed, {budget['failed_samples']} samples failed); report: {index}")
+    pb = budget.get("percent_bending")
+    if pb:
+        g = {k: "—" if pb[k] is None else f"{pb[k]:.3g}" for k in ("nominal", "mean", "u", "max_abs")}
+        say(f"ASTM E1012 percent bending at the gauge centre: nominal {g['nominal']} %, samples {g['mean']} ± "
+            f"{g['u']} % (largest {g['max_abs']} %)")
 
 
 def budget_command(scene: Path, samples: Optional[int], workers: Optional[int], scheduler: Optional[str], out: Optional[Path],

@@ -4,11 +4,14 @@ A sample is a dict d of deviations, one per source (vlab.uncertainty.spec.Source
 FE run sees the true specimen and instruments: width W = W0 + δW, thickness T = T0 + δT (the
 specimen remeshed), the extensometer's true gauge length L_e = (L0 + δL)(1 + e_g), the card's
 constants c (1 + e_c), the modulus window shifted by s, and the readings quantised at the
-classes' resolution (an [effects.noise] table). It measures E_run = (F/A_true)/(ΔL/L_e) and
-ν_run = −ε_t/ε_a over the window. The lab divides by what it believes:
+classes' resolution (an [effects.noise] table), the misaligned grip (test.misalignment) and
+the grips' slip (test.grip_slip, which the crosshead reads and the extensometer does not). It
+measures E_run = (F/A_true)/(ΔL/L_e), ν_run = −ε_t/ε_a and the crosshead modulus E_c,run over the
+window. The lab divides by what it believes:
 
     E = E_run · (W T)/(W_lab T_lab) · (L0/L_e) · (1 + e_F)/(1 + e_L)
     ν = ν_run · (L_e/L0) · (1 + e_T)/(1 + e_L)
+    E_c = E_c,run · (W T)/(W_lab T_lab) · (1 + e_F)
 
 with W_lab, T_lab the nominal dimensions, or the micrometer's readings W + δ_mW, T + δ_mT;
 e_F, e_L, e_T the relative errors of the load cell and the axial and transverse extensometers
@@ -25,6 +28,7 @@ import copy
 
 import numpy as np
 
+from vlab.scene.test import misalignment_pair
 from vlab.uncertainty.spec import UncertaintySpec
 
 __all__ = ["sample_deltas", "scene_source", "lab_values", "resolutions"]
@@ -73,24 +77,33 @@ def scene_source(source: dict, spec: UncertaintySpec, d: dict, noise: dict | Non
         if s.kind == "window" and d.get(s.name, 0.0):
             lo, hi = measure.get("modulus_window", (0.0005, 0.0025))
             measure["modulus_window"] = [_r(lo + d[s.name]), _r(hi + d[s.name])]
-    _misalign(out, spec, d)
+    _grips(out, spec, d)
     if noise:
         effects = out.setdefault("effects", {})
         effects["noise"] = dict(effects.get("noise", {})) | noise
     return out
 
 
-def _misalign(out: dict, spec: UncertaintySpec, d: dict) -> None:
-    """test.misalignment of a sample: the scene's (0, 0 if absent) plus the drawn offset and tilt."""
-    if not any(s.kind in ("offset", "tilt") for s in spec.sources):
-        return
+def _grips(out: dict, spec: UncertaintySpec, d: dict) -> None:
+    """test.misalignment of a sample: the scene's (0 if absent) plus the drawn offsets and tilts;
+    test.grip_slip: the drawn slip compliance (its centre plus the deviation)."""
     test = out["test"]
+    for s in spec.sources:
+        if s.kind == "slip":
+            test["grip_slip"] = _r(s.centre + d.get(s.name, 0.0))
+    if not any(s.kind.startswith(("offset_", "tilt_")) for s in spec.sources):
+        return
     base = dict(test.get("misalignment", {}))
-    test["misalignment"] = {k: _r(base.get(k, 0.0) + _by_kind(spec, d, k)) for k in ("offset", "tilt")}
+    offset, tilt = (misalignment_pair(k, base.get(k, 0.0)) for k in ("offset", "tilt"))
+    test["misalignment"] = {
+        "offset": [_r(offset[0] + _by_kind(spec, d, "offset_y")), _r(offset[1] + _by_kind(spec, d, "offset_z"))],
+        "tilt": [_r(tilt[0] + _by_kind(spec, d, "tilt_y")), _r(tilt[1] + _by_kind(spec, d, "tilt_z"))]}
 
 
-def lab_values(measured: dict, spec: UncertaintySpec, d: dict) -> tuple[float | None, float | None]:
-    """(E, ν) the lab reports from a run's measured E_run, ν_run (module docstring)."""
+def lab_values(measured: dict, spec: UncertaintySpec, d: dict) -> tuple[float | None, float | None, float | None]:
+    """(E, ν, E_crosshead) the lab reports from a run's measured E_run, ν_run and crosshead modulus
+    E_c,run (module docstring; E_c = E_c,run (W T)/(W_lab T_lab) (1 + e_F): the crosshead's own
+    reading is taken as exact, the slip is in the run's)."""
     n = spec.nominal
     W, T, Le = true_geometry(spec, d)
     if spec.micrometer is not None:
@@ -98,10 +111,11 @@ def lab_values(measured: dict, spec: UncertaintySpec, d: dict) -> tuple[float | 
     else:
         W_lab, T_lab = n["width"], n["thickness"]
     eF, eL, eT = (_by_kind(spec, d, k) for k in ("load_cell", "extensometer", "transverse"))
-    E, nu = measured.get("E"), measured.get("nu")
-    E = None if E is None else E * (W * T) / (W_lab * T_lab) * (n["gauge_length"] / Le) * (1 + eF) / (1 + eL)
+    E, nu, Ec = measured.get("E"), measured.get("nu"), measured.get("E_crosshead")
+    area = (W * T) / (W_lab * T_lab) * (1 + eF)
+    E = None if E is None else E * area * (n["gauge_length"] / Le) / (1 + eL)
     nu = None if nu is None else nu * (Le / n["gauge_length"]) * (1 + eT) / (1 + eL)
-    return E, nu
+    return E, nu, None if Ec is None else Ec * area
 
 
 def resolutions(spec: UncertaintySpec, E_nominal: float, window_lo: float) -> dict:

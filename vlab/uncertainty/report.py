@@ -1,5 +1,6 @@
-"""The budget's folder: budget.json, samples.csv, tornado_E.png, tornado_nu.png, histogram.png,
-index.html (through vlab.report.folder: atomic, never over a folder vlab did not make)."""
+"""The budget's folder: budget.json, samples.csv, tornado_E.png, tornado_nu.png,
+tornado_E_crosshead.png, histogram.png, index.html (through vlab.report.folder: atomic, never over a
+folder vlab did not make)."""
 
 from __future__ import annotations
 
@@ -15,10 +16,11 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from vlab.report.folder import report_folder  # noqa: E402
+from vlab.uncertainty.budget import QUANTITIES  # noqa: E402
 
 __all__ = ["write_budget"]
 
-_LABEL = {"E": "E (MPa)", "nu": "ν"}
+_LABEL = {"E": "E (MPa)", "nu": "ν", "E_crosshead": "E, crosshead (MPa)"}
 
 
 def _tornado(q: dict, path: Path) -> None:
@@ -43,11 +45,11 @@ def _tornado(q: dict, path: Path) -> None:
     plt.close(fig)
 
 
-def _histogram(budget: dict, E: list, nu: list, path: Path) -> None:
-    fig, axes = plt.subplots(1, 2, figsize=(10, 3.6))
-    for ax, (name, y) in zip(axes, (("E", E), ("nu", nu))):
+def _histogram(budget: dict, runs, path: Path) -> None:
+    fig, axes = plt.subplots(1, len(QUANTITIES), figsize=(14, 3.6))
+    for ax, name in zip(axes, QUANTITIES):
         q = budget.get(name)
-        y = np.array([v for v in y if v is not None], float)
+        y = np.array([v for v in getattr(runs, name) if v is not None], float)
         if q is None or not len(y):
             ax.set_visible(False)
             continue
@@ -72,11 +74,12 @@ def _samples_csv(path: Path, spec, runs) -> None:
     names = [s.name for s in spec.sources]
     with open(path, "w", newline="", encoding="utf-8") as fh:
         w = csv.writer(fh)
-        w.writerow(["sample", *names, "status", "E_run", "nu_run", "E", "nu", "cache_hit"])
-        for i, (d, s, E, nu) in enumerate(zip(runs.deltas, runs.summaries, runs.E, runs.nu)):
+        w.writerow(["sample", *names, "status", "E_run", "nu_run", "E_crosshead_run", "E", "nu", "E_crosshead",
+                    "percent_bending", "cache_hit"])
+        for i, (d, s, E, nu, Ec) in enumerate(zip(runs.deltas, runs.summaries, runs.E, runs.nu, runs.E_crosshead)):
             m = s.get("measured") or {}
-            w.writerow([i, *[repr(d[n]) for n in names], s["status"], m.get("E"), m.get("nu"), E, nu,
-                        s.get("cache_hit")])
+            w.writerow([i, *[repr(d[n]) for n in names], s["status"], m.get("E"), m.get("nu"), m.get("E_crosshead"),
+                        E, nu, Ec, m.get("percent_bending"), s.get("cache_hit")])
 
 
 def _f(v, digits=4) -> str:
@@ -106,6 +109,21 @@ def _section(q: dict | None, name: str) -> str:
             f"<figure><img src='tornado_{name}.png' alt='tornado chart of {name}'></figure>{_table(q)}")
 
 
+def _bending(pb: dict | None) -> str:
+    """The ASTM E1012 percent bending of a budget with alignment inputs: the nominal run's and the
+    samples' mean, u and largest |B|, four gauges and each plane's signed pair (budget.json)."""
+    if not pb:
+        return ""
+    rows = [("four gauges, √(b_y² + b_z²)/a", pb), ("thickness plane (top − bottom), signed", pb["thickness_plane"]),
+            ("width plane (y₁ − y₀), signed", pb["width_plane"])]
+    body = "".join(f"<tr><td>{label}</td><td>{_f(r['nominal'])}</td><td>{_f(r['mean'])}</td><td>{_f(r['u'])}</td>"
+                   f"<td>{_f(r['max_abs'])}</td></tr>" for label, r in rows)
+    return ("<h2>Alignment: ASTM E1012 percent bending at the gauge centre (%)</h2><table><tr><th>B</th>"
+            "<th>nominal run</th><th>samples' mean</th><th>u</th><th>largest |B|</th></tr>"
+            f"{body}</table><p>Strain gauges on the four faces at the extensometer's centre, read at the last "
+            "level in the modulus window; every sample's misalignment drawn (vlab.measure.bending).</p>")
+
+
 def page(budget: dict) -> str:
     from vlab.report.html import _STYLE
 
@@ -116,9 +134,10 @@ def page(budget: dict) -> str:
             f"<p>{budget['samples']} virtual tests ({budget['failed_samples']} failed), each with every input drawn; "
             f"{budget['runs']['paired']} paired runs for the GUM sensitivities. Resolution of the readings: "
             f"{html.escape(json.dumps(budget['resolution']) or 'none')}.</p><ul>{inputs}</ul>"
-            "<figure><img src='histogram.png' alt='histograms of E and nu'><figcaption>Monte Carlo distribution; "
+            "<figure><img src='histogram.png' alt='histograms of E, nu and the crosshead E'><figcaption>Monte Carlo distribution; "
             "red: mean and mean ± U; black: the GUM's normal distribution around the nominal value."
-            f"</figcaption></figure>{_section(budget.get('E'), 'E')}{_section(budget.get('nu'), 'nu')}"
+            f"</figcaption></figure>{_bending(budget.get('percent_bending'))}"
+            f"{''.join(_section(budget.get(name), name) for name in QUANTITIES)}"
             "<p>Files: budget.json, samples.csv (every sample's deviations, runs and results).</p></body></html>")
 
 
@@ -127,10 +146,10 @@ def write_budget(dest, budget: dict, spec, runs, scene_text: str) -> Path:
     with report_folder(dest, "budget") as tmp:
         (tmp / "budget.json").write_text(json.dumps(budget, indent=2), encoding="utf-8")
         _samples_csv(tmp / "samples.csv", spec, runs)
-        for name in ("E", "nu"):
+        for name in QUANTITIES:
             if budget.get(name):
                 _tornado(budget[name], tmp / f"tornado_{name}.png")
-        _histogram(budget, runs.E, runs.nu, tmp / "histogram.png")
+        _histogram(budget, runs, tmp / "histogram.png")
         (tmp / "scene.toml").write_text(scene_text, encoding="utf-8")
         (tmp / "index.html").write_text(page(budget), encoding="utf-8")
     return Path(dest.path) / "index.html"

@@ -18,7 +18,11 @@
     material = { E = 0.02 }        # relative standard uncertainty of card constants (normal)
     alignment = { offset = 0.05, tilt = 0.1 }  # standard uncertainties (normal) of the moving grip's
                                    # offset (mm) and tilt (degrees), test.grips = "clamped"
-                                   # (vlab.loading.misalignment; results.json → bending)
+                                   # (vlab.loading.misalignment; results.json → bending); a number
+                                   # is the thickness plane's (offset along z, tilt about y), a
+                                   # list of two both planes': offset = [u_ey, u_ez], tilt = [u_θy, u_θz]
+    grip_slip = 2e-4               # mm/N: the grips' slip compliance C is somewhere in [0, grip_slip]
+                                   # (rectangular; test.grip_slip: the crosshead reads travel + C F)
 
 Shapes: block (width = size[1], thickness = size[2], the extensometer over measure.gauge_length or
 L/2) and dogbone (its dimensions), in a uniaxial test.
@@ -31,12 +35,19 @@ from dataclasses import dataclass
 
 from vlab import fields
 from vlab.fields import SceneError, Table
+from vlab.scene.test import misalignment_pair
 from vlab.uncertainty.classes import EXTENSOMETER, LOAD_CELL, standard_tolerances
 
-__all__ = ["Source", "UncertaintySpec", "parse_uncertainty", "KEYS"]
+__all__ = ["Source", "UncertaintySpec", "parse_uncertainty", "KEYS", "FE_KINDS"]
 
 KEYS = ("samples", "seed", "distribution", "width", "thickness", "gauge_length", "micrometer",
-        "load_cell_class", "extensometer_class", "resolution", "window_shift", "material", "alignment")
+        "load_cell_class", "extensometer_class", "resolution", "window_shift", "material", "alignment",
+        "grip_slip")
+
+
+#: the sources that change the FE run (the others act on the lab's analysis only)
+FE_KINDS = ("width", "thickness", "gauge", "gauge_rel", "material", "window", "offset_y", "offset_z", "tilt_y",
+            "tilt_z", "slip")
 
 
 @dataclass(frozen=True)
@@ -46,8 +57,10 @@ class Source:
     ``kind``: where it acts — "width", "thickness", "gauge" (the extensometer's gauge length, mm),
     "gauge_rel" (relative), "material" (relative, of ``key``), "window" (strain), "load_cell",
     "extensometer", "transverse" (relative errors of the readings), "micrometer_width",
-    "micrometer_thickness" (mm, the lab's measurement), "offset" (mm), "tilt" (degrees) of the moving
-grip (test.misalignment). ``fe``: whether it changes the FE run.
+    "micrometer_thickness" (mm, the lab's measurement), "offset_y", "offset_z" (mm), "tilt_y",
+    "tilt_z" (degrees) of the moving grip (test.misalignment), "slip" (mm/N, test.grip_slip).
+    ``fe``: whether it changes the FE run. ``centre``: the value the deviation is drawn about (the
+    slip's midpoint; 0 for the others, whose nominal is the scene's).
     """
 
     name: str
@@ -57,6 +70,7 @@ grip (test.misalignment). ``fe``: whether it changes the FE run.
     unit: str
     source: str
     key: str = ""
+    centre: float = 0.0
 
     @property
     def u(self) -> float:
@@ -65,7 +79,7 @@ grip (test.misalignment). ``fe``: whether it changes the FE run.
 
     @property
     def fe(self) -> bool:
-        return self.kind in ("width", "thickness", "gauge", "gauge_rel", "material", "window", "offset", "tilt")
+        return self.kind in FE_KINDS
 
     def draw(self, rng) -> float:
         if self.distribution == "normal":
@@ -158,11 +172,27 @@ def _window(t: Table, scene) -> list[Source]:
 
 
 ALIGNMENT_LIMITS = {"offset": (" (mm, standard uncertainty)", None), "tilt": (" (degrees, standard uncertainty)", 10.0)}
+#: the sources' kinds and labels, in test.misalignment's order of each pair ([e_y, e_z], [θ_y, θ_z])
+ALIGNMENT_SOURCES = {"offset": (("offset_y", "width y"), ("offset_z", "thickness z")),
+                     "tilt": (("tilt_y", "about y, thickness plane"), ("tilt_z", "about z, width plane"))}
+
+
+def _alignment_pair(at: Table, key: str, note: str, le) -> list[tuple[str, str, float]]:
+    """(kind, label, u) of ``alignment.key``: a list of two in test.misalignment's order, or a
+    number, the thickness plane's (vlab.scene.test.misalignment_pair)."""
+    raw = at.raw.get(key, 0.0)
+    if isinstance(raw, list):
+        what = "[u_ey, u_ez]" if key == "offset" else "[u_theta_y, u_theta_z]"
+        pair = fields.vector(at.field(key), raw, 2, what, ge=0, le=le, note=note)
+    else:
+        pair = misalignment_pair(key, at.number(key, 0.0, ge=0, le=le, note=note))
+    return [(kind, label, u) for (kind, label), u in zip(ALIGNMENT_SOURCES[key], pair)]
 
 
 def _alignment(t: Table, scene) -> list[Source]:
     """``alignment = {offset = u_e, tilt = u_θ}``: normal draws of the moving grip's offset (mm) and
-    tilt (degrees) about test.misalignment (0 if absent); u_θ <= 10° keeps the draws below 90°."""
+    tilt (degrees) about test.misalignment (0 if absent), in the thickness plane (a number) or in
+    both (a list of two); u_θ <= 10° keeps the draws below 90°."""
     if "alignment" not in t.raw:
         return []
     at = Table(t.field("alignment"), t.raw["alignment"], tuple(ALIGNMENT_LIMITS))
@@ -171,11 +201,25 @@ def _alignment(t: Table, scene) -> list[Source]:
                          f"(a roller grip prescribes no lateral motion), got {scene.test.grips!r}")
     out = []
     for key, (note, le) in ALIGNMENT_LIMITS.items():
-        u = at.number(key, 0.0, ge=0, le=le, note=note)
-        if u > 0:
-            unit = "mm" if key == "offset" else "degrees"
-            out.append(Source(f"grip {key}", key, "normal", 2.0 * u, unit, "scene"))
+        for kind, label, u in _alignment_pair(at, key, note, le):
+            if u > 0:
+                unit = "mm" if key == "offset" else "degrees"
+                out.append(Source(f"grip {key} ({label})", kind, "normal", 2.0 * u, unit, "scene"))
     return out
+
+
+def _slip(t: Table, scene) -> list[Source]:
+    """``grip_slip = C_max``: the grips' slip compliance C (mm/N) rectangular on [0, C_max] (a lab
+    bounds the slip it cannot see: C = C_max/2 ± C_max/2, u = C_max/(2√3)); the run's
+    test.grip_slip is C (vlab.measure.recorder.Curve.crosshead_strain). None at 0."""
+    c_max = t.number("grip_slip", 0.0, ge=0, le=10.0, note=" (mm/N, the largest slip compliance of the grips)")
+    if c_max == 0:
+        return []
+    if scene.test.grip_slip:
+        raise SceneError(f"{t.field('grip_slip')} draws the slip compliance on [0, {c_max:g}] mm/N; the scene "
+                         f"also fixes it (test.grip_slip = {scene.test.grip_slip:g}): give one of the two")
+    return [Source("grip slip", "slip", "rectangular", c_max / 2.0, "mm/N", "scene: rectangular on [0, C_max]",
+                   centre=c_max / 2.0)]
 
 
 def parse_uncertainty(raw, scene) -> UncertaintySpec:
@@ -202,7 +246,7 @@ def parse_uncertainty(raw, scene) -> UncertaintySpec:
     resolution = t.get("resolution", True)
     if not isinstance(resolution, bool):
         raise SceneError(f"{t.field('resolution')} must be true or false, got {fields.show(resolution)}")
-    src += _window(t, scene) + _material(t, scene) + _alignment(t, scene)
+    src += _window(t, scene) + _material(t, scene) + _alignment(t, scene) + _slip(t, scene)
     return UncertaintySpec(samples, seed, tuple(src), nominal,
                            None if lc is None else lc | {"class": lc_class},
                            None if ex is None else ex | {"class": ex_class}, resolution, micrometer)

@@ -63,7 +63,7 @@ class Planar(TestKind):
         return np.diag([values[0], 1.0, 1.0 / values[0]])  # diag(λ, 1, 1/λ)
 
     def columns(self, curve) -> dict[str, list[float]]:
-        return super().columns(curve) | {"crosshead_strain": [s - 1.0 for s in curve.stretch[0]]}
+        return super().columns(curve) | {"crosshead_strain": curve.crosshead_strain(0).tolist()}
 
 
 PLANAR = Planar()

@@ -58,7 +58,7 @@ class Uniaxial(TestKind):
         return np.diag([lam, lam**-0.5, lam**-0.5])  # F = diag(λ, λ^(−1/2), λ^(−1/2))
 
     def columns(self, curve) -> dict[str, list[float]]:
-        return super().columns(curve) | {"crosshead_strain": [s - 1.0 for s in curve.stretch[0]]}
+        return super().columns(curve) | {"crosshead_strain": curve.crosshead_strain(0).tolist()}
 
 
 UNIAXIAL = Uniaxial()
