@@ -212,16 +212,9 @@ def _want(opt: str, npts: str, n: int, where: str) -> int:
     return 0
 
 
-def read(text: str, where: str, units) -> ExportCard:
-    from vlab.export.card import card_from_table, material_table
-
-    (n, opt, npts), data, density, tables = _table(text, where)
-    N = _want(opt, npts, n, where)
-    want = {"MOONEY": 3, "YEOH": 2 * N, "OGDEN": 3 * N, "BOYCE": 3, "GENT": 3, "NEO": 2}[opt]
-    if sorted(data) != list(range(1, want + 1)):
-        raise CardFormatError(f"{where}, line {n}: TB,HYPER,{opt} needs constants 1 … {want} on TBDATA, got "
-                              f"{len(data)} at locations {sorted(data)}")
-    v, s = [data[i] for i in range(1, want + 1)], units.stress
+def _hyper_card(opt: str, N: int, v: list[float], n: int, where: str, s: float, density) -> ExportCard:
+    """The hyperelastic part of a TB,HYPER table: its constants v (TBDATA 1 … want, in the deck's
+    stress unit s) as vlab's model, parameters and U(J) (module docstring's mapping)."""
     higher = {"YEOH": v[N + 1:], "OGDEN": v[2 * N + 1:]}.get(opt, [])
     if any(x != 0.0 for x in higher):
         raise CardFormatError(f"{where}, line {n}: d2, d3, … must be 0 (vlab's U(J) has one term)")
@@ -241,13 +234,27 @@ def read(text: str, where: str, units) -> ExportCard:
         model, params, vol = "arruda-boyce", {"mu": v[0] / s, "lambda_m": v[1]}, "simo-taylor"
     else:
         model, params, vol = "gent", {"mu": v[0] / s, "Jm": v[1]}, "simo-taylor"
-    d = v[want - 1] if opt not in ("YEOH", "OGDEN") else v[N if opt == "YEOH" else 2 * N]
+    d = v[len(v) - 1] if opt not in ("YEOH", "OGDEN") else v[N if opt == "YEOH" else 2 * N]
     if not d > 0.0:
         raise CardFormatError(f"{where}, line {n}: d = {d:g}: vlab needs a compressible card (d > 0, K = 2/d)")
-    base = ExportCard(model, params, 2.0 / d / s, vol, None if density is None else density / units.density)
+    return ExportCard(model, params, 2.0 / d / s, vol, density)
+
+
+def read(text: str, where: str, units) -> ExportCard:
+    from vlab.export.card import card_from_table, material_table
+
+    (n, opt, npts), data, density, tables = _table(text, where)
+    N = _want(opt, npts, n, where)
+    want = {"MOONEY": 3, "YEOH": 2 * N, "OGDEN": 3 * N, "BOYCE": 3, "GENT": 3, "NEO": 2}[opt]
+    if sorted(data) != list(range(1, want + 1)):
+        raise CardFormatError(f"{where}, line {n}: TB,HYPER,{opt} needs constants 1 … {want} on TBDATA, got "
+                              f"{len(data)} at locations {sorted(data)}")
+    s = units.stress
+    base = _hyper_card(opt, N, [data[i] for i in range(1, want + 1)], n, where, s,
+                       None if density is None else density / units.density)
     parts = _parts(tables, where, s)
     if "viscoelastic" in parts:  # TB,HYPER holds the instantaneous response: back to vlab's long-term one
-        if model not in _ISOCHORIC:
+        if base.model not in _ISOCHORIC:
             raise CardFormatError(f"{where}, line {n}: TB,PRONY over TB,HYPER,{opt} is not vlab's viscoelastic model")
         base = _scaled(base, 1.0 / (1.0 + sum(parts["viscoelastic"]["beta"])))
     card = card_from_table(material_table(base), where, source=Source("import", where))

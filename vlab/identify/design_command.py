@@ -162,66 +162,82 @@ VALLEY = ("the file's data do not identify the fitted card, so the design is aro
 
 def design_fe(spec, kinds, ranges, points: int, max_size: int | None, noise: float | None, expect: np.ndarray | None,
               specimens, gauges, elongation_sd: float = 0.0) -> dict:
-    """design.json's dict for a fit file with specimen data (FE in the loop): candidate specimen
-    tests — the fit's scene and ``specimens``, each at its own and at ``gauges`` gauge lengths,
-    over the extensometer strain range, with an extensometer elongation scatter ``elongation_sd`` (mm)
-    — and, when ``kinds`` are given, homogeneous tests of the
-    scene's law (relative residuals only: a force scatter in N is no stress scatter), around the
-    fitted (or expected) constants. Without both --expect and --noise the file is fitted first."""
-    from vlab.identify.datasets import Dataset
-    from vlab.identify.design import add_each, combine, plan_rows, range_options
+    """design.json's dict for a fit file with specimen data (FE in the loop): candidate specimen tests
+    (the fit's scene and ``specimens``, each at its own and at ``gauges`` gauge lengths, over the
+    extensometer strain range, extensometer elongation scatter ``elongation_sd`` mm) and, with
+    ``kinds``, homogeneous tests of the scene's law (relative residuals only: a force scatter in N is
+    no stress scatter), around the fitted (or expected) constants; fitted first unless both
+    --expect and --noise are given."""
+    from vlab.identify.design import add_each, combine, range_options
     from vlab.identify.fe_design import data_rows, specimen_candidates, specimen_rows, specimen_runs, strain_range
-    from vlab.identify.fe_loop import closed_form, fit_specimen
+    from vlab.identify.fe_loop import fit_specimen
 
-    fe, names = spec.fe, list(spec.fe["parameters"])
-    relative = spec.residual == "relative"
+    fe, names, relative = spec.fe, list(spec.fe["parameters"]), spec.residual == "relative"
     if kinds and not relative:
         raise SceneError("--candidates with a specimen fit file needs options.residual = \"relative\" (its force "
                          "scatter in N has no stress equivalent for homogeneous tests); give --specimens instead")
-    count = (1 + len(specimens)) * (1 + len(gauges)) + len(kinds)
-    max_size = min(COMBINE, count) if max_size is None else max_size
-    if not 1 <= max_size <= count:
-        raise SceneError(f"--combine {max_size}: must be 1..{count} (the number of candidate tests: scenes × gauge "
-                         "lengths, plus the homogeneous kinds)")
+    max_size = _combine_size(max_size, (1 + len(specimens)) * (1 + len(gauges)) + len(kinds),
+                             "the number of candidate tests: scenes × gauge lengths, plus the homogeneous kinds")
     t0 = time.perf_counter()
     candidates = specimen_candidates(fe, specimens, gauges)  # bad scenes and gauge lengths before any solve
     outcome = fit_specimen(spec) if expect is None or noise is None else None
     p = expect if expect is not None else np.array([outcome.data["parameters"][n] for n in names])
     values = fe["fixed"] | dict(zip(names, map(float, p)))
-    scale = 1.0 if relative else max(float(np.max(np.abs(d.y))) for d in spec.datasets)
-    s = _noise(outcome, noise, scale)
+    s = _noise(outcome, noise, 1.0 if relative else max(float(np.max(np.abs(d.y))) for d in spec.datasets))
     lo, hi = ranges.get("specimen") or strain_range(spec)
     runs = specimen_runs(candidates, values, lo, hi, points)
     tests = [(r.test, specimen_rows(r.sim, r.test, relative, s, elongation_sd)) for r in runs]
     options = [(q, specimen_rows(r.sim, q, relative, s, elongation_sd)) for r in runs for q in range_options(r.test)]
     if kinds:
-        model = closed_form(fe, "fit")
-        x = np.linalg.solve(model.transform, [values[n] for n in model.names])
-        cols = [list(model.names).index(n) for n in names]  # the constants held fixed drop out
-        as_uniaxial = [Dataset("specimen", "", "uniaxial", "fit", 1.0, "nominal", 1.0 + np.array([lo, hi]), None,
-                               np.zeros(2))]
-        plans = _plans(kinds, ranges, as_uniaxial, points)
-        tests += [(q, plan_rows(model, x, q, relative)[:, cols]) for q in plans]
-        options += [(q, plan_rows(model, x, q, relative)[:, cols]) for pl in plans for q in range_options(pl)]
+        more_tests, more_options = _homogeneous_of_scene(fe, kinds, ranges, values, names, (lo, hi), points, relative)
+        tests, options = tests + more_tests, options + more_options
     combos = combine(tests, s, p, names, max_size)
     # runs[0] is fe.scene at its own gauge length: the run the present readings come from
     now, nxt = add_each(data_rows(spec, runs[0], s, elongation_sd), options, s, p, names)
-    warnings = []
-    if outcome is not None and expect is None and not outcome.data["identifiability"]["identifiable"]:
-        warnings.append(VALLEY)
-    return {"name": spec.name, "model": {"name": fe["model"], "fe": True}, "warnings": warnings,
+    valley = outcome is not None and expect is None and not outcome.data["identifiability"]["identifiable"]
+    return _fe_record(spec, names, p, expect, outcome, noise, s, points, now, nxt, combos, [VALLEY] * valley,
+                      {"scene": fe["scene_path"], "parameters": names,
+                       "held": {k: v for k, v in fe["fixed"].items() if k not in names},
+                       "strain_range": [lo, hi], "extensometer_std_mm": elongation_sd,
+                       "runs": [r.describe() for r in runs], "seconds": time.perf_counter() - t0})
+
+
+def _homogeneous_of_scene(fe, kinds, ranges, values: dict, names: list, strains, points: int, relative: bool):
+    """The rows of homogeneous candidate tests of the specimen scene's closed-form law at ``values``
+    (the constants the fit holds fixed drop out), with their range options: (tests, options)."""
+    from vlab.identify.datasets import Dataset
+    from vlab.identify.design import plan_rows, range_options
+    from vlab.identify.fe_loop import closed_form
+
+    model = closed_form(fe, "fit")
+    x = np.linalg.solve(model.transform, [values[n] for n in model.names])
+    cols = [list(model.names).index(n) for n in names]
+    as_uniaxial = [Dataset("specimen", "", "uniaxial", "fit", 1.0, "nominal", 1.0 + np.array(strains), None,
+                           np.zeros(2))]
+    plans = _plans(kinds, ranges, as_uniaxial, points)
+    tests = [(q, plan_rows(model, x, q, relative)[:, cols]) for q in plans]
+    options = [(q, plan_rows(model, x, q, relative)[:, cols]) for pl in plans for q in range_options(pl)]
+    return tests, options
+
+
+def _fe_record(spec, names, p, expect, outcome, noise, s, points, now, nxt, combos, warnings, fe_block) -> dict:
+    """design.json's dict of an FE-in-the-loop design (design_fe's docstring)."""
+    return {"name": spec.name, "model": {"name": spec.fe["model"], "fe": True}, "warnings": warnings,
             "parameters": dict(zip(names, map(float, p))),
             "parameters_from": "--expect" if expect is not None else "fit",
             "fit_converged": None if outcome is None else outcome.converged,
             "noise": {"standard_deviation": s, "residual": spec.residual,
                       "source": "--noise" if noise is not None else "fit", "of": "load-cell force"},
             "points_per_test": points, "present_data": now, "answer": _answer(now, nxt),
-            "next": nxt, "candidates": combos,
-            "fe": {"scene": fe["scene_path"], "parameters": names,
-                   "held": {k: v for k, v in fe["fixed"].items() if k not in names},
-                   "strain_range": [lo, hi], "extensometer_std_mm": elongation_sd,
-                   "runs": [r.describe() for r in runs],
-                   "seconds": time.perf_counter() - t0}}
+            "next": nxt, "candidates": combos, "fe": fe_block}
+
+
+def _combine_size(max_size: int | None, count: int, what: str) -> int:
+    """--combine: at most COMBINE by default (fewer when there are fewer candidates), else 1..count."""
+    size = min(COMBINE, count) if max_size is None else max_size
+    if not 1 <= size <= count:
+        raise SceneError(f"--combine {size}: must be 1..{count} ({what})")
+    return size
 
 
 def _answer(now: dict, nxt: list[dict]) -> str:
@@ -299,14 +315,13 @@ def design_command(path: Path, out: Path | None, candidates: str | None, ranges:
     from vlab.report.folder import ReportFolderError, report_folder
 
     def invalid(label, exc) -> int:
-        console.print(Text.assemble((label, "red"), f" {exc}"), highlight=False, soft_wrap=True)
-        return 2
+        return console.print(Text.assemble((label, "red"), f" {exc}"), highlight=False, soft_wrap=True) or 2
 
     try:
         spec = load_fit(path)
-        spans, points_ok = parse_ranges(ranges), 3 <= points <= 10000
-        if not points_ok:
+        if not 3 <= points <= 10000:
             raise SceneError(f"--points {points}: must be 3..10000")
+        spans = parse_ranges(ranges)
         if spec.fe is not None:
             kinds = () if candidates is None else parse_candidates(candidates)
             d = design_fe(spec, kinds, spans, points, max_size, noise, parse_expect(expect, spec.fe["parameters"]),
@@ -318,10 +333,8 @@ def design_command(path: Path, out: Path | None, candidates: str | None, ranges:
                                  "FE-in-the-loop tests: "
                                  "they need a fit file with a data set of kind = \"specimen\" and an [fe] table")
             kinds = parse_candidates(candidates)
-            max_size = min(COMBINE, len(kinds)) if max_size is None else max_size
-            if not 1 <= max_size <= len(kinds):
-                raise SceneError(f"--combine {max_size}: must be 1..{len(kinds)} (the number of candidate kinds)")
-            d = design(spec, kinds, spans, points, max_size, noise, parse_expect(expect, spec.model.names))
+            d = design(spec, kinds, spans, points, _combine_size(max_size, len(kinds), "the number of candidate kinds"),
+                       noise, parse_expect(expect, spec.model.names))
     except SceneError as exc:
         return invalid("invalid input", exc)
     try:
@@ -331,6 +344,12 @@ def design_command(path: Path, out: Path | None, candidates: str | None, ranges:
             (tmp / "index.html").write_text(page(d), encoding="utf-8")
     except ReportFolderError as exc:
         return invalid("invalid output folder", exc)
+    _summary(d, dest.path / "index.html", console)
+    return 0 if d["fit_converged"] is not False else 1
+
+
+def _summary(d: dict, index: Path, console: Console) -> None:
+    """The console summary: the present data's verdict, warnings, the answer, the best candidates."""
     console.print(Text(f"{d['name']}: {d['model']['name']}, present data {d['present_data']['verdict']}"),
                   highlight=False)
     for w in d["warnings"]:
@@ -338,5 +357,4 @@ def design_command(path: Path, out: Path | None, candidates: str | None, ranges:
     console.print(Text(f"  next: {d['answer']}"), highlight=False, soft_wrap=True)
     for e in d["candidates"][:5]:
         console.print(Text(f"  {e['label']}: {e['verdict']}, D {_cell(e['D'])}, A {_cell(e['A'])}"), highlight=False)
-    console.print(Text(f"report: {dest.path / 'index.html'}"), highlight=False, soft_wrap=True)
-    return 0 if d["fit_converged"] is not False else 1
+    console.print(Text(f"report: {index}"), highlight=False, soft_wrap=True)
