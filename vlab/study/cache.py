@@ -2,11 +2,13 @@
 
 key = sha256 of the canonical JSON (sorted keys) of
     {"scene": Scene.content_hash(), "files": {"specimen.file": sha256 of its bytes}, "vlab": version,
-     "knobs": knobs}
+     "code": code_fingerprint(), "knobs": knobs}
 i.e. everything that can change a number: the scene's content, the bytes of every file it
 references (an imported mesh: a changed mesh is a new key even if the scene text is the same;
-a missing file is keyed "missing"), vlab's version and the knobs beyond the scene (e.g. whether
-the report was timed).
+a missing file is keyed "missing"), vlab's version, the code itself (the version number is
+changed by hand and lags behind the source: a summary written by other code — a field added,
+a measurement changed — must not be served, so the bytes of every module and package-data file
+of vlab are hashed too) and the knobs beyond the scene (e.g. whether the report was timed).
 
 An entry stores the key it was written under and a sha256 checksum of its own content. An entry
 is served only if it is a JSON object whose checksum and key match, whose vlab version is this
@@ -21,6 +23,7 @@ is a warning, never a failed study.
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import logging
@@ -77,10 +80,27 @@ def referenced_files(source: dict, base_dir: str | Path = ".") -> dict[str, Path
     return {"specimen.file": path if path.is_absolute() else Path(base_dir) / path}
 
 
+def fingerprint(root: Path) -> str:
+    """sha256 over the source and package data under ``root``: relative path and bytes of every
+    *.py and *.toml in sorted order (bytecode and other files do not count)."""
+    digest = hashlib.sha256()
+    for path in sorted(p for ext in ("*.py", "*.toml") for p in root.rglob(ext) if "__pycache__" not in p.parts):
+        digest.update(path.relative_to(root).as_posix().encode("utf-8") + b"\0" + path.read_bytes() + b"\0")
+    return digest.hexdigest()
+
+
+@functools.lru_cache(maxsize=1)
+def code_fingerprint() -> str:
+    """fingerprint() of vlab's own package, once per process (~300 files, ~30 ms)."""
+    return fingerprint(Path(__file__).resolve().parents[1])
+
+
 def cache_key(scene_hash: str, knobs: dict | None = None, version: str = __version__,
-              files: dict[str, str] | None = None) -> str:
-    """sha256 of every input that can change a number (module docstring)."""
-    text = json.dumps({"scene": scene_hash, "files": files or {}, "vlab": version, "knobs": knobs or {}},
+              files: dict[str, str] | None = None, code: str | None = None) -> str:
+    """sha256 of every input that can change a number (module docstring); ``code`` defaults to
+    this process's code_fingerprint()."""
+    text = json.dumps({"scene": scene_hash, "files": files or {}, "vlab": version,
+                       "code": code_fingerprint() if code is None else code, "knobs": knobs or {}},
                       sort_keys=True, separators=(",", ":"), default=str)
     return hashlib.sha256(text.encode("utf-8")).hexdigest()
 
