@@ -32,7 +32,8 @@ def round_length(extent: float) -> float:
 
 def triad(fig, centre_in: tuple[float, float], axes: tuple[np.ndarray, np.ndarray, np.ndarray]) -> dict:
     """Draw the triad around ``centre_in`` (figure inches from the lower left); ``axes`` (d, r, u) of
-    the camera. Returns each axis' drawn 2-D direction (screen right, up) and whether it is end-on."""
+    the camera. Returns each axis' drawn 2-D direction (screen right, up), whether it is end-on,
+    and the triad's centre and pixel box (x0, y0, x1, y1; origin top left)."""
     d, r, u = axes
     w, h = fig.get_size_inches()
     span = 2.6 * TRIAD_IN
@@ -56,6 +57,9 @@ def triad(fig, centre_in: tuple[float, float], axes: tuple[np.ndarray, np.ndarra
         ax.text(*label_at, name, color=colour, fontsize=10, ha="center", va="center", fontweight="bold")
         drawn[name] = {"screen": [float(v[0]), float(v[1])], "end_on": end_on,
                        "towards_viewer": bool(e @ d > 0)}
+    dpi, (cx, cy) = fig.dpi, centre_in
+    drawn["centre"] = [cx * dpi, (h - cy) * dpi]
+    drawn["box"] = [(cx - span / 2) * dpi, (h - cy - span / 2) * dpi, (cx + span / 2) * dpi, (h - cy + span / 2) * dpi]
     return drawn
 
 
@@ -76,10 +80,13 @@ def scale_bar(fig, right_in: float, base_in: float, mm_per_inch: float, extent_m
             solid_capstyle="butt")
     for x in (left_in, left_in + size_in):  # end ticks
         ax.plot([x, x], [base_in - 0.05, base_in + 0.05], color="black", lw=1.0)
-    ax.text(left_in + size_in / 2, base_in + 0.09, f"{length:g} mm", ha="center", va="bottom", fontsize=10)
+    label = ax.text(left_in + size_in / 2, base_in + 0.09, f"{length:g} mm", ha="center", va="bottom", fontsize=10)
     half = BAR_THICKNESS_PT / 72 / 2
     box = [left_in * dpi, (h - base_in - half) * dpi, (left_in + size_in) * dpi, (h - base_in + half) * dpi]
-    return {"mm": length, "inches": size_in, "pixels": size_in * dpi, "box": [float(b) for b in box]}
+    text = label.get_window_extent(fig.canvas.get_renderer())
+    return {"mm": length, "label": label.get_text(), "inches": size_in, "pixels": size_in * dpi,
+            "box": [float(b) for b in box],
+            "label_box": [float(text.x0), float(h * dpi - text.y1), float(text.x1), float(h * dpi - text.y0)]}
 
 
 SIDE_IN = 0.3  # inches between a guide and the figure's edge
