@@ -90,7 +90,7 @@ def render_states(snapshot: Snapshot) -> list[State]:
     |γ| in shear) and, if the test came back from it, the end; one state for a monotonic test;
     the last converged level of a test that stopped."""
     s, last, what = snapshot.stretch, snapshot.n_frames - 1, snapshot.control
-    rest = 1.0 if what == "grip stretch" else 0.0
+    rest = snapshot.rest
     if not snapshot.completed:
         return [State(last, f"stopped at {what} {s[last]:.4g} (last converged level)")]
     peak = int(np.argmax(np.abs(s - rest)))
