@@ -1,6 +1,8 @@
 """Lowest eigenpair of K_ff, buckling of a clamped strip against Euler, post-buckling with an
 imperfection seeded in the buckling mode."""
 
+import json
+
 import numpy as np
 import pytest
 import scipy.sparse as sp
@@ -140,6 +142,13 @@ def test_the_run_report_renders_the_buckling_mode(tmp_path):
     assert data["critical"]["kind"] == "buckling" and "buckling" in data["failure"]["reason"]
     png = tmp_path / "r" / "critical_mode_neo-hookean.png"
     assert png.stat().st_size > 10_000 and png.name in (tmp_path / "r" / "index.html").read_text()
+    from test_render_guides import dark_run, pixels
+
+    guides = json.loads((tmp_path / "r" / "comparison.json").read_text())["renders"]["critical_mode_neo-hookean"]["guides"]
+    bar = guides["scale_bar"]  # the strip is 10 mm long; 1 mm bar: within a fifth of its width on screen
+    x0, y0, x1, y1 = bar["box"]
+    assert bar["mm"] == 1.0 and dark_run(pixels(png), (y0 + y1) / 2, x0, x1) == pytest.approx(bar["pixels"], abs=2)
+    assert not any(guides["triad"][a]["end_on"] for a in "xyz")
 
 
 def test_an_imperfection_without_a_buckling_mode_runs_the_perfect_specimen_and_says_so():

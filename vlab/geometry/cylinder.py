@@ -21,6 +21,10 @@ the traction over the facetted section, so dividing by π a² would bias every s
 Named places: the grips are the end faces x = 0 (side −1) and x = L (side +1); the region
 "lateral" selects the curved surface r = a; the extensometer marks sit on the surface at
 (L/2 ∓ g/2, 0, a), the width marks across the diameter along y, the thickness marks along z.
+
+The renders see it from the side as a lab photographs a torsion or compression specimen: the axis
+horizontal, the view direction (0.3, −1, 0.35) (a little from the end x = L and above, so the
+end face's section and the extensometer marks on top show).
 """
 
 from __future__ import annotations
@@ -35,7 +39,7 @@ from vlab.fields import SceneError
 from vlab.geometry.counts import MeshCount, div
 from vlab.geometry.lattice import Lattice
 from vlab.geometry.shape import Shape
-from vlab.geometry.specimen import GaugeMarks, Grip, Specimen
+from vlab.geometry.specimen import GaugeMarks, Grip, Specimen, View
 
 __all__ = ["CylinderSpecimen", "cylinder_divisions", "cylinder_mesh", "cylinder_specimen", "SHAPE"]
 
@@ -126,6 +130,7 @@ def cylinder_specimen(spec: CylinderSpecimen, element_size: float, cell: str,
         length_scale=float(math.hypot(2 * a, L)),
         regions={"lateral": lambda X: np.abs(np.hypot(X[:, 1], X[:, 2]) - a) <= 1e-6 * a,
                  "core": lambda c: np.abs(c[:, 0] - L / 2) <= L / 4},
+        view=View(direction=(0.3, -1.0, 0.35), up=(0.0, 0.0, 1.0)),
     )
 
 

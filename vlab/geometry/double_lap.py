@@ -14,6 +14,9 @@ of the same size. Gauge marks across layer A on its free face z = D; the region 
 average cancels between the layers, sheared in opposite senses; the normal stresses, even in γ,
 and the field probe, which reads each element in its own sense, do not).
 
+The renders show it face-on with its three plates (vlab.geometry.shear.face_on), the outer ones
+drawn as thick as the central one.
+
 Keys: ``length``, ``gap``, ``depth``, ``plate_thickness`` (mm, > 0), length ≥ 2 × gap.
 """
 
@@ -26,7 +29,7 @@ import numpy as np
 from vlab import fields
 from vlab.geometry.block import block_mesh
 from vlab.geometry.shape import Shape
-from vlab.geometry.shear import count_layers, parse_shear
+from vlab.geometry.shear import count_layers, face_on, parse_shear
 from vlab.geometry.specimen import GaugeMarks, Grip, Specimen
 
 
@@ -70,6 +73,7 @@ def double_lap_specimen(spec: DoubleLapSpecimen, element_size: float, cell: str)
         area0={0: 2 * H * D, 1: 2 * L * D},
         length_scale=float(np.linalg.norm([L, top, D])),
         regions={"core": lambda c: (np.abs(c[:, 0] - L / 2) <= L / 4) & (np.abs(c[:, 2] - D / 2) <= D / 4)},
+        view=face_on(spec, [(-p, 0.0, "held"), (H, H + p, "moved"), (top, top + p, "held")]),
     )
 
 

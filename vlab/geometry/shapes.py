@@ -9,7 +9,9 @@ about the shape, next to its geometry (the module that meshes it):
   ``max_dimension`` (mm: bounds mesh.size); a GeometryError of impossible dimensions becomes a
   SceneError naming ``specimen.<key>`` and its range;
 - ``build(spec, mesh, gauge_length) -> Specimen``: the meshed specimen with its named grips,
-  gauge marks and regions (``mesh`` the scene's MeshSpec);
+  gauge marks and regions (``mesh`` the scene's MeshSpec), and optionally its ``view``
+  (vlab.geometry.specimen.View: the direction a lab photographs it from, screen up, the rigid
+  plates the renders draw; None: the renders' default direction);
 - ``tests``: {test kind: grips it can run with}, the first grips the default (vlab.loading.kinds);
 - ``symmetric``: its mesh is built mirror-symmetric, so [mesh] symmetry may reduce it;
   ``gauge_size``: it takes a finer [mesh] gauge_size over its gauge section;

@@ -9,6 +9,12 @@ free face z = D at x = L/2 over the middle half of the gap read the local shear 
 region "core" (|x − L/2| ≤ L/4, |z − D/2| ≤ D/4) is where the centre stress and the distance from
 simple shear are read (measure/shear.py).
 
+The renders look at the face z = D face-on (the view direction is the normal of the shear plane
+x–y, so the layer's parallelogram shows undistorted) and draw the rigid plates, ``gap``/2 thick
+(the plates' thickness is not modelled: they are rigid), each reaching a quarter of the length
+beyond the layer on the side where its machine grip holds it (the held plate to the left, the moved
+one to the right).
+
 Keys: ``length``, ``gap``, ``depth`` (mm, > 0), length ≥ 2 × gap (a thin layer: a taller block
 bends more than it shears), else a SceneError naming the key and its range.
 """
@@ -24,7 +30,7 @@ from vlab.fields import SceneError
 from vlab.geometry.block import block_mesh
 from vlab.geometry.counts import MeshCount, div, lattice_count
 from vlab.geometry.shape import Shape
-from vlab.geometry.specimen import GaugeMarks, Grip, Specimen
+from vlab.geometry.specimen import GaugeMarks, Grip, Plate, Specimen, View
 
 LENGTH_OVER_GAP_MIN = 2.0
 
@@ -52,6 +58,16 @@ def parse_shear(t: fields.Table) -> ShearSpecimen:
     return ShearSpecimen(shape="shear", length=length, gap=gap, depth=depth)
 
 
+def face_on(spec, layers: list[tuple[float, float, str]]) -> View:
+    """The view of a shear specimen from +z (screen up +y), with plates: ``layers`` lists each plate as
+    (y0, y1, side), side "held" (reaching L/4 beyond x = 0, where its grip holds it) or "moved"
+    (beyond x = L)."""
+    L, D = spec.length, spec.depth
+    reach = {"held": (-L / 4, L), "moved": (0.0, 1.25 * L)}
+    plates = tuple(Plate((reach[side][0], y0, 0.0), (reach[side][1], y1, D)) for y0, y1, side in layers)
+    return View(direction=(0.0, 0.0, 1.0), up=(0.0, 1.0, 0.0), plates=plates)
+
+
 def shear_specimen(spec: ShearSpecimen, element_size: float, cell: str) -> Specimen:
     L, H, D = spec.length, spec.gap, spec.depth
     tol = 1e-9 * max(L, H, D)
@@ -68,6 +84,7 @@ def shear_specimen(spec: ShearSpecimen, element_size: float, cell: str) -> Speci
         area0={0: H * D, 1: L * D},
         length_scale=float(np.linalg.norm([L, H, D])),
         regions={"core": lambda c: (np.abs(c[:, 0] - L / 2) <= L / 4) & (np.abs(c[:, 2] - D / 2) <= D / 4)},
+        view=face_on(spec, [(-H / 2, 0.0, "held"), (H, 1.5 * H, "moved")]),
     )
 
 

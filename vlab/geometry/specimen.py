@@ -39,6 +39,28 @@ class GaugeMarks:
 
 
 @dataclass(frozen=True)
+class Plate:
+    """A rigid part bonded to the specimen that the renders draw (not meshed): the box ``lo``..``hi``
+    (reference corners, mm), moved rigidly by the mean displacement of the mesh vertices on its
+    surface (within 1e−9 of the specimen's length scale)."""
+
+    lo: tuple[float, float, float]
+    hi: tuple[float, float, float]
+
+
+@dataclass(frozen=True)
+class View:
+    """How a lab photographs the specimen for its test: ``direction`` from the specimen to the camera
+    and the screen's ``up`` (unit vectors need not be given normalised), and the rigid ``plates`` in
+    the picture. A specimen without one is seen from the renders' default direction
+    (vlab.render.camera.VIEW_DIRECTION)."""
+
+    direction: tuple[float, float, float]
+    up: tuple[float, float, float]
+    plates: tuple[Plate, ...] = ()
+
+
+@dataclass(frozen=True)
 class Specimen:
     """A meshed specimen.
 
@@ -54,6 +76,7 @@ class Specimen:
     specimen centre in place); otherwise the side −1 grip holds and the side +1 grip moves by Δ.
     ``symmetry``: the planes (axis, value) of a reduced model; the mesh is the part X[axis] ≥ value
     of the full specimen, every other field (marks, areas, grip separation) is the full specimen's.
+    ``view``: how the renders look at it (a :class:`View`), None for the default direction.
     """
 
     shape: str
@@ -69,6 +92,7 @@ class Specimen:
     sheet_thickness: float | None = None  # mm, for a 2D sheet (its mesh is in the x-y plane)
     centred: bool = False
     symmetry: tuple[tuple[int, float], ...] = ()
+    view: View | None = None  # the renders' camera and rigid plates (None: the default view)
 
     def grips_on(self, axis: int) -> tuple[Grip, ...]:
         """The (fixed, moving) grips of an axis; only the moving one when a symmetry plane normal to

@@ -17,6 +17,10 @@ Named places: the region "inner" selects the nodes on r = A (the cavity), the pl
 y = 0, z = 0 are the symmetry planes (Specimen.symmetry: the readings are the full shell's); the
 gauge marks are the outer-surface points (B, 0, 0) and (0, B, 0) (their chord reads the outer hoop
 stretch) and the wall (A, 0, 0)–(B, 0, 0) (the thickness).
+
+The renders look at the cut plane y = 0 nearly face-on (view direction (0.3, −1, 0.3), z up): the
+balloon's profile as a lab photographs it from the side, the wall's section on the cut, and the
+undeformed octant, which lies inside the inflated one, not hidden behind it.
 """
 
 from __future__ import annotations
@@ -31,7 +35,7 @@ from vlab.fields import SceneError
 from vlab.geometry.counts import MeshCount, div
 from vlab.geometry.lattice import Lattice
 from vlab.geometry.shape import Shape
-from vlab.geometry.specimen import GaugeMarks, Specimen
+from vlab.geometry.specimen import GaugeMarks, Specimen, View
 
 __all__ = ["SphereShellSpecimen", "shell_divisions", "shell_mesh", "cavity_volume", "SHAPE"]
 
@@ -138,6 +142,7 @@ def shell_specimen(spec: SphereShellSpecimen, element_size: float, cell: str) ->
         area0={0: cavity_volume(mesh, A)},  # the octant's cavity volume, mm³ (the pressure reader's V₀)
         length_scale=B,
         regions={"inner": lambda X: np.abs(np.linalg.norm(X, axis=1) - A) <= 1e-9 * A},
+        view=View(direction=(0.3, -1.0, 0.3), up=(0.0, 0.0, 1.0)),
     )
 
 

@@ -29,8 +29,10 @@ class Snapshot:
     For the VTU files: vtk = (points (n_nodes, 3) mm, meshio cell type, connectivity);
     nodal_displacement (n_frames, n_nodes, 3) mm; tensors: name -> (n_frames, n_cells, 3, 3)
     ("cauchy" MPa, "green_lagrange" 1); time: (n_frames,) s, or None (quasi-static);
-    grip_stretch: (n_frames, n_axes); control: what ``stretch`` holds;
-    completed: whether the test reached its end."""
+    grip_stretch: (n_frames, n_axes); control: what ``stretch`` holds (the kind's control_name);
+    completed: whether the test reached its end; rest: the control at rest; view: (direction, up)
+    of the specimen's photograph (vlab.geometry.specimen.View) or None (the default view);
+    plates: per rigid plate (lo (3,), hi (3,), displacement (n_frames, 3)) mm."""
 
     model: str
     mesh: skfem.Mesh
@@ -46,6 +48,9 @@ class Snapshot:
     grip_stretch: np.ndarray | None = None
     control: str = "grip stretch"  # what ``stretch`` holds: the test kind's control ("shear": the amount γ)
     completed: bool = True  # the test reached its end (False: stopped; the last frame is the last converged)
+    rest: float = 1.0  # ``stretch`` at rest: 1 for a stretch, 0 for a shear γ or a twist
+    view: tuple[np.ndarray, np.ndarray] | None = None
+    plates: tuple[tuple[np.ndarray, np.ndarray, np.ndarray], ...] = ()
 
     @property
     def n_frames(self) -> int:
@@ -101,11 +106,30 @@ def take_snapshot(result) -> Snapshot:
     targets = result.scene.test.targets
     grip = np.array([kind.at(targets, x) for x in t])  # every loaded axis' control per frame
     stretch = grip[:, 0]
-    control = "grip stretch" if kind.load_key == "stretch" else kind.load_key  # "shear": the amount γ
     times = [lv.time for lv in result.history.levels]
     time = None if any(x is None for x in times) else np.array([0.0] + times)
     tensors = {name: np.stack([np.moveaxis(getattr(cf, name), -1, 0) for cf in per_state])
                for name in ("cauchy", "green_lagrange")}
     nodal = np.stack([_in_3d(ev.u.reshape(-1, d)) for ev in states])
+    view = result.specimen.view
     return Snapshot(result.scene.material.model, mesh, t, stretch, u, fields, marks, vtk_cells(space),
-                    nodal, tensors, time, grip, control, result.converged)
+                    nodal, tensors, time, grip, kind.control_name, result.converged, kind.rest,
+                    None if view is None else (np.asarray(view.direction, float), np.asarray(view.up, float)),
+                    _plates(result.specimen, u))
+
+
+def _plates(specimen, u: np.ndarray) -> tuple:
+    """(lo, hi, displacement per frame) of each rigid plate of the specimen's view: the plate moves
+    by the mean displacement of the vertices on its box's surface (it is rigid and bonded there)."""
+    if specimen.view is None:
+        return ()
+    X = _in_3d(specimen.mesh.p.T)
+    tol = 1e-9 * specimen.length_scale
+    found = []
+    for plate in specimen.view.plates:
+        lo, hi = np.asarray(plate.lo, float), np.asarray(plate.hi, float)
+        on = np.all((X >= lo - tol) & (X <= hi + tol), axis=1)
+        if not on.any():
+            raise ValueError(f"plate {plate} touches no vertex of the {specimen.shape} mesh")
+        found.append((lo, hi, u[:, on].mean(axis=1)))
+    return tuple(found)

@@ -5,7 +5,8 @@ plots), or, for a uniform field, one swatch with the value stated.
 Panels are cropped to the union of their non-background pixels, so one camera (one scale) still
 holds across panels. Long specimens (cropped width > 1.6 × height) are stacked in one column,
 others side by side. Returns each panel's pixel box in the PNG (x0, y0, x1, y1; origin top left)
-so tests and readers can find the specimen.
+so tests and readers can find the specimen. The foot row holds the colour bar between the axis
+triad (left) and the scale bar (right) of vlab.render.guides, outside every panel.
 """
 
 from __future__ import annotations
@@ -13,6 +14,8 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+
+from vlab.render.guides import guides, side_width
 
 FIG_WIDTH_IN, DPI = 12.4, 100  # 1240 px: the report page's width
 BACKGROUND_LEVEL = 250  # a pixel whose three channels are all above this is background (white)
@@ -35,9 +38,10 @@ def _layout(n: int, aspect: float) -> tuple[int, int]:
     return (n, 1) if aspect > 1.6 and n > 1 else (1, n)
 
 
-def compose(images: list[np.ndarray], titles: list[str], path: Path, bar: dict) -> list[list[int]]:
+def compose(images: list[np.ndarray], titles: list[str], path: Path, bar: dict, camera) -> dict:
     """Write the PNG; ``bar``: label, clim, cmap, and ``uniform`` (None or the one value) with its
-    ``uniform_text``. Returns the panel boxes in pixels."""
+    ``uniform_text``; ``camera`` the one all ``images`` were rendered with. Returns the panel boxes
+    in pixels (``panels``) and the guides drawn (``guides``: triad and scale bar)."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
@@ -65,18 +69,20 @@ def compose(images: list[np.ndarray], titles: list[str], path: Path, bar: dict) 
             ax.set_title(title, fontsize=11, loc="left")
             x0, y0 = int(round(x * DPI)), int(round((height - y - panel_h) * DPI))
             boxes.append([x0, y0, x0 + int(panel_w * DPI), y0 + int(panel_h * DPI)])
-        _colour_bar(fig, bar, height, bar_h)
+        _colour_bar(fig, bar, height, bar_h, side=side_width(panel_w))
+        drawn = guides(fig, camera, panel_w * DPI / (c1 - c0), 0.55)
         fig.savefig(path, dpi=DPI, facecolor="white")
     finally:
         fig.clear()
-    return boxes
+    return {"panels": boxes, "guides": drawn}
 
 
-def _colour_bar(fig, bar: dict, height: float, bar_h: float, fig_width: float = FIG_WIDTH_IN):
-    """The horizontal colour bar (or uniform swatch) centred at the figure's foot; returns its axes."""
+def _colour_bar(fig, bar: dict, height: float, bar_h: float, fig_width: float = FIG_WIDTH_IN, side: float = 0.5):
+    """The horizontal colour bar (or uniform swatch) centred at the figure's foot, ``side`` inches
+    left free on either side (for the guides); returns its axes."""
     import matplotlib as mpl
 
-    width = min(7.0, fig_width - 1.0)
+    width = min(7.0, fig_width - 2 * side)
     rect = [(fig_width - width) / 2 / fig_width, 0.5 / height, width / fig_width, 0.22 / height]
     ax = fig.add_axes(rect)
     cmap = mpl.colormaps[bar["cmap"]]
@@ -98,10 +104,10 @@ def _colour_bar(fig, bar: dict, height: float, bar_h: float, fig_width: float = 
 FRAME_WIDTH_IN = 8.0  # an animation frame: 800 px, shown 1:1 on the report page (which is 1240 px wide)
 
 
-def compose_frame(crop: np.ndarray, title: str, bar: dict) -> tuple[np.ndarray, list[int]]:
-    """One animation frame: the cropped render under its title and the colour bar of ``bar`` (as
-    compose()'s, labels in points) below it. Returns the RGB pixels and the colour bar's pixel box
-    (x0, y0, x1, y1; origin top left)."""
+def compose_frame(crop: np.ndarray, title: str, bar: dict, camera) -> tuple[np.ndarray, list[int], dict]:
+    """One animation frame: the cropped render (through ``camera``) under its title and the colour
+    bar of ``bar`` (as compose()'s, labels in points) below it, between the guides. Returns the RGB
+    pixels, the colour bar's pixel box (x0, y0, x1, y1; origin top left) and the guides drawn."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
@@ -117,11 +123,13 @@ def compose_frame(crop: np.ndarray, title: str, bar: dict) -> tuple[np.ndarray, 
         ax.imshow(crop, interpolation="antialiased")
         ax.set_axis_off()
         ax.set_title(title, fontsize=12, loc="left")
-        bar_ax = _colour_bar(fig, bar, height, bar_h, FRAME_WIDTH_IN)
+        shown_w = min(panel_w, panel_h * aspect)  # imshow keeps the crop's aspect inside the axes
+        bar_ax = _colour_bar(fig, bar, height, bar_h, FRAME_WIDTH_IN, side=side_width(shown_w))
+        drawn = guides(fig, camera, shown_w * DPI / crop.shape[1], 0.55)
         canvas.draw()
         pixels = np.asarray(canvas.buffer_rgba())[..., :3].copy()
         box = bar_ax.get_window_extent()
         rows = pixels.shape[0]
-        return pixels, [int(np.ceil(box.x0)), int(np.ceil(rows - box.y1)), int(box.x1), int(rows - box.y0)]
+        return pixels, [int(np.ceil(box.x0)), int(np.ceil(rows - box.y1)), int(box.x1), int(rows - box.y0)], drawn
     finally:
         fig.clear()

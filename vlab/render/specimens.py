@@ -3,8 +3,11 @@
 Every panel of a picture uses the same camera (framing the union of all deformed shapes) and the
 same colour range (the union of the field's range over all panels), so sizes and colours compare
 directly. Each panel shows the deformed mesh coloured by the chosen cell field, the undeformed
-outline in grey and the gauge marks (extensometer, transverse, thickness) as coloured points on
-the deformed body. One scalar bar, titled with the field and its unit, serves all panels.
+outline in grey, the gauge marks (extensometer, transverse, thickness) as coloured points on
+the deformed body and the specimen's rigid plates (a shear test's) in grey, moved with the
+vertices bonded to them. The camera looks along the specimen's own view where it has one (the
+shear layers face-on). One scalar bar, titled with the field and its unit, serves all panels;
+the axis triad and the scale bar sit beside it (vlab.render.guides).
 """
 
 from __future__ import annotations
@@ -19,6 +22,7 @@ from vlab.post.snapshot import Snapshot
 from vlab.render.camera import apply_camera, fit_camera
 from vlab.render.offscreen import setup
 
+PLATE_COLOUR = "#a6a6a6"
 MARK_COLOURS = {"extensometer x": "red", "extensometer y": "magenta", "transverse": "orange",
                 "thickness": "deepskyblue"}
 
@@ -86,7 +90,7 @@ def render_states(snapshot: Snapshot) -> list[State]:
     |γ| in shear) and, if the test came back from it, the end; one state for a monotonic test;
     the last converged level of a test that stopped."""
     s, last, what = snapshot.stretch, snapshot.n_frames - 1, snapshot.control
-    rest = 1.0 if what == "grip stretch" else 0.0
+    rest = snapshot.rest
     if not snapshot.completed:
         return [State(last, f"stopped at {what} {s[last]:.4g} (last converged level)")]
     peak = int(np.argmax(np.abs(s - rest)))
@@ -141,6 +145,12 @@ class _Scene:
         self.actor = plotter.add_mesh(self.deformed, scalars=field, clim=clim, cmap=cmap,
                                       show_edges=True, edge_color="#404040", line_width=0.5,
                                       show_scalar_bar=False, ambient=0.35, diffuse=0.7)
+        self.plates = []
+        for lo, hi, _ in snapshot.plates:
+            box = pv.Box(bounds=(lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]))
+            plotter.add_mesh(box, color=PLATE_COLOUR, show_edges=True, edge_color="#595959", line_width=0.8,
+                             ambient=0.35, diffuse=0.7)
+            self.plates.append((box, box.points.copy()))
         self.marks = {}
         for name, (_, current) in snapshot.marks.items():
             cloud = pv.PolyData(current[0].copy())
@@ -154,6 +164,20 @@ class _Scene:
         self.deformed.cell_data[self.field] = s.fields[self.field][frame]
         for name, cloud in self.marks.items():
             cloud.points = s.marks[name][1][frame]
+        for (box, rest), (_, _, moved) in zip(self.plates, s.plates):
+            box.points = rest + moved[frame]
+
+
+def framed_points(snapshot: Snapshot, frames) -> list[np.ndarray]:
+    """What the camera must hold of a snapshot at ``frames``: the deformed vertices and the
+    corners of its plates, each frame, and the reference vertices."""
+    found = [snapshot.points]
+    for f in frames:
+        found.append(snapshot.points + snapshot.displacement[f])
+        for lo, hi, moved in snapshot.plates:
+            found.append(np.array([[a, b, c] for a in (lo[0], hi[0]) for b in (lo[1], hi[1])
+                                   for c in (lo[2], hi[2])]) + moved[f])
+    return found
 
 
 def _bar(snapshots: list[Snapshot], field: str, clim, cmap: str, frames) -> dict:
@@ -179,15 +203,15 @@ def render_side_by_side(snapshots: list[Snapshot], path: Path, options: RenderOp
               _state(s, options.state) for s in snapshots]
     frames = [st.frame for st in states]
     clim = common_range(snapshots, field, frames)
-    deformed = [s.points + s.displacement[f] for s, f in zip(snapshots, frames)]
-    camera = fit_camera(np.vstack(deformed + [snapshots[0].points]), width=options.width)
+    held = [p for s, f in zip(snapshots, frames) for p in framed_points(s, [f])]
+    camera = fit_camera(np.vstack(held), width=options.width, view=snapshots[0].view)
     images = [_panel_image(s, f, field, clim, options.cmap, camera) for s, f in zip(snapshots, frames)]
     bar = _bar(snapshots, field, clim, options.cmap, frames)
     titles = [f"{s.model}\n{st.title}" for s, st in zip(snapshots, states)]
-    boxes = compose(images, titles, Path(path), bar)
+    drawn = compose(images, titles, Path(path), bar, camera)
     return {"file": Path(path).name, "field": field, "clim": list(clim), "unit": FIELDS[field][1],
             "models": [s.model for s in snapshots], "frames": frames, "states": [st.title for st in states],
-            "uniform": bar["uniform"], "camera": camera.as_dict(), "panels": boxes}
+            "uniform": bar["uniform"], "camera": camera.as_dict()} | drawn
 
 
 def _panel_image(snapshot: Snapshot, frame: int, field: str, clim, cmap: str, camera) -> np.ndarray:
@@ -219,7 +243,7 @@ def render_animation(snapshot: Snapshot, path: Path, options: RenderOptions = Re
 
     field, frames = options.field, list(range(snapshot.n_frames))
     clim = common_range([snapshot], field, slice(None))
-    camera = fit_camera(np.vstack([snapshot.points + u for u in snapshot.displacement]), width=options.width)
+    camera = fit_camera(np.vstack(framed_points(snapshot, frames)), width=options.width, view=snapshot.view)
     setup()
     import pyvista as pv
 
@@ -237,10 +261,10 @@ def render_animation(snapshot: Snapshot, path: Path, options: RenderOptions = Re
         plotter.close()
     r0, r1, c0, c1 = crop_box(renders)  # one crop for all frames: the specimen does not jump
     bar = _bar([snapshot] * len(frames), field, clim, options.cmap, frames)
-    composed = [compose_frame(im[r0:r1, c0:c1], f"{snapshot.model}: {snapshot.control} {snapshot.stretch[f]:.4f}", bar)
-                for im, f in zip(renders, frames)]
+    composed = [compose_frame(im[r0:r1, c0:c1], f"{snapshot.model}: {snapshot.control} {snapshot.stretch[f]:.4f}",
+                              bar, camera) for im, f in zip(renders, frames)]
     palette = Image.fromarray(composed[-1][0]).quantize(256, dither=Image.Dither.NONE)
-    images = [Image.fromarray(px).quantize(palette=palette, dither=Image.Dither.NONE) for px, _ in composed]
+    images = [Image.fromarray(px).quantize(palette=palette, dither=Image.Dither.NONE) for px, _, _ in composed]
     images[0].save(path, save_all=True, append_images=images[1:], duration=frame_ms, loop=0)
     return {"file": Path(path).name, "field": field, "clim": list(clim), "model": snapshot.model,
-            "frames": len(images), "bar_box": composed[0][1], "uniform": bar["uniform"]}
+            "frames": len(images), "bar_box": composed[0][1], "uniform": bar["uniform"], "guides": composed[0][2]}

@@ -165,13 +165,14 @@ def _renders(outcomes, tmp: Path, options: ReportOptions, figures: list) -> tupl
     ropts = RenderOptions(field=options.field)
     try:
         meta = render_side_by_side([o.snapshot for o in outcomes], tmp / f"render_{options.field}.png", ropts)
+        plates = any(o.snapshot.plates for o in outcomes)
         figures.append(Figure(meta["file"], _render_caption(meta, "at its peak (largest grip stretch) or, for a "
-                                                            "monotonic test, at its end")))
+                                                            "monotonic test, at its end", plates)))
         renders = {"side_by_side": meta}
         if any(len(render_states(o.snapshot)) > 1 for o in outcomes):  # the test came back from its peak
             end = render_side_by_side([o.snapshot for o in outcomes], tmp / f"render_{options.field}_end.png",
                                       RenderOptions(field=options.field, state="end"))
-            figures.append(Figure(end["file"], _render_caption(end, "at the end of the test")))
+            figures.append(Figure(end["file"], _render_caption(end, "at the end of the test", plates)))
             renders["end"] = end
         if options.gif_model:
             snap = {o.model: o.snapshot for o in outcomes}[options.gif_model]
@@ -206,7 +207,11 @@ def _interactive(outcomes, tmp: Path, title: str, options: ReportOptions, shared
                       shared_root=shared)
 
 
-def _render_caption(meta: dict, when: str) -> str:
+GUIDES_CAPTION = ("Lower left: the scene's axes as the camera sees them (x red, y green, z blue; ⊙ towards the "
+                  "reader); lower right: a scale bar.")
+
+
+def _render_caption(meta: dict, when: str, plates: bool = False) -> str:
     from vlab.render.specimens import field_title
 
     lo, hi = meta["clim"]
@@ -214,7 +219,8 @@ def _render_caption(meta: dict, when: str) -> str:
              else f"{lo:.4g} to {hi:.4g}")
     return (f"Deformed specimens {when}; one camera and one colour scale for all panels "
             f"({field_title(meta['field'])}: {scale}); grey: undeformed outline; points: extensometer "
-            "(red, magenta), transverse (orange) and thickness (blue) gauge marks.")
+            f"(red, magenta), transverse (orange) and thickness (blue) gauge marks"
+            f"{'; grey blocks: the rigid plates' if plates else ''}. {GUIDES_CAPTION}")
 
 
 def _critical_modes(outcomes, tmp: Path, figures: list) -> dict:
@@ -234,7 +240,7 @@ def _critical_modes(outcomes, tmp: Path, figures: list) -> dict:
             f"{o.model}: {critical['kind']}\ncritical grip strain {lo:.4g} .. {hi:.4g}")
         figures.append(Figure(name, f"{o.model}: mode of the first loss of stability ({critical['kind']}), the "
                               f"eigenvector of the lowest eigenvalue of K_ff, scaled for visibility and added "
-                              f"to the last stable state; grey: undeformed outline."))
+                              f"to the last stable state; grey: undeformed outline. {GUIDES_CAPTION}"))
     return drawn
 
 

@@ -30,6 +30,8 @@ name:
   difference, in ``extra``), each over the stated window with its fit quality; ``crosshead_fit``
   ("crosshead", uniaxial: the modulus from grip strain), ``measured_units``;
 - **results and report**: ``columns(curve)`` and ``units`` (results.json → curve),
+  ``control_name`` (the renders' titles: "grip stretch", "shear", "inner hoop stretch") with
+  ``rest`` (the control at rest: 1 for a stretch, 0 for γ or a twist),
   ``force_column`` / ``control_column``, ``plot`` (the report's axes and labels),
   ``measures_E`` and ``lateral_ratio`` (whether E, ν and the apparent Poisson's ratio mean
   something), ``cyclic``, ``effects`` and ``symmetric`` (what the scene may combine it with).

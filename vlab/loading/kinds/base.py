@@ -74,6 +74,7 @@ class TestKind:
     name = ""
     load_key = "stretch"
     rest = 1.0  # the control column's value at rest (a stretch 1; a shear γ or a twist ψ: 0)
+    control_name = "grip stretch"  # what the renders' titles call the control value (vlab.post.snapshot)
     axes: tuple[int, ...] = (0,)
     oracle_setups: dict[str, str] = {}  # specimen shape -> grips on which ``state`` is the exact answer
     cyclic = False  # may run test.protocol = "cyclic"

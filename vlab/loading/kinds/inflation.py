@@ -29,6 +29,7 @@ from vlab.loading.kinds.base import PlotSpec, TestKind, relative_error, stretch_
 
 class Inflation(TestKind):
     name = "inflation"
+    control_name = "inner hoop stretch"
     axes = (0,)
     oracle_setups = {"sphere-shell": "cavity"}
     symmetric = False  # the octant is built reduced already

@@ -35,6 +35,7 @@ class SimpleShear(TestKind):
     name = "simple-shear"
     load_key = "shear"
     rest = 0.0
+    control_name = "shear"
     axes = (0,)
     oracle_setups = {"block": "kinematic"}
     cyclic = True

@@ -34,6 +34,7 @@ class Torsion(TestKind):
     name = "torsion"
     load_key = "twist"
     rest = 0.0
+    control_name = "twist"
     axes = (0,)
     symmetric = False
     measures_E = False
