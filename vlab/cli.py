@@ -172,7 +172,7 @@ def fit(fitfile: Path = typer.Argument(..., help="Fit file (TOML): data sets, mo
     from vlab.identify.command import fit_command
 
     execution = _execution(workers, scheduler, default=None)
-    raise typer.Exit(fit_command(fitfile, out, models, console, force, execution, export))
+    raise typer.Exit(fit_command(fitfile, out, models, console, force, execution, export, results_console))
 
 
 def _print_estimate(est: Optional[dict]) -> None:
@@ -571,7 +571,7 @@ def export_card(source: Path = typer.Argument(..., help="A vlab fit folder, its 
     """Write a material card for another solver, exactly in its convention (or refuse, exit 2)."""
     from vlab.export.command import export_command
 
-    raise typer.Exit(export_command(source, to, out, units, elastic_only, force, say))
+    raise typer.Exit(export_command(source, to, out, units, elastic_only, force, say, show))
 
 
 @app.command("import-card")
@@ -583,7 +583,7 @@ def import_card(file: Path = typer.Argument(..., help="An Abaqus/CalculiX, ANSYS
     """Read a solver's material card into a vlab [material] card."""
     from vlab.export.command import import_command
 
-    raise typer.Exit(import_command(file, out, solver, units, force, say))
+    raise typer.Exit(import_command(file, out, solver, units, force, say, show))
 @app.command()
 def design(fitfile: Path = typer.Argument(..., help="Fit file (TOML) of homogeneous data sets and the model."),
            candidates: Optional[str] = typer.Option(None, "--candidates", help="Test kinds to plan, e.g. "
@@ -602,7 +602,7 @@ def design(fitfile: Path = typer.Argument(..., help="Fit file (TOML) of homogene
     from vlab.identify.design_command import design_command
 
     raise typer.Exit(design_command(fitfile, out, candidates, ranges, points, combine, noise, console, force,
-                                    expect))
+                                    expect, results_console))
 
 
 @app.command()

@@ -176,7 +176,9 @@ def page(d: dict) -> str:
 
 def design_command(path: Path, out: Path | None, candidates: str | None, ranges: str | None, points: int,
                    max_size: int, noise: float | None, console: Console, force: bool = False,
-                   expect: str | None = None) -> int:
+                   expect: str | None = None, results: Console | None = None) -> int:
+    """Errors and warnings on ``console`` (stderr in the CLI); the verdicts and the report's path on
+    ``results`` (stdout; default ``console``)."""
     from vlab.identify.command import _destination
     from vlab.identify.fitfile import load_fit
     from vlab.report.folder import ReportFolderError, report_folder
@@ -205,12 +207,13 @@ def design_command(path: Path, out: Path | None, candidates: str | None, ranges:
             (tmp / "index.html").write_text(page(d), encoding="utf-8")
     except ReportFolderError as exc:
         return invalid("invalid output folder", exc)
-    console.print(Text(f"{d['name']}: {d['model']['name']}, present data {d['present_data']['verdict']}"),
+    results = results or console
+    results.print(Text(f"{d['name']}: {d['model']['name']}, present data {d['present_data']['verdict']}"),
                   highlight=False)
     for w in d["warnings"]:
         console.print(Text.assemble("  ", ("warning", "yellow"), f" {w}"), highlight=False, soft_wrap=True)
-    console.print(Text(f"  next: {d['answer']}"), highlight=False, soft_wrap=True)
+    results.print(Text(f"  next: {d['answer']}"), highlight=False, soft_wrap=True)
     for e in d["candidates"][:5]:
-        console.print(Text(f"  {e['label']}: {e['verdict']}, D {_cell(e['D'])}, A {_cell(e['A'])}"), highlight=False)
-    console.print(Text(f"report: {dest.path / 'index.html'}"), highlight=False, soft_wrap=True)
+        results.print(Text(f"  {e['label']}: {e['verdict']}, D {_cell(e['D'])}, A {_cell(e['A'])}"), highlight=False)
+    results.print(Text(f"report: {dest.path / 'index.html'}"), highlight=False, soft_wrap=True)
     return 0 if d["fit_converged"] else 1
