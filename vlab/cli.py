@@ -184,7 +184,8 @@ def _print_estimate(est: Optional[dict]) -> None:
     q = est["quantities"]
     parts = ", ".join(f"{k} ± {v['error']:.2g}" for k, v in q.items() if v["error"] is not None)
     show(f"accuracy estimate (companion mesh.size {est['companion_mesh_size']:g}, {est['cost_s']:.2f} s): "
-         f"{parts}" + (" — exact by construction (round-off)" if est["exact_by_construction"] else ""))
+         f"{parts}" + (" — exact by construction (round-off): the mesh adds no error to E, ν, stress"
+                       if est["exact_by_construction"] else ""))
 
 
 def _print_summary(data: dict) -> None:
@@ -205,7 +206,7 @@ def _print_summary(data: dict) -> None:
              f"(input E = {data['input']['E']:.6g}, nu = {data['input']['nu']:.6g})")
         from vlab.report.explain import by_design_notes
 
-        for key, note in by_design_notes(data).items():  # a difference by design, said where it shows
+        for key, note in by_design_notes(data, brief=True).items():  # a difference by design, said where it shows
             show(f"  {key}: {note}")
     elif kind.measures_E:
         show(f"E and nu {m['note']}")
