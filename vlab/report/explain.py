@@ -88,7 +88,8 @@ def nonlinear_note(data: dict, brief: bool = False) -> str | None:
         return None
     lo, hi = fit["window"]
     exact = closed_form_slope(data)
-    model = inp.get("label", inp["model"])
+    declared = (data.get("effects") or {}).get("declared") or {}
+    model = " + ".join([inp.get("label", inp["model"]), *declared])  # the curve is the whole material's
     if brief:
         return (f"the slope of the {model} curve over |ε| {lo:g}–{hi:g}, not its tangent at ε = 0 (the input)"
                 + (f"; closed form over the same points: {exact:.6g} MPa" if exact is not None else ""))
