@@ -81,8 +81,9 @@ def nonlinear_note(data: dict, brief: bool = False) -> str | None:
     input (a straight curve) or is not measured. ``brief``: the console's one line."""
     m, inp = data["measured"], data["input"]
     fit = m.get("E_fit") or {}
-    if m.get("E") is None or not fit.get("window") or inp.get("model") == "linear" or not inp.get("E"):
-        return None
+    window = fit.get("window") or (None, None)
+    if m.get("E") is None or None in window or inp.get("model") == "linear" or not inp.get("E"):
+        return None  # a kind without one E window (biaxial: one per axis) has no such note
     gap = abs(m["E"] - inp["E"])
     if gap <= NONLINEAR_TOLERANCE * abs(inp["E"]):
         return None
