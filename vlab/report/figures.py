@@ -21,13 +21,14 @@ def subplots(nrows: int = 1, ncols: int = 1, *, figsize=None, dpi=None, **kwargs
 
 def describe(fig: Figure) -> list[dict]:
     """What each panel of ``fig`` shows, for tests and callers that check a figure: per axes (insets
-    excluded) its title, axis labels, number of data lines (axhline/axvline references, drawn in
+    excluded) its title, axis labels, x scale, number of data lines (axhline/axvline references, drawn in
     axes coordinates on one axis, are not counted), their colours and the legend entries."""
     panels = []
     for ax in fig.axes:
         legend = ax.get_legend()
         lines = [ln for ln in ax.get_lines() if ln.get_transform() == ax.transData]
         panels.append({"title": ax.get_title(), "xlabel": ax.get_xlabel(), "ylabel": ax.get_ylabel(),
+                       "xscale": ax.get_xscale(),
                        "lines": len(lines), "colours": [ln.get_color() for ln in lines],
                        "legend": [t.get_text() for t in legend.get_texts()] if legend else []})
     return panels
