@@ -62,7 +62,9 @@ def test_no_note_where_the_curve_is_straight_or_E_equals_the_input(tmp_path):
     equal["measured"]["E"] = E_IN
     unmeasured = copy.deepcopy(d)
     unmeasured["measured"]["E"] = None
-    for other in (linear, equal, unmeasured):
+    network = copy.deepcopy(d)  # a body, not a law: its E is the network's, not a tangent of a curve
+    network["input"]["model"] = "spring-network"
+    for other in (linear, equal, unmeasured, network):
         assert nonlinear_note(other) is None and by_design_notes(other) == {}
     noisy = copy.deepcopy(d)  # a reading the closed form does not explain is not blamed on the material
     noisy["measured"]["E"] = 9.9
