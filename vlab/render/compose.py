@@ -7,8 +7,8 @@ holds across panels. Long specimens (cropped width > 1.6 × height) are stacked 
 others side by side. Each title is wrapped at word boundaries to its panel's width (measured in
 points with the font's metrics; a word wider than the panel lowers the font size, down to
 TITLE_MIN_PT), and the title band is as tall as the longest title: six models side by side have
-narrow panels, and unwrapped titles ran into their neighbours. Returns each panel's pixel box in the PNG (x0, y0, x1, y1; origin top left)
-so tests and readers can find the specimen.
+narrow panels, and unwrapped titles ran into their neighbours. Returns each panel's pixel box in
+the PNG (x0, y0, x1, y1; origin top left) so tests and readers can find the specimen.
 """
 
 from __future__ import annotations

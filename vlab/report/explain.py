@@ -23,6 +23,12 @@ import numpy as np
 from vlab.moduli import from_pair
 
 
+def _first_loading(strain) -> int:
+    """Readings of the first loading ramp (up to the first fall of |strain|): where E is fitted."""
+    falls = np.flatnonzero(np.diff(np.abs(np.asarray(strain, float))) < 0)
+    return int(falls[0]) + 1 if falls.size else len(strain)
+
+
 def viscoelastic_apparent(data: dict) -> dict | None:
     """The rate-dependent moduli a viscoelastic test measures (None without the effect or time)."""
     visco = ((data.get("effects") or {}).get("declared") or {}).get("viscoelastic")
@@ -34,8 +40,7 @@ def viscoelastic_apparent(data: dict) -> dict | None:
         return None
     strain, time = np.abs(np.asarray(curve["strain"], float)), np.asarray(curve["time"], float)
     lo, hi = fit["window"]
-    first = np.flatnonzero(np.diff(strain) < 0)  # only the first loading ramp is fitted
-    n = first[0] + 1 if first.size else len(strain)
+    n = _first_loading(strain)
     inside = (strain[:n] >= lo) & (strain[:n] <= hi)
     if not inside.any():
         return None
@@ -67,12 +72,12 @@ def closed_form_slope(data: dict) -> float | None:
     if not ref or "strain_y" in curve or "stretch" not in curve or not fit.get("window"):
         return None
     strain = np.asarray(curve["stretch"][: len(ref)], float) - 1.0
-    falls = np.flatnonzero(np.diff(np.abs(strain)) < 0)  # only the first loading ramp is fitted
-    n = int(falls[0]) + 1 if falls.size else len(strain)
+    n = _first_loading(strain)
     try:
-        return fit_line(strain[:n], np.asarray(ref[:n], float), tuple(fit["window"]), fit.get("method", "regression")).slope
+        line = fit_line(strain[:n], np.asarray(ref[:n], float), tuple(fit["window"]), fit.get("method", "regression"))
     except FitError:
         return None
+    return line.slope
 
 
 def _bends(name) -> bool:
@@ -106,12 +111,13 @@ def nonlinear_note(data: dict, brief: bool = False) -> str | None:
                 + (f"; closed form over the same points: {exact:.6g} MPa" if exact is not None else ""))
     line = "the chord" if fit.get("method") == "chord" else "the regression line"
     text = (f"E is the slope of {line} through the stress–strain points with |ε| in {lo:g}–{hi:g}; the "
-            f"{model} curve bends there (its tangent is the input E only at ε = 0), so even an exact "
-            f"solution reads a slope other than the input; the FE's own error is the accuracy estimate's")
-    if exact is not None:
-        text += f". The closed-form homogeneous curve gives {exact:.6g} MPa over the same points"
-        if abs(m["E"] - exact) <= 0.01 * gap:  # the FE adds nothing visible (the mesh's error: the estimate)
-            text += ": the difference from the input is the material's, not the mesh's"
+            f"{model} curve bends there (its tangent is the input E only at ε = 0)")
+    if exact is None:
+        return text + (", so even an exact solution reads a slope other than the input; the FE's own error "
+                       "is the accuracy estimate's")
+    text += f". The closed-form homogeneous curve gives {exact:.6g} MPa over the same points"
+    if abs(m["E"] - exact) <= 0.01 * gap:  # the FE adds nothing visible (the mesh's error: the estimate)
+        text += ": the difference from the input is the material's, not the mesh's (that is the accuracy estimate)"
     return text
 
 
