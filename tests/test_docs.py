@@ -45,12 +45,17 @@ def test_every_docs_page_has_exactly_one_title():
 
 
 def test_every_docs_page_is_in_a_toctree():
-    """The reference pages are listed by name; every other page directly under docs/ is picked up
-    by the Guides toctree's glob, so a page another change adds appears without editing index.md."""
+    """The reference pages are listed by name, a section's pages by its own index (the tutorials:
+    docs/tutorials/index.md); every other page directly under docs/ is picked up by the Guides
+    toctree's glob, so a page another change adds appears without editing index.md."""
     index = (DOCS / "index.md").read_text(encoding="utf-8")
     trees = re.findall(r"```\{toctree\}\n(.*?)```", index, re.S)
     assert any(":glob:" in tree and re.search(r"^\*$", tree, re.M) for tree in trees)
     named = {line.strip() for tree in trees for line in tree.splitlines() if line.strip() and not line.startswith(":")}
+    for section in [name for name in named if name.endswith("/index") and (DOCS / f"{name}.md").is_file()]:
+        folder = section.rsplit("/", 1)[0]  # a section's own index (docs/tutorials/index.md) lists its pages
+        for tree in re.findall(r"```\{toctree\}\n(.*?)```", (DOCS / f"{section}.md").read_text(encoding="utf-8"), re.S):
+            named |= {f"{folder}/{line.strip()}" for line in tree.splitlines() if line.strip() and not line.startswith(":")}
     for page in _pages():
         name = page.relative_to(DOCS).with_suffix("").as_posix()
         if name == "index":

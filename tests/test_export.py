@@ -129,12 +129,19 @@ def test_one_refused_target_of_several_writes_no_file(tmp_path, monkeypatch):
 
 
 def test_a_scene_with_a_viscoelastic_part_is_refused_unless_elastic_only(tmp_path):
-    scene = tmp_path / "scene.toml"
-    scene.write_text(card_toml(TABLES["mooney-rivlin"]) + "[effects.viscoelastic]\ng = [0.2]\ntau = [1.0]\n")
+    scene = tmp_path / "scene.toml"  # C01 ≠ 0: the ground law is not Neo-Hookean, no target has vlab's branches
+    scene.write_text(card_toml(TABLES["mooney-rivlin"]) + "[effects.viscoelastic]\nbeta = [0.2]\ntau = [1.0]\n")
     res, out = _export(tmp_path, scene, "abaqus")
     assert res.exit_code == 2 and "viscoelastic" in res.output and not out.exists()
     res, out = _export(tmp_path, scene, "abaqus", "--elastic-only")
     assert res.exit_code == 0, res.output
+
+
+def test_a_malformed_effects_table_is_named(tmp_path):
+    scene = tmp_path / "scene.toml"
+    scene.write_text(card_toml(TABLES["mooney-rivlin"]) + "[effects.viscoelastic]\ng = [0.2]\ntau = [1.0]\n")
+    res, out = _export(tmp_path, scene, "abaqus", "--elastic-only")
+    assert res.exit_code == 2 and "unknown key 'g' in [effects.viscoelastic]" in res.output and not out.exists()
 
 
 def test_an_unknown_solver_and_bad_units_exit_2(tmp_path):

@@ -134,3 +134,85 @@ def test_shipped_example_console_page_and_strict_json_say_the_same(tmp_path):
         cv = f"{100 * st['coefficient_of_variation']:.3g} %"
         assert f"{k}: mean {st['mean']:.4g}, sd {st['standard_deviation']:.3g}, cv {cv}, n 3" in text
         assert f"<td>{k}</td><td>{st['mean']:.5g}</td><td>{st['standard_deviation']:.3g}</td><td>{cv}</td>" in page
+
+
+# --- records: the band of the specimens' fits run over a reference history ------------------------
+def test_the_records_band_is_each_specimens_model_over_the_first_record():
+    import dataclasses
+    from types import SimpleNamespace
+
+    from vlab.identify.datasets import Dataset
+    from vlab.identify.fitfile import FitSpec
+    from vlab.identify.records.prony import PronySpec, history_stress
+    from vlab.identify.specimens import record_band_panels
+
+    nh, prony = Constitutive(law_for("neo-hookean")), PronySpec(1)
+    t = np.r_[np.arange(1, 11) / 10, 1.0 + np.geomspace(0.1, 30.0, 12)]
+    lam = 1.0 + 0.5 * np.minimum(t, 1.0)
+    xs = {"A": np.r_[0.55, 0.4, 2.0], "B": np.r_[0.60, 0.5, 3.0], "C": np.r_[0.65, 0.3, 1.0]}
+    truth = {s: np.real(history_stress(nh, prony, x[None], "uniaxial", t, lam)[0]) for s, x in xs.items()}
+    sets = tuple(dataclasses.replace(Dataset(s, f"{s}.csv", "relaxation", "fit", 1.0, "nominal", t * (1 + i), lam,
+                                             truth[s], extra={"test": "uniaxial"}), specimen=s)
+                 for i, s in enumerate(xs))
+    spec = FitSpec("r", nh, sets, effects={"viscoelastic": prony})
+    fit = lambda x: SimpleNamespace(spec=spec, x=x, converged=True)  # noqa: E731
+    panels = record_band_panels(fit(np.r_[0.6, 0.4, 2.0]), spec, {s: fit(x) for s, x in xs.items()})
+    (p,) = panels
+    assert p["kind"] == "relaxation" and p["xlabel"] == "time (s)" and np.array_equal(p["a"], t)
+    on_ref = {s: np.real(history_stress(nh, prony, x[None], "uniaxial", t, lam)[0]) for s, x in xs.items()}
+    assert np.allclose(p["lo"], np.min(list(on_ref.values()), axis=0), rtol=1e-14)
+    assert np.allclose(p["hi"], np.max(list(on_ref.values()), axis=0), rtol=1e-14)
+    assert [s for s, _, _ in p["data"]] == ["A", "B", "C"]
+    assert np.array_equal(p["data"][1][1], 2 * t)  # each record against its own time
+
+
+def test_the_shipped_relaxation_specimens_draw_their_band(tmp_path):
+    out = tmp_path / "o"
+    fit = ROOT / "specimens" / "records" / "specimens-relaxation.fit.toml"
+    res = subprocess.run([sys.executable, "-m", "vlab", "fit", str(fit), "--out", str(out)], capture_output=True,
+                         text=True)
+    assert res.returncode == 0, res.stderr
+    sp = json.loads((out / "fit.json").read_text())["specimens"]
+    assert sp["figure"] == "specimens.png" and sp["figure_reason"] is None and (out / "specimens.png").exists()
+    assert "specimens.png" in (out / "index.html").read_text()
+
+
+def test_the_records_band_of_cycles_without_time_and_of_dma_sweeps():
+    import dataclasses
+    from types import SimpleNamespace
+
+    from vlab.identify.datasets import Dataset
+    from vlab.identify.fitfile import FitSpec
+    from vlab.identify.records.cyclic import stress_along
+    from vlab.identify.records.prony import PronySpec, dynamic_moduli
+    from vlab.identify.records.softening import MullinsSpec
+    from vlab.identify.specimens import record_band_panels
+
+    nh = Constitutive(law_for("neo-hookean"))
+    lam = np.r_[np.linspace(1.1, 2.0, 10), np.linspace(1.9, 1.0, 10)]
+    xs = {"A": np.r_[0.55, 2.0, 0.3, 0.1], "B": np.r_[0.65, 1.5, 0.2, 0.0]}
+    mullins = {"mullins": MullinsSpec()}
+    cyc = lambda x: np.real(stress_along(nh, mullins, x[None], "uniaxial", lam)[0])  # noqa: E731
+    extra = {"test": "uniaxial", "stretch": lam, "time": None, "mask": np.ones(len(lam), bool), "branch": "all"}
+    sets = tuple(dataclasses.replace(Dataset(s, f"{s}.csv", "cyclic", "fit", 1.0, "nominal", lam, None, cyc(x),
+                                             extra=extra), specimen=s) for s, x in xs.items())
+    spec = FitSpec("c", nh, sets, effects=mullins)
+    fit = lambda x: SimpleNamespace(spec=spec, x=x, converged=True)  # noqa: E731
+    (p,) = record_band_panels(fit(xs["A"]), spec, {s: fit(x) for s, x in xs.items()})
+    assert p["xlabel"] == "row of the history" and np.array_equal(p["a"], np.arange(1, 21))
+    assert np.allclose(p["lo"], np.minimum(cyc(xs["A"]), cyc(xs["B"])), rtol=1e-14)
+
+    prony = {"viscoelastic": PronySpec(1)}
+    f = np.geomspace(0.1, 10.0, 7)
+    xd = {"A": np.r_[0.5, 0.4, 0.3], "B": np.r_[0.6, 0.2, 1.0]}
+    sl = {s: dynamic_moduli(nh, PronySpec(1), x[None], f, "tensile") for s, x in xd.items()}
+    sets = tuple(dataclasses.replace(Dataset(s, f"{s}.csv", "dma", "fit", 1.0, "nominal", f, None,
+                                             np.r_[sl[s][0][0], sl[s][1][0]], extra={"modulus": "tensile"}),
+                                     specimen=s) for s in xd)
+    spec = FitSpec("d", nh, sets, effects=prony)
+    fit = lambda x: SimpleNamespace(spec=spec, x=x, converged=True)  # noqa: E731
+    storage, loss = record_band_panels(fit(xd["A"]), spec, {s: fit(x) for s, x in xd.items()})
+    assert storage["log_x"] and storage["ylabel"] == "storage modulus (MPa)" and loss["ylabel"] == "loss modulus (MPa)"
+    assert np.allclose(storage["hi"], np.maximum(sl["A"][0][0], sl["B"][0][0]), rtol=1e-14)
+    assert np.allclose(loss["lo"], np.minimum(sl["A"][1][0], sl["B"][1][0]), rtol=1e-14)
+    assert np.allclose(loss["data"][1][2], sl["B"][1][0], rtol=1e-14)

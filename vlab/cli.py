@@ -586,24 +586,32 @@ def import_card(file: Path = typer.Argument(..., help="An Abaqus/CalculiX, ANSYS
 
     raise typer.Exit(import_command(file, out, solver, units, force, say, show))
 @app.command()
-def design(fitfile: Path = typer.Argument(..., help="Fit file (TOML) of homogeneous data sets and the model."),
+def design(fitfile: Path = typer.Argument(..., help="Fit file (TOML): homogeneous data sets, or specimen data with [fe]."),
            candidates: Optional[str] = typer.Option(None, "--candidates", help="Test kinds to plan, e.g. "
-                                                    "uniaxial,equibiaxial,planar,simple-shear (the default)."),
-           ranges: Optional[str] = typer.Option(None, "--range", help="Ranges, e.g. uniaxial=1.05:3,planar=1.05:2.5 "
-                                                "(default: the fitted range, else the data's largest I1)."),
+                                                    "uniaxial,equibiaxial,planar,simple-shear (the default; none for specimen data)."),
+           ranges: Optional[str] = typer.Option(None, "--range", help="Ranges, e.g. uniaxial=1.05:3,planar=1.05:2.5, "
+                                                "specimen=0.05:0.5 (extensometer strain; default: the fitted range, "
+                                                "else the data's largest I1)."),
            points: int = typer.Option(20, "--points", help="Points per planned test."),
-           combine: int = typer.Option(3, "--combine", help="Largest number of tests combined."),
-           noise: Optional[float] = typer.Option(None, "--noise", help="Stress scatter (relative or MPa, as the fit's "
+           combine: Optional[int] = typer.Option(None, "--combine", help="Largest number of tests combined "
+                                                 "(default: 3, or the number of candidate tests if fewer)."),
+           noise: Optional[float] = typer.Option(None, "--noise", help="Reading scatter (relative, or MPa or N, as the fit's "
                                                  "residual); default: the fit's residual scatter."),
            expect: Optional[str] = typer.Option(None, "--expect", help="Expected constants, e.g. C10=0.3,C01=0.05 "
                                                   "(default: the fitted card)."),
+           specimens: Optional[str] = typer.Option(None, "--specimens", help="FE in the loop: other specimen scenes "
+                                                   "to plan beside fe.scene, e.g. a.toml,b.toml."),
+           gauges: Optional[str] = typer.Option(None, "--gauge-lengths", help="FE in the loop: extensometer gauge "
+                                                "lengths (mm) to plan beside each scene's own, e.g. 10,20."),
+           elongation_sd: Optional[float] = typer.Option(None, "--extensometer-std", help="FE in the loop: the "
+                                                         "extensometer's elongation scatter (mm, sd; default 0)."),
            out: Optional[Path] = typer.Option(None, "--out", "-o", help="Output folder (default reports/<name>-design)."),
            force: bool = FORCE):
     """Which test next: Fisher information, predicted standard errors, D/A-optimality (design.json, index.html)."""
     from vlab.identify.design_command import design_command
 
     raise typer.Exit(design_command(fitfile, out, candidates, ranges, points, combine, noise, console, force,
-                                    expect, results_console))
+                                    expect, specimens, gauges, elongation_sd, results_console))
 
 
 @app.command()

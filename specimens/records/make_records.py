@@ -15,6 +15,14 @@ noise (seeded), so a fit of them can be checked against the constants below.
   differ by a known spread, (C10, C01) = (0.30, 0.050), (0.31, 0.055), (0.29, 0.045) MPa (mean 0.30, 0.050;
   sample standard deviation 0.01, 0.005), uniaxial nominal stress at 25 stretches 1.05..3.0 with 0.5 % noise
   (seed 32); fitted per specimen and pooled by specimens.fit.toml.
+- cycles-slow.csv, cycles-fast.csv: Neo-Hookean mu = 0.6 MPa with both the Prony series beta = [0.5, 0.3],
+  tau = [1, 10] s and the softening r = 2, m = 0.3 MPa, beta = 0.1 (the joint model of
+  vlab.identify.records.cyclic: softened long-term response plus Maxwell branches); uniaxial cycles to
+  1.5, 2, 2.5 in stretch steps of 0.05 at |dλ/dt| = 0.05 /s and 0.5 /s, each peak held 10 s (4 rows);
+  0.5 % noise (seed 33); fitted by joint.fit.toml.
+- relax-A.csv, relax-B.csv, relax-C.csv: relaxation records (the ramp and hold of relaxation.csv) of three
+  specimens, Neo-Hookean mu = 0.58, 0.60, 0.62 MPa with one Prony series beta = [0.5, 0.3], tau = [1, 10] s,
+  0.5 % noise (seed 34); fitted per specimen and pooled by specimens-relaxation.fit.toml.
 - raw-uniaxial.csv: a machine export (force in kN, extensometer displacement in mm, gauge 25 mm, 6 × 2 mm)
   of a Neo-Hookean strip (mu = 0.6 MPa) with a 0.4 mm toe and a 2 N load-cell offset.
 """
@@ -71,6 +79,26 @@ def cycles(rng, noise=0.005, mu=0.6, r=2.0, m=0.3, beta=0.1):
     return lam, P * (1.0 + noise * rng.standard_normal(len(P)))
 
 
+def rate_path(rate, amplitudes=(1.5, 2.0, 2.5), hold=10.0, h=0.05):
+    """(t, λ) of cycles 1 → a → 1 at |dλ/dt| = rate, each peak held ``hold`` s (4 geometric rows)."""
+    t, lam, now = [], [], 0.0
+    for a in amplitudes:
+        n = int(round((a - 1.0) / h))
+        up, down = 1.0 + h * np.arange(1, n + 1), a - h * np.arange(1, n + 1)
+        held = now + (a - 1.0) / rate + np.geomspace(hold / 8, hold, 4)
+        t += list(now + (up - 1.0) / rate) + list(held) + list(held[-1] + (a - down) / rate)
+        lam += list(up) + [a] * 4 + list(down)
+        now = t[-1]
+    return np.array(t), np.array(lam)
+
+
+def rate_cycles(rng, rate, noise=0.005, mu=0.6, beta=(0.5, 0.3), tau=(1.0, 10.0), r=2.0, m=0.3, mb=0.1):
+    t, lam = rate_path(rate)
+    effects = {"viscoelastic": PronySpec(2), "mullins": MullinsSpec()}
+    P = stress_along(NH, effects, np.r_[mu, beta, tau, r, m, mb][None, :], "uniaxial", lam, t)[0]
+    return t, lam, P * (1.0 + noise * rng.standard_normal(len(P)))
+
+
 def raw_uniaxial(mu=0.6, L0=25.0, area=12.0, toe=0.4, offset_N=2.0):
     """The NH curve shifted by a toe (a cubic slack before u = toe) plus the load cell's offset."""
     lam = np.linspace(1.0, 2.5, 61)
@@ -113,6 +141,12 @@ def main() -> None:
     write(HERE / "raw-uniaxial.csv", ("ext_mm", "load_kN"), raw_uniaxial())
     for s, cols in specimen_curves().items():
         write(HERE / f"specimen-{s}.csv", ("lambda", "P_MPa"), cols)
+    joint = np.random.default_rng(33)
+    write(HERE / "cycles-slow.csv", ("t", "lambda", "P"), rate_cycles(joint, 0.05))
+    write(HERE / "cycles-fast.csv", ("t", "lambda", "P"), rate_cycles(joint, 0.5))
+    spread = np.random.default_rng(34)
+    for s, mu in (("A", 0.58), ("B", 0.60), ("C", 0.62)):
+        write(HERE / f"relax-{s}.csv", ("t", "lambda", "P"), relaxation(spread, mu=mu))
 
 
 if __name__ == "__main__":

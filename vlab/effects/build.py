@@ -3,16 +3,18 @@
 from __future__ import annotations
 
 
-from vlab.effects.registry import EFFECTS
+from vlab.effects.registry import COMBINED, EFFECTS
 
 
 
 def history_law(scene, elastic):
-    """The HistoryMaterial wrapping ``elastic`` if a "material" effect is declared, else None."""
-    for spec in scene.effects:
-        effect = EFFECTS[spec.name]
-        if effect.role == "material":
-            return effect.build(spec, elastic)
+    """The HistoryMaterial wrapping ``elastic`` if a "material" effect is declared (or a set of
+    them with one law in COMBINED), else None."""
+    specs = {s.name: s for s in scene.effects if EFFECTS[s.name].role == "material"}
+    if len(specs) > 1:
+        return COMBINED[frozenset(specs)](specs, elastic)
+    for name, spec in specs.items():
+        return EFFECTS[name].build(spec, elastic)
     return None
 
 

@@ -22,7 +22,11 @@ Each entry of ``EFFECTS`` says, for one name:
   whose every parameter is inert, for instance).
 
 Adding an effect is one entry here and one ``register`` call in vlab/effects/__init__.py.
-At most one ``"material"`` effect per scene (one history law wraps the ground law).
+At most one ``"material"`` effect per scene (one history law wraps the ground law), unless
+``COMBINED`` has a law for the set of them: ``register_combined(names, build)`` with
+``build({name: spec}, elastic) -> HistoryMaterial`` the one law of those effects together over the
+ground law (viscoelastic with mullins: vlab.materials.softened_viscoelastic). A combination also
+meets each of its effects' protocols, time and ground-law models.
 """
 
 from __future__ import annotations
@@ -32,7 +36,7 @@ from typing import Any, Callable
 
 from vlab.materials.registry import models_where
 
-__all__ = ["Effect", "EFFECTS", "register"]
+__all__ = ["Effect", "EFFECTS", "COMBINED", "register", "register_combined"]
 
 
 def _no_warnings(spec, material, test) -> list[str]:
@@ -54,6 +58,7 @@ class Effect:
 
 
 EFFECTS: dict[str, Effect] = {}
+COMBINED: dict[frozenset, Callable[..., Any]] = {}  # a set of "material" effects -> build of their one law
 
 
 def register(effect: Effect) -> Effect:
@@ -61,3 +66,10 @@ def register(effect: Effect) -> Effect:
         raise ValueError(f"effect {effect.name!r}: role must be material, load or measure, got {effect.role!r}")
     EFFECTS[effect.name] = effect
     return effect
+
+
+def register_combined(names: tuple[str, ...], build: Callable[..., Any]) -> None:
+    """Let the "material" effects ``names`` be declared together, as the one law ``build`` makes."""
+    if any(EFFECTS[n].role != "material" for n in names):
+        raise ValueError(f"register_combined: {', '.join(names)} must all be material effects")
+    COMBINED[frozenset(names)] = build

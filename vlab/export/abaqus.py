@@ -19,17 +19,36 @@ and its neo-Hooke is the split one (vlab's mooney-rivlin with C01 = 0), not vlab
 neo-hookean: both are refused. vlab writes MOONEY-RIVLIN for a card with C01 = 0 (exact) and
 reads NEO HOOKE, YEOH and REDUCED POLYNOMIAL N ≤ 3 as mooney-rivlin / yeoh.
 
-The reader takes the first ``*HYPERELASTIC`` (with its ``*MATERIAL`` name and ``*DENSITY``),
-refuses TEST DATA INPUT (the coefficients would be Abaqus' own fit), POISSON, temperature or
-field dependence and any other option, and names the line of every error.
+Viscoelastic and Mullins parts (vlab.export.parts says when they are vlab's model: a
+Neo-Hookean ground for the Prony part, an incompressible fit's card for both):
+
+- ``*VISCOELASTIC, TIME=PRONY`` (Abaqus Analysis User's Guide §22.7.1 "Time domain
+  viscoelasticity", Theory Guide §4.8.2 "Finite-strain viscoelasticity"): the deviatoric
+  Kirchhoff stress relaxes as τᴰ(t) = τ₀ᴰ(t) + ∫ ġ_R(s) (push-forward of τ₀ᴰ(t − s)) ds with
+  g_R(t) = 1 − Σᵢ gᵢ (1 − e^(−t/τᵢ)) — Simo's reference-configuration hereditary integral, the
+  form vlab integrates. Data lines gᵢ, kᵢ, τᵢ. With ``MODULI=LONG TERM`` on ``*HYPERELASTIC``
+  (written explicitly; Abaqus' default) the hyperelastic constants are the long-term ones and the
+  instantaneous ones are them / (1 − Σgᵢ), so the shear relaxation modulus is
+  μ∞ g_R(t)/g_R(∞) = μ0 (1 + Σ βᵢ e^(−t/τᵢ)) with gᵢ = βᵢ/(1 + Σβ) (vlab.export.parts.normalised),
+  kᵢ = 0 (vlab's bulk modulus does not relax), τᵢ in s in both unit systems.
+- ``*MULLINS EFFECT`` (Analysis User's Guide §22.6.1 "Mullins effect", Theory Manual §4.7 "Mullins effect"):
+  η = 1 − (1/r) erf((U_m − Ũ_dev)/(m + β U_m)), Ũ_dev the primary deviatoric energy and U_m its
+  maximum; data line r, m, β (m an energy density: MPa or Pa), vlab's r, m, β.
+
+The reader takes the first ``*HYPERELASTIC`` (with its ``*MATERIAL`` name and ``*DENSITY``) and
+the ``*VISCOELASTIC`` / ``*MULLINS EFFECT`` blocks, refuses TEST DATA INPUT (the coefficients
+would be Abaqus' own fit), MODULI=INSTANTANEOUS, a bulk Prony term kᵢ ≠ 0, FREQUENCY or creep
+/ relaxation test data for *VISCOELASTIC, POISSON, temperature or field dependence and any other
+option, and names the line of every error.
 """
 
 from __future__ import annotations
 
 import re
 
-from vlab.export.card import ExportCard, Source
+from vlab.export.card import ExportCard, Source, with_parts
 from vlab.export.header import commented, header, num
+from vlab.export.parts import imported, needs, normalised, relative
 from vlab.export.registry import CardFormatError, Exporter, Mapping
 
 __all__ = ["ABAQUS", "MAPPINGS", "write_deck", "read_deck"]
@@ -72,15 +91,28 @@ def _data(card: ExportCard, s: float) -> tuple[str, list[float]]:
     return "ARRUDA-BOYCE", [p["mu"] * s, p["lambda_m"], D]
 
 
+_PARTS = {"viscoelastic": "*VISCOELASTIC, TIME=PRONY (§22.7.1, Theory §4.8.2): gi = βi/(1 + Σβ), ki = 0, τi "
+                         "(s); *HYPERELASTIC, MODULI=LONG TERM: the constants above are the long-term ones",
+          "mullins": "*MULLINS EFFECT (§22.6.1): η = 1 − erf((Um − Ũdev)/(m + β Um))/r: r, m, β are vlab's"}
+
+
 def write_deck(card: ExportCard, units, target: str, mappings: dict, manual: str) -> str:
     """The *MATERIAL block (module docstring), ``**`` comments on top."""
     m = mappings[card.model]
     option, values = _data(card, units.stress)
+    if "viscoelastic" in card.parts:
+        option += ", MODULI=LONG TERM"
     lines = header(card, target, f"*HYPERELASTIC, {option}", CONVENTION[card.model], units, manual,
-                   _U[m.volumetric])
+                   _U[m.volumetric], tuple(_PARTS[p] for p in card.parts if p in _PARTS))
     out = commented(lines, "**") + f"*MATERIAL, NAME={_name(card)}\n*HYPERELASTIC, {option}\n"
     for i in range(0, len(values), 8):
         out += ", ".join(num(v) for v in values[i:i + 8]) + "\n"
+    ve, mu = card.effects.get("viscoelastic"), card.effects.get("mullins")
+    if ve:
+        out += "*VISCOELASTIC, TIME=PRONY\n" + "".join(
+            f"{num(g)}, {num(0.0)}, {num(t)}\n" for g, t in zip(normalised(ve["beta"]), ve["tau"]))
+    if mu:
+        out += f"*MULLINS EFFECT\n{num(mu['r'])}, {num(mu['m'] * units.stress)}, {num(mu['beta'])}\n"
     if card.density is not None:
         out += f"*DENSITY\n{num(card.density * units.density)}\n"
     return out
@@ -89,7 +121,6 @@ def write_deck(card: ExportCard, units, target: str, mappings: dict, manual: str
 # --- reading ---------------------------------------------------------------------------------
 _TYPES = {"NEO HOOKE": "neo", "MOONEY-RIVLIN": "mr", "YEOH": "yeoh", "REDUCED POLYNOMIAL": "rp",
           "OGDEN": "ogden", "ARRUDA-BOYCE": "ab"}
-_IGNORED = {"MODULI"}  # MODULI=LONG TERM|INSTANTANEOUS only matters with *VISCOELASTIC
 
 
 def _keywords(text: str, where: str):
@@ -131,8 +162,10 @@ def _options(n: int, opts: list[str], where: str) -> tuple[str, int | None]:
                 N = int(value)
             except ValueError:
                 raise CardFormatError(f"{where}, line {n}: *HYPERELASTIC N={value!r} is not an integer") from None
-        elif key in _IGNORED:
-            continue
+        elif key == "MODULI":
+            if value != "LONG TERM":
+                raise CardFormatError(f"{where}, line {n}: *HYPERELASTIC, MODULI={value}: vlab reads long-term "
+                                      "constants only (MODULI=LONG TERM, Abaqus' default)")
         elif key == "TEST DATA INPUT":
             raise CardFormatError(f"{where}, line {n}: *HYPERELASTIC, TEST DATA INPUT gives test data, not "
                                   "coefficients; vlab reads the coefficients only (fit the data with vlab fit)")
@@ -199,7 +232,50 @@ def read_deck(text: str, where: str, units) -> ExportCard:
     density = _numbers(dens[0][3], where)[0] / units.density if dens and dens[0][3] else None
     base = ExportCard(model, params, 2.0 / D / units.stress, volumetric, density)
     table = material_table(base)
-    return card_from_table(table, where, name=name, source=Source("import", where))
+    card = card_from_table(table, where, name=name, source=Source("import", where))
+    try:
+        return imported(with_parts(card, _parts(blocks, where, units), where), where, "abaqus")
+    except ValueError as exc:
+        raise CardFormatError(str(exc)) from None
+
+
+def _parts(blocks, where: str, units) -> dict:
+    """The [effects] tables of the deck's *VISCOELASTIC and *MULLINS EFFECT (module docstring)."""
+    out = {}
+    for n, key, opts, rows in blocks:
+        if key not in ("VISCOELASTIC", "MULLINS EFFECT"):
+            continue
+        if key in out:
+            raise CardFormatError(f"{where}, line {n}: a second *{key}")
+        want = ["TIME=PRONY"] if key == "VISCOELASTIC" else ["DEFINITION=CONSTANTS"]
+        bad = [o for o in opts if o.upper().replace(" ", "") not in want]
+        if (key == "VISCOELASTIC" and [o.upper().replace(" ", "") for o in opts] != want) or bad:
+            raise CardFormatError(f"{where}, line {n}: *{key} options {', '.join(opts) or '(none)'}: vlab reads "
+                                  f"*{key}, {want[0]} only")
+        values = [_numbers([r], where) for r in rows]
+        if key == "VISCOELASTIC":
+            out["viscoelastic"] = _prony(rows, values, n, where)
+        else:
+            if len(rows) != 1 or not 2 <= len(values[0]) <= 3:
+                raise CardFormatError(f"{where}, line {n}: *MULLINS EFFECT needs one data line r, m[, β]")
+            v = values[0] + [0.0] * (3 - len(values[0]))
+            out["mullins"] = {"r": v[0], "m": v[1] / units.stress, "beta": v[2]}
+    return {k: out[k] for k in ("viscoelastic", "mullins") if k in out}
+
+
+def _prony(rows, values, n: int, where: str) -> dict:
+    """{"tau", "beta"} of *VISCOELASTIC, TIME=PRONY data lines gᵢ, kᵢ, τᵢ (kᵢ = 0)."""
+    if not rows:
+        raise CardFormatError(f"{where}, line {n}: *VISCOELASTIC, TIME=PRONY has no data lines")
+    for (line, _), v in zip(rows, values):
+        if len(v) != 3:
+            raise CardFormatError(f"{where}, line {line}: a Prony data line is g, k, tau (3 numbers), got {len(v)}")
+        if v[1] != 0.0:
+            raise CardFormatError(f"{where}, line {line}: k = {v[1]:g}: vlab's bulk modulus does not relax (k = 0)")
+    g = [v[0] for v in values]
+    if not sum(g) < 1.0:
+        raise CardFormatError(f"{where}, line {n}: the Prony g sum to {sum(g):g}; Abaqus needs Σg < 1")
+    return {"tau": [v[2] for v in values], "beta": list(relative(g))}
 
 
 def write(card: ExportCard, units) -> str:
@@ -210,4 +286,5 @@ def read(text: str, where: str, units) -> ExportCard:
     return read_deck(text, where, units)
 
 
-ABAQUS = Exporter("abaqus", "abaqus.inp", "**", MAPPINGS, write, read, notes=NOTES, doc=__doc__)
+ABAQUS = Exporter("abaqus", "abaqus.inp", "**", MAPPINGS, write, read, notes=NOTES, doc=__doc__,
+                  parts=("hyperelastic", "viscoelastic", "mullins"), check_parts=lambda c: needs(c, "abaqus"))

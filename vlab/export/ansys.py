@@ -17,12 +17,31 @@ Conversions: ANSYS' Ogden μᵢ is not vlab's: μᵢ/αᵢ = 2 μᵢ(vlab)/αᵢ
 d2 = d3 = … = 0; (J − 1)²/d is vlab's "quadratic" U, (1/d)((J² − 1)/2 − ln J) its "simo-taylor".
 vlab's coupled neo-hookean has no ANSYS form (NEO is the split law: vlab's mooney-rivlin with
 C01 = 0) and is refused. Material number 1; density as ``MP,DENS``.
+
+Viscoelastic and Mullins parts (vlab.export.parts says when they are vlab's model: a
+Neo-Hookean ground for the Prony part, an incompressible fit's card for both):
+
+- ``TB,PRONY,1,1,N,SHEAR`` (Material Reference "Viscoelasticity", Prony series; Theory Reference
+  §4.7 "Viscoelasticity", large-deformation form after Simo): the deviatoric second Piola–
+  Kirchhoff stress of the hyperelastic law is relaxed with G(t)/G0 = α∞ + Σᵢ αᵢ e^(−t/τᵢ),
+  α∞ = 1 − Σαᵢ, TBDATA α1, τ1, α2, τ2, …. The TB,HYPER constants of a viscoelastic material are
+  its *instantaneous* (t = 0) response (the Material Reference's viscoelasticity chapter, as
+  recalled: no stored copy of that sentence was found to re-read; docs/export.md says so), so vlab's long-term constants are written × (1 + Σβ)
+  (= 1/α∞) and αᵢ = βᵢ/(1 + Σβ): the shear relaxation modulus is μ0 (1 + Σ βᵢ e^(−t/τᵢ)), τᵢ in
+  s. No ``BULK`` table: vlab's bulk modulus does not relax (d is written as is).
+- ``TB,CDM,1,1,3,PSE2`` (Material Reference "Mullins Effect", the modified Ogden–Roxburgh
+  pseudo-elastic model): η = 1 − (1/r) erf((W_m − W_0)/(m + β W_m)), W_0 the virgin material's
+  (deviatoric) strain energy and W_m its largest previous value; TBDATA r, m, β — vlab's r, m
+  (MPa or Pa), β. "Modified" is the β W_m term of the scale; β = 0 is Ogden and Roxburgh's.
 """
 
 from __future__ import annotations
 
-from vlab.export.card import ExportCard, Source
+from dataclasses import replace
+
+from vlab.export.card import ExportCard, Source, with_parts
 from vlab.export.header import commented, header, num
+from vlab.export.parts import imported, needs, normalised, relative
 from vlab.export.registry import CardFormatError, Exporter, Mapping
 
 __all__ = ["ANSYS"]
@@ -62,16 +81,40 @@ def _data(card: ExportCard, s: float) -> tuple[int | str, str, list[float]]:
     return "", "GENT", [p["mu"] * s, p["Jm"], d]
 
 
+_ISOCHORIC = {"mooney-rivlin": ("C10", "C01"), "yeoh": ("C10", "C20", "C30"), "ogden": ("mu",)}
+_PARTS = {"viscoelastic": "TB,PRONY,,,N,SHEAR (Material Reference, Prony series): αi = βi/(1 + Σβ), τi (s); the "
+                          "TB,HYPER constants are the instantaneous ones: vlab's × (1 + Σβ), d as is",
+          "mullins": "TB,CDM,,,3,PSE2 (Material Reference, Mullins effect): η = 1 − erf((Wm − W0)/(m + β Wm))/r: "
+                     "r, m, β are vlab's"}
+
+
+def _scaled(card: ExportCard, factor: float) -> ExportCard:
+    """The card with its isochoric constants × factor (d, α unchanged)."""
+    p = {k: (tuple(x * factor for x in v) if isinstance(v, tuple) else v * factor) if k in _ISOCHORIC[card.model]
+         else v for k, v in card.params.items()}
+    return replace(card, params=p)
+
+
+def _tbdata(values: list[float]) -> str:
+    return "".join(f"TBDATA,{i + 1}," + ",".join(num(v) for v in values[i:i + 6]) + "\n"
+                   for i in range(0, len(values), 6))
+
+
 def write(card: ExportCard, units) -> str:
-    npts, opt, values = _data(card, units.stress)
+    ve, mu = card.effects.get("viscoelastic"), card.effects.get("mullins")
+    npts, opt, values = _data(_scaled(card, 1.0 + sum(ve["beta"])) if ve else card, units.stress)
     m = MAPPINGS[card.model]
-    lines = header(card, "ansys", f"TB,HYPER,{opt}", CONVENTION[card.model], units, m.manual, _U[m.volumetric])
+    lines = header(card, "ansys", f"TB,HYPER,{opt}", CONVENTION[card.model], units, m.manual, _U[m.volumetric],
+                   tuple(_PARTS[p] for p in card.parts if p in _PARTS))
     out = commented(lines, "!")
     if card.density is not None:
         out += f"MP,DENS,1,{num(card.density * units.density)}\n"
-    out += f"TB,HYPER,1,1,{npts},{opt}\n"
-    for i in range(0, len(values), 6):
-        out += f"TBDATA,{i + 1}," + ",".join(num(v) for v in values[i:i + 6]) + "\n"
+    out += f"TB,HYPER,1,1,{npts},{opt}\n" + _tbdata(values)
+    if ve:
+        pairs = [v for a, t in zip(normalised(ve["beta"]), ve["tau"]) for v in (a, t)]
+        out += f"TB,PRONY,1,1,{len(ve['tau'])},SHEAR\n" + _tbdata(pairs)
+    if mu:
+        out += "TB,CDM,1,1,3,PSE2\n" + _tbdata([mu["r"], mu["m"] * units.stress, mu["beta"]])
     return out
 
 
@@ -94,33 +137,62 @@ def _commands(text: str):
 
 
 def _table(text: str, where: str):
-    """(line of TB, TBOPT, NPTS, {position: value}, density) of the first TB,HYPER."""
-    tb, data, density = None, {}, None
+    """(line of TB, TBOPT, NPTS, {position: value}, density) of the first TB,HYPER, and
+    {lab: the same} of the first TB,PRONY and TB,CDM."""
+    tables, cur, density = {}, None, None
     for n, f in _commands(text):
         cmd = f[0].upper()
         if cmd == "TB":
-            if tb is not None:
-                break
-            if len(f) < 2 or f[1].upper() != "HYPER":
+            lab = f[1].upper() if len(f) > 1 else ""
+            cur = lab if lab in ("HYPER", "PRONY", "CDM") and lab not in tables else None
+            if cur is None:
                 continue
             opt = f[5].upper() if len(f) > 5 else ""
-            if opt not in _OPTS:
+            if lab == "HYPER" and opt not in _OPTS:
                 raise CardFormatError(f"{where}, line {n}: TB,HYPER option {opt or '(none: MOONEY)'} is not read by "
                                       f"vlab (allowed: {', '.join(_OPTS)})")
-            npts = f[4] if len(f) > 4 and f[4] else ""
-            tb = (n, opt, npts)
-        elif cmd == "TBDATA" and tb is not None:
+            tables[lab] = (n, opt, f[4] if len(f) > 4 and f[4] else "", {})
+        elif cmd == "TBDATA" and cur is not None:
             if len(f) < 3:
                 raise CardFormatError(f"{where}, line {n}: TBDATA needs a start location and values")
             start = int(_float(f[1], n, where))
             for k, v in enumerate(f[2:]):
                 if v:
-                    data[start + k] = _float(v, n, where)
+                    tables[cur][3][start + k] = _float(v, n, where)
         elif cmd == "MP" and len(f) >= 4 and f[1].upper() == "DENS":
             density = _float(f[3], n, where)
-    if tb is None:
+    if "HYPER" not in tables:
         raise CardFormatError(f"{where}: no TB,HYPER command")
-    return tb, data, density
+    n, opt, npts, data = tables.pop("HYPER")
+    return (n, opt, npts), data, density, tables
+
+
+def _parts(tables: dict, where: str, s: float) -> dict:
+    """The [effects] tables of TB,PRONY (SHEAR) and TB,CDM (PSE2) (module docstring)."""
+    out = {}
+    if "PRONY" in tables:
+        n, opt, npts, data = tables["PRONY"]
+        if opt != "SHEAR":
+            raise CardFormatError(f"{where}, line {n}: TB,PRONY option {opt or '(none)'}: vlab reads SHEAR only "
+                                  "(its bulk modulus does not relax)")
+        try:
+            N = int(npts)
+        except ValueError:
+            raise CardFormatError(f"{where}, line {n}: TB,PRONY NPTS = {npts!r} is not an integer") from None
+        if N < 1 or sorted(data) != list(range(1, 2 * N + 1)):
+            raise CardFormatError(f"{where}, line {n}: TB,PRONY with NPTS = {N} needs α, τ at locations 1 … {2 * N}, "
+                                  f"got {sorted(data)}")
+        a = [data[2 * i + 1] for i in range(N)]
+        if not sum(a) < 1.0:
+            raise CardFormatError(f"{where}, line {n}: the Prony α sum to {sum(a):g}; ANSYS needs Σα < 1")
+        out["viscoelastic"] = {"tau": [data[2 * i + 2] for i in range(N)], "beta": list(relative(a))}
+    if "CDM" in tables:
+        n, opt, npts, data = tables["CDM"]
+        if opt != "PSE2" or sorted(data) != [1, 2, 3]:
+            raise CardFormatError(f"{where}, line {n}: TB,CDM: vlab reads the modified Ogden–Roxburgh model "
+                                  "(TBOPT = PSE2) with r, m, β at TBDATA locations 1 … 3")
+        out["mullins"] = {"r": data[1], "m": data[2] / s, "beta": data[3]}
+    return out
 
 
 def _want(opt: str, npts: str, n: int, where: str) -> int:
@@ -143,7 +215,7 @@ def _want(opt: str, npts: str, n: int, where: str) -> int:
 def read(text: str, where: str, units) -> ExportCard:
     from vlab.export.card import card_from_table, material_table
 
-    (n, opt, npts), data, density = _table(text, where)
+    (n, opt, npts), data, density, tables = _table(text, where)
     N = _want(opt, npts, n, where)
     want = {"MOONEY": 3, "YEOH": 2 * N, "OGDEN": 3 * N, "BOYCE": 3, "GENT": 3, "NEO": 2}[opt]
     if sorted(data) != list(range(1, want + 1)):
@@ -173,7 +245,17 @@ def read(text: str, where: str, units) -> ExportCard:
     if not d > 0.0:
         raise CardFormatError(f"{where}, line {n}: d = {d:g}: vlab needs a compressible card (d > 0, K = 2/d)")
     base = ExportCard(model, params, 2.0 / d / s, vol, None if density is None else density / units.density)
-    return card_from_table(material_table(base), where, source=Source("import", where))
+    parts = _parts(tables, where, s)
+    if "viscoelastic" in parts:  # TB,HYPER holds the instantaneous response: back to vlab's long-term one
+        if model not in _ISOCHORIC:
+            raise CardFormatError(f"{where}, line {n}: TB,PRONY over TB,HYPER,{opt} is not vlab's viscoelastic model")
+        base = _scaled(base, 1.0 / (1.0 + sum(parts["viscoelastic"]["beta"])))
+    card = card_from_table(material_table(base), where, source=Source("import", where))
+    try:
+        return imported(with_parts(card, parts, where), where, "ansys")
+    except ValueError as exc:
+        raise CardFormatError(str(exc)) from None
 
 
-ANSYS = Exporter("ansys", "ansys.mac", "!", MAPPINGS, write, read, notes=NOTES, doc=__doc__)
+ANSYS = Exporter("ansys", "ansys.mac", "!", MAPPINGS, write, read, notes=NOTES, doc=__doc__,
+                 parts=("hyperelastic", "viscoelastic", "mullins"), check_parts=lambda c: needs(c, "ansys"))

@@ -5,9 +5,10 @@ or any scene TOML, validates its ``[material]`` with the scene grammar
 (vlab.materials.card.parse_material: a bad card is a SceneError naming the key) and returns an
 ``ExportCard``: model, constants (vlab's names and convention, MPa), bulk modulus K (MPa),
 volumetric form, density (t/mm³), whether K is an incompressible fit's stand-in, the card
-parts (today "hyperelastic"; a scene's [effects.viscoelastic] / [effects.mullins] add theirs, which
-no target writes yet, so they are refused) and, for a fit, the fitted data ranges and the Drucker-
-stable stretch range per mode (fit.json → stability, vlab.identify.drucker).
+parts ("hyperelastic", and "viscoelastic" / "mullins" with their constants in ``effects`` from a
+scene's or a fit's [effects.viscoelastic] / [effects.mullins], validated by vlab.export.parts) and,
+for a fit, the fitted data ranges and the Drucker-stable stretch range per mode (fit.json →
+stability, vlab.identify.drucker).
 
 An incompressible fit determines only the isochoric energy: its K = r μ0 stands in for
 incompressibility (vlab.identify.card) and its volumetric form is not part of the fit, so a
@@ -24,7 +25,8 @@ from pathlib import Path
 
 from vlab.fields import SceneError
 
-__all__ = ["ExportCard", "Source", "load_source", "card_from_table", "card_of_fit", "material_table", "elastic_only"]
+__all__ = ["ExportCard", "Source", "load_source", "card_from_table", "card_of_fit", "material_table", "elastic_only",
+           "forms", "with_parts"]
 
 
 @dataclass(frozen=True)
@@ -48,6 +50,8 @@ class ExportCard:
     name: str = "vlab"
     parts: tuple[str, ...] = ("hyperelastic",)
     source: Source | None = field(default=None, compare=False)
+    effects: dict = field(default_factory=dict)   # part -> constants (vlab.export.parts.parse_parts)
+    form: str | None = None          # why the card is written in another of vlab's forms (split neo-Hooke)
 
     @property
     def terms(self) -> int:
@@ -64,7 +68,8 @@ class ExportCard:
     def describe(self) -> str:
         label = f"ogden-{self.terms}" if self.model == "ogden" else self.model
         vol = "" if self.volumetric is None else f", volumetric {self.volumetric}"
-        return f"{label} card{vol}"
+        extra = [p for p in self.parts if p != "hyperelastic"]
+        return f"{label} card{vol}" + (f" with its {' and '.join(extra)} part{'s' if len(extra) > 1 else ''}" if extra else "")
 
 
 def _law(card: ExportCard):
@@ -135,22 +140,30 @@ def card_of_fit(d: dict, path: str) -> ExportCard:
                    for x in d.get("datasets", []) if x.get("range"))
     source = Source("fit", path, d.get("name"), ranges, (d.get("stability") or {}).get("kinds"),
                     d["card"].get("note"))
-    return card_from_table(table, path, stand_in=model.get("bulk") == "incompressible",
+    card = card_from_table(table, path, stand_in=model.get("bulk") == "incompressible",
                            name=d.get("name") or "vlab", source=source)
+    return with_parts(card, d["card"].get("effects"), path)
+
+
+def with_parts(card: ExportCard, effects: dict | None, where: str) -> ExportCard:
+    """The card with the viscoelastic / Mullins parts of its [effects] tables (validated)."""
+    from vlab.export.parts import parse_parts
+
+    parsed = parse_parts(effects, where)
+    return replace(card, parts=("hyperelastic",) + tuple(parsed), effects=parsed)
 
 
 def _from_toml(path: Path) -> ExportCard:
     data, text = _read_toml(path)
     if "material" not in data:
         raise SceneError(f"{path}: no [material] table (give a fit folder, fit.json, card.toml or a scene)")
-    effects = data.get("effects") or {}
-    parts = ("hyperelastic",) + tuple(p for p in ("viscoelastic", "mullins") if p in effects)
     first = text.lstrip().splitlines()[0] if text.strip() else ""
     stand_in = first.startswith("# incompressible fit")
     kind = "card" if set(data) == {"material"} else "scene"
     note = first[1:].strip() if first.startswith("#") else None
-    return card_from_table(data["material"], str(path), stand_in=stand_in, name=path.stem, parts=parts,
+    card = card_from_table(data["material"], str(path), stand_in=stand_in, name=path.stem,
                            source=Source(kind, str(path), note=note))
+    return with_parts(card, data.get("effects"), str(path))
 
 
 def load_source(path: Path) -> ExportCard:
@@ -168,4 +181,14 @@ def load_source(path: Path) -> ExportCard:
 
 def elastic_only(card: ExportCard) -> ExportCard:
     """The card without its viscoelastic/Mullins parts (``--elastic-only``)."""
-    return replace(card, parts=("hyperelastic",))
+    return replace(card, parts=("hyperelastic",), effects={})
+
+
+def forms(card: ExportCard) -> list[ExportCard]:
+    """The card and the other forms of vlab's that are the same model: an incompressible
+    neo-hookean fit is also the split neo-Hooke (vlab.export.parts.split_neo_hookean)."""
+    if card.stand_in and card.model == "neo-hookean":
+        from vlab.export.parts import split_neo_hookean
+
+        return [card, split_neo_hookean(card)]
+    return [card]

@@ -45,12 +45,12 @@ def _units(name: str):
 def card_text(card, target: str, units) -> str:
     """The file text of ``card`` for ``target``; ExportError if the target has no exact card."""
     from vlab.export import EXPORTERS
-    from vlab.export.registry import refusal
+    from vlab.export.registry import form_for, refusal
 
     why = refusal(target, card)
     if why is not None:
         raise ExportError(why)
-    return EXPORTERS[target].write(card, units)
+    return EXPORTERS[target].write(form_for(target, card), units)
 
 
 def _ours(path: Path) -> bool:
@@ -159,7 +159,11 @@ def import_toml(card, path: Path, solver: str) -> str:
     lines = [f"# vlab import-card: the {card.describe()} of {path} ({solver})"]
     if card.source is not None and card.source.note:
         lines.append(f"# {card.source.note}")
-    return "\n".join(lines) + "\n" + card_toml(material_table(card))
+    text = card_toml(material_table(card))
+    for part, table in card.effects.items():  # the parts as the scene grammar's [effects.*] tables
+        text += f"\n[effects.{part}]\n" + card_toml(
+            {k: list(v) if isinstance(v, tuple) else v for k, v in table.items()}).split("\n", 1)[1]
+    return "\n".join(lines) + "\n" + text
 
 
 def import_command(path: Path, out: Path | None, solver: str | None, units: str | None, force: bool, say,
@@ -181,13 +185,25 @@ def import_command(path: Path, out: Path | None, solver: str | None, units: str 
 
 # --- vlab fit --export -------------------------------------------------------------------------
 def _provisional(spec):
-    """A card with the fit's model, terms, volumetric and bulk (enough for ``refusal``)."""
+    """A card with the fit's model, terms, volumetric, bulk and parts (enough for ``refusal``):
+    constants the fit determines are placeholders that are generic (a fitted C01 or α is taken
+    as not 0 or 2), so a target is refused before the fit when the fitted card would be."""
     from vlab.export.card import ExportCard
 
     law, model = spec.model.law, spec.model
-    params = {"mu": (1.0,) * law.terms, "alpha": (1.0,) * law.terms} if law.model == "ogden" else {}
+    params = {"neo-hookean": {"mu": 1.0, "lambda": 1.0}, "mooney-rivlin": {"C10": 1.0, "C01": 1.0},
+              "yeoh": {"C10": 1.0, "C20": 1.0, "C30": 1.0},
+              "ogden": {"mu": (1.0,) * law.terms, "alpha": (1.0,) * law.terms}}.get(law.model, {})
     vol = None if law.model == "neo-hookean" else model.volumetric
-    return ExportCard(law.model, params, 1.0, vol, stand_in=model.bulk == "incompressible")
+    effects = {}
+    prony, mullins = (getattr(spec, "effects", None) or {}).get("viscoelastic"), (
+        getattr(spec, "effects", None) or {}).get("mullins")
+    if prony is not None:
+        effects["viscoelastic"] = {"tau": (1.0,) * prony.terms, "beta": (1.0,) * prony.terms}
+    if mullins is not None:
+        effects["mullins"] = {"r": 2.0, "m": 1.0, "beta": 0.0}
+    return ExportCard(law.model, params, 1.0, vol, stand_in=model.bulk == "incompressible",
+                      parts=("hyperelastic",) + tuple(effects), effects=effects)
 
 
 def check_targets(spec, text: str) -> list[str]:

@@ -19,14 +19,27 @@ stand-in K is written as k), and Arruda–Boyce: FEBio's "Arruda-Boyce" (FEArrud
 μ Σ aᵢ/N^(i−1) (Ĩ₁^i − 3^i) with aᵢ = i Cᵢ (0.5, 0.1, 11/350, 19/1750, 519/134750), not the
 eight-chain series Cᵢ (1/2, 1/20, 11/1050, …) of vlab, Abaqus and ANSYS, and no N makes the two
 equal. The file is a ``<Material>`` section (one material, id 1) to paste into a .feb file.
+
+Viscoelastic part: ``type="uncoupled viscoelastic"`` (User's Manual §4.1.2 "Uncoupled
+Viscoelastic"; FEUncoupledViscoElasticMaterial::DevStress) wraps the uncoupled material as
+``<elastic>``: S = g0 Sₑ + Σᵢ gᵢ Hᵢ, Hᵢ = ∫ e^(−(t−s)/tᵢ) dSₑ/ds ds, Sₑ = J F⁻¹ σ̃ F⁻ᵀ the pulled-
+back deviatoric stress of the base, pushed forward by the current F — vlab's Maxwell stresses
+(vlab.materials.viscoelastic) with g0 = 1 (Sₑ the long-term response), gᵢ = βᵢ, tᵢ = τᵢ (s), at
+most 6 terms, for a Neo-Hookean base (vlab.export.parts); the bulk k of the base is not relaxed.
+vlab's coupled neo-hookean is refused (FEBio's coupled "viscoelastic" relaxes the whole stress, the
+volumetric part too); an incompressible neo-hookean fit is written as Mooney-Rivlin c1 = μ/2,
+c2 = 0. Mullins: FEBio's damage materials (FEDamageMaterial with a damage CDF) hold the damage of
+the largest past criterion on unloading, they are not Ogden–Roxburgh's pseudo-elastic
+η(ψ0, W_max): refused.
 """
 
 from __future__ import annotations
 
 import xml.etree.ElementTree as ET
 
-from vlab.export.card import ExportCard, Source
+from vlab.export.card import ExportCard, Source, with_parts
 from vlab.export.header import header, num
+from vlab.export.parts import imported, needs
 from vlab.export.registry import CardFormatError, Exporter, Mapping
 
 __all__ = ["FEBIO"]
@@ -66,17 +79,30 @@ def _params(card: ExportCard, s: float) -> list[tuple[str, float]]:
             + [(f"m{i + 1}", p["alpha"][i]) for i in range(n)] + k)
 
 
+_VISCO = "uncoupled viscoelastic"
+_PART = ('<material type="uncoupled viscoelastic"> (§4.1.2, FEUncoupledViscoElasticMaterial): S = g0 Se + Σ gi Hi, '
+         "g0 = 1, gi = βi, ti = τi (s), the base as <elastic>")
+
+
 def write(card: ExportCard, units) -> str:
     m = MAPPINGS[card.model]
     u = "k/2 (ln J)²" if m.volumetric else None
-    lines = header(card, "febio", f'<material type="{m.keyword}">', CONVENTION[card.model], units, _MANUAL, u)
+    ve = card.effects.get("viscoelastic")
+    lines = header(card, "febio", f'<material type="{_VISCO if ve else m.keyword}">', CONVENTION[card.model], units,
+                   _MANUAL, u, (_PART,) if ve else ())
     body = "".join(f"    {line.replace('--', '- -')}\n" for line in lines)
     name = (card.name or "vlab").replace('"', "'").replace("&", "and").replace("<", "(").replace(">", ")")
     out = f'<?xml version="1.0" encoding="UTF-8"?>\n<!--\n{body}-->\n<Material>\n'
-    out += f'  <material id="1" name="{name}" type="{m.keyword}">\n'
+    out += f'  <material id="1" name="{name}" type="{_VISCO if ve else m.keyword}">\n'
     if card.density is not None:
         out += f"    <density>{num(card.density * units.density)}</density>\n"
-    out += "".join(f"    <{k}>{num(v)}</{k}>\n" for k, v in _params(card, units.stress))
+    params = "".join(f"    <{k}>{num(v)}</{k}>\n" for k, v in _params(card, units.stress))
+    if ve:
+        out += "    <g0>1</g0>\n" + "".join(f"    <g{i + 1}>{num(g)}</g{i + 1}>\n    <t{i + 1}>{num(t)}</t{i + 1}>\n"
+                                          for i, (g, t) in enumerate(zip(ve["beta"], ve["tau"])))
+        out += f'    <elastic type="{m.keyword}">\n' + params.replace("    <", "      <") + "    </elastic>\n"
+    else:
+        out += params
     return out + "  </material>\n</Material>\n"
 
 
@@ -108,6 +134,12 @@ def read(text: str, where: str, units) -> ExportCard:
     from vlab.export.card import card_from_table, material_table
 
     el, where = _material_element(text, where)
+    parts, outer = {}, el
+    if el.get("type") == _VISCO:
+        parts = {"viscoelastic": _prony(el, where)}
+        el = el.find("elastic")
+        if el is None:
+            raise CardFormatError(f"{where}: an {_VISCO!r} material needs its <elastic> base material")
     kind = el.get("type", "")
     if kind not in _TYPES:
         raise CardFormatError(f"{where}: FEBio material type {kind!r} is not read by vlab (allowed: {', '.join(_TYPES)})")
@@ -119,9 +151,25 @@ def read(text: str, where: str, units) -> ExportCard:
     else:
         (k,) = _need(el, ("k",), where, kind)
         base = ExportCard(model, _uncoupled_params(el, model, where, kind, s), k / s, "log")
-    rho = _value(el, "density", where)
+    rho = _value(outer, "density", where)
     base = ExportCard(base.model, base.params, base.K, base.volumetric, None if rho is None else rho / units.density)
-    return card_from_table(material_table(base), where, name=el.get("name") or "vlab", source=Source("import", where))
+    card = card_from_table(material_table(base), where, name=outer.get("name") or "vlab", source=Source("import", where))
+    try:
+        return imported(with_parts(card, parts, where), where, "febio", any_J=("viscoelastic",))
+    except ValueError as exc:
+        raise CardFormatError(str(exc)) from None
+
+
+def _prony(el, where: str) -> dict:
+    """{"tau", "beta"} of an uncoupled viscoelastic material: the terms i = 1 … 6 with a <gi> or <ti>."""
+    g0 = _value(el, "g0", where)
+    if g0 is not None and g0 != 1.0:
+        raise CardFormatError(f"{where}: <g0> = {g0:g}: vlab reads g0 = 1 (the base is the long-term response)")
+    terms = [i for i in range(1, 7) if el.find(f"g{i}") is not None or el.find(f"t{i}") is not None]
+    if not terms:
+        raise CardFormatError(f"{where}: an {_VISCO!r} material without <g1> … <g6>")
+    return {"tau": [_value(el, f"t{i}", where) or 1.0 for i in terms],  # FEBio's default tᵢ is 1
+            "beta": [_value(el, f"g{i}", where) or 0.0 for i in terms]}
 
 
 def _material_element(text: str, where: str):
@@ -163,4 +211,6 @@ def _ogden_params(el, where: str, s: float) -> dict:
     return {"mu": tuple(ci / 2.0 / s for ci, _ in terms), "alpha": tuple(mi for _, mi in terms)}
 
 
-FEBIO = Exporter("febio", "febio.feb", "", MAPPINGS, write, read, notes=NOTES, doc=__doc__)
+FEBIO = Exporter("febio", "febio.feb", "", MAPPINGS, write, read, notes=NOTES, doc=__doc__,
+                 parts=("hyperelastic", "viscoelastic"),
+                 check_parts=lambda c: needs(c, "febio", max_terms=6, any_J=("viscoelastic",)))

@@ -89,12 +89,18 @@ def _bulk_line(card, units: Units, target_u: str | None) -> list[str]:
 
 
 def header(card, target: str, keyword: str, convention: str, units: Units, manual: str,
-           target_u: str | None = None) -> list[str]:
-    """The header lines (without comment prefix)."""
+           target_u: str | None = None, parts: tuple[str, ...] = ()) -> list[str]:
+    """The header lines (without comment prefix); ``parts``: the target's convention and manual
+    section for each viscoelastic / Mullins part it writes (after vlab's own, in its names)."""
+    from vlab.export.parts import prony_lines
+
     lines = [f"vlab material card: {card.describe()} -> {target} {keyword}",
              f"convention: {convention}",
-             f"follows: {manual}",
-             f"units: {units.line}"]
+             f"follows: {manual}"]
+    if card.form:
+        lines.append(f"form: {card.form}")
+    lines += prony_lines(card) + list(parts)
+    lines.append(f"units: {units.line}")
     lines += _bulk_line(card, units, target_u)
     lines += _source_lines(card)
     if card.source is not None and card.source.note and card.source.kind != "fit":

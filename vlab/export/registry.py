@@ -13,12 +13,18 @@ Contract. An ``Exporter`` entry says, for the name given to ``vlab export --to``
 - ``write(card, units) -> str``: the file text of a validated ``ExportCard`` (vlab.export.card)
   in the target's convention, constants with at least 12 significant digits, in ``units``
   (vlab.export.header.Units);
-- ``read(text, where) -> ExportCard``: the inverse (``vlab import-card``); malformed input raises
+- ``read(text, where, units) -> ExportCard``: the inverse (``vlab import-card``; ``units`` as for
+  ``write``, from the file's vlab header or ``--units``); malformed input raises
   ``CardFormatError`` naming ``where`` and the line;
-- ``parts``: the card parts the target writes. Today every target writes ``"hyperelastic"``;
-  a viscoelastic (Prony) or Mullins part is added to a target by listing it here and writing it
-  in that target's ``write``/``read`` — a card carrying a part a target does not list is refused
-  by ``refusal``, never written without it.
+- ``parts``: the card parts the target writes: ``"hyperelastic"`` always; ``"viscoelastic"``
+  (Prony) and ``"mullins"`` (Ogden–Roxburgh) where the target's part is vlab's model, written and
+  read back by its ``write``/``read`` (the card's constants in ``card.effects``). A card carrying
+  a part a target does not list is refused by ``refusal``, never written without it;
+- ``check_parts(card) -> str | None``: why the target's part is not vlab's model for this card
+  (vlab.export.parts.needs: the ground law, J = 1, the number of terms), or None.
+
+A card may be written in another of vlab's forms that is the same model (vlab.export.card.forms:
+an incompressible neo-hookean fit as the split neo-Hooke); ``form_for`` gives the one written.
 
 Adding a target is one file in vlab/export/ with its writer, reader and convention (the manual
 section in its docstring), one ``register`` call in vlab/export/__init__.py, and its oracle in
@@ -30,7 +36,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Callable
 
-__all__ = ["Mapping", "Exporter", "EXPORTERS", "register", "refusal", "supporting", "CardFormatError"]
+__all__ = ["Mapping", "Exporter", "EXPORTERS", "register", "refusal", "supporting", "form_for", "CardFormatError"]
 
 
 class CardFormatError(ValueError):
@@ -56,6 +62,7 @@ class Exporter:
     parts: tuple[str, ...] = ("hyperelastic",)
     doc: str = ""
     notes: dict[str, str] = field(default_factory=dict)  # model -> why the target is refused
+    check_parts: Callable | None = None
 
 
 EXPORTERS: dict[str, Exporter] = {}
@@ -67,10 +74,24 @@ def register(exporter: Exporter) -> Exporter:
 
 
 def _reason(exporter: Exporter, card) -> str | None:
-    """Why ``exporter`` cannot write ``card`` exactly, or None."""
+    """Why ``exporter`` cannot write ``card`` in any of its forms exactly, or None."""
+    from vlab.export.card import forms
+
+    reasons = [_reason_one(exporter, c) for c in forms(card)]
+    return None if None in reasons else reasons[-1]
+
+
+def form_for(name: str, card):
+    """The form of ``card`` target ``name`` writes (vlab.export.card.forms), or None."""
+    from vlab.export.card import forms
+
+    return next((c for c in forms(card) if _reason_one(EXPORTERS[name], c) is None), None)
+
+
+def _reason_one(exporter: Exporter, card) -> str | None:
     extra = [p for p in card.parts if p not in exporter.parts]
     if extra:
-        return f"{exporter.name} cards do not carry the {', '.join(extra)} part yet"
+        return f"{exporter.name} has no {' or '.join(extra)} part that is vlab's model"
     m = exporter.models.get(card.model)
     if m is None:
         note = exporter.notes.get(card.model, "")
@@ -87,6 +108,8 @@ def _reason(exporter: Exporter, card) -> str | None:
         return (f"{exporter.name}'s {m.keyword} has U(J) = {VOLUMETRIC[m.volumetric].formula}, the card's "
                 f"volumetric is {card.volumetric!r} ({VOLUMETRIC[card.volumetric].formula}); "
                 f"set material.volumetric = {m.volumetric!r} to export it")
+    if exporter.check_parts is not None:
+        return exporter.check_parts(card)
     return None
 
 

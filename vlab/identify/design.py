@@ -29,6 +29,7 @@ noise — Ogden's uniaxial-only fits) or "well-posed".
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 from dataclasses import dataclass
 
@@ -39,8 +40,8 @@ from vlab.identify.jacobian import value_and_jacobian
 from vlab.identify.solve import Objective, max_I1, predict
 from vlab.identify.uncertainty import COND_LIMIT, CORR_LIMIT, correlation
 
-__all__ = ["PlannedTest", "CANDIDATE_KINDS", "default_range", "plan_rows", "assess", "combinations",
-           "next_tests"]
+__all__ = ["PlannedTest", "CANDIDATE_KINDS", "default_range", "plan_rows", "assess", "combine", "combinations",
+           "range_options", "add_each", "next_tests"]
 
 CANDIDATE_KINDS = ("uniaxial", "equibiaxial", "planar", "simple-shear")
 NULL_COMPONENT = 0.01
@@ -160,36 +161,48 @@ def _rank_key(entry: dict):
     return (und, entry["D"] if entry["D"] is not None else np.inf, entry["A"] or np.inf, len(entry["tests"]))
 
 
-def combinations(model, x, plans, s: float, relative: bool, max_size: int) -> list[dict]:
-    """Every combination of 1..max_size candidate tests, best first (determined, then D, then A)."""
-    values, names = model.card_vector(x), list(model.names)
-    rows = {p: plan_rows(model, x, p, relative) for p in plans}
+def combine(tests, s: float, values, names, max_size: int) -> list[dict]:
+    """Every combination of 1..max_size of ``tests`` — (test, J_t) pairs, the test with ``label``
+    and ``record()`` (a PlannedTest, or an FE specimen test: vlab.identify.fe_design) — best first
+    (determined, then D, then A). Independent tests add: F = Σ J_tᵀ J_t / s²."""
     out = []
-    for k in range(1, min(max_size, len(plans)) + 1):
-        for combo in itertools.combinations(plans, k):
-            J = np.vstack([rows[p] for p in combo])
-            out.append({"tests": [p.record() for p in combo], "label": " + ".join(p.label for p in combo),
+    for k in range(1, min(max_size, len(tests)) + 1):
+        for combo in itertools.combinations(tests, k):
+            J = np.vstack([rows for _, rows in combo])
+            out.append({"tests": [t.record() for t, _ in combo], "label": " + ".join(t.label for t, _ in combo),
                         **assess(J, s, values, names)})
     return sorted(out, key=_rank_key)
+
+
+def combinations(model, x, plans, s: float, relative: bool, max_size: int) -> list[dict]:
+    """Every combination of 1..max_size candidate homogeneous tests, best first."""
+    tests = [(p, plan_rows(model, x, p, relative)) for p in plans]
+    return combine(tests, s, model.card_vector(x), list(model.names), max_size)
 
 
 def range_options(plan: PlannedTest, steps: int = 4) -> list[PlannedTest]:
     """The plan and shorter ones: the same start, the top at 1/steps, 2/steps, … of the range."""
     tops = plan.lo + (plan.hi - plan.lo) * np.arange(1, steps + 1) / steps
-    return [PlannedTest(plan.kind, plan.lo, float(t), plan.points) for t in tops]
+    return [dataclasses.replace(plan, hi=float(t)) for t in tops]
 
 
-def next_tests(model, x, J0: np.ndarray, plans, s: float, relative: bool) -> tuple[dict, list[dict]]:
-    """(the present data's assessment, each candidate test added to it, best first) with the
-    expected reduction 1 − SE_new/SE_now of every standard error (null where either is null)."""
-    values, names = model.card_vector(x), list(model.names)
+def add_each(J0: np.ndarray, options, s: float, values, names) -> tuple[dict, list[dict]]:
+    """(the present data's assessment, each option — a (test, J_t) pair — added to it, best first)
+    with the expected reduction 1 − SE_new/SE_now of every standard error (null where either is null)."""
+    names = list(names)
     now = assess(J0, s, values, names)
     out = []
-    for plan in (q for p in plans for q in range_options(p)):
-        new = assess(np.vstack([J0, plan_rows(model, x, plan, relative)]), s, values, names)
+    for test, rows in options:
+        new = assess(np.vstack([J0, rows]), s, values, names)
         red = {n: (None if now["standard_errors"][n] in (None, 0.0) or new["standard_errors"][n] is None
                    else float(1.0 - new["standard_errors"][n] / now["standard_errors"][n])) for n in names}
         newly = [n for n in names if now["standard_errors"][n] is None and new["standard_errors"][n] is not None]
-        out.append({"tests": [plan.record()], "label": plan.label, "reduction": red, "now_determined": newly,
+        out.append({"tests": [test.record()], "label": test.label, "reduction": red, "now_determined": newly,
                     **new})
     return now, sorted(out, key=_rank_key)
+
+
+def next_tests(model, x, J0: np.ndarray, plans, s: float, relative: bool) -> tuple[dict, list[dict]]:
+    """Each candidate homogeneous test, at four ranges, added to the present data (rows J0)."""
+    options = [(q, plan_rows(model, x, q, relative)) for p in plans for q in range_options(p)]
+    return add_each(J0, options, s, model.card_vector(x), model.names)

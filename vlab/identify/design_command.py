@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import html
 import json
+import time
 from pathlib import Path
 
 import numpy as np
@@ -22,6 +23,8 @@ from vlab.fields import SceneError
 from vlab.identify.design import CANDIDATE_KINDS, PlannedTest, combinations, data_rows, default_range, next_tests
 
 __all__ = ["design_command", "parse_candidates", "parse_ranges"]
+
+COMBINE = 3  # --combine's default: combinations of up to three tests (fewer if there are fewer candidates)
 
 
 def parse_candidates(text: str | None) -> tuple[str, ...]:
@@ -37,7 +40,8 @@ def parse_candidates(text: str | None) -> tuple[str, ...]:
 
 
 def parse_ranges(text: str | None) -> dict[str, tuple[float, float]]:
-    """"uniaxial=1.05:3,planar=1.05:2.5" → {kind: (lo, hi)}; stretches > 0, shear γ ≥ 0, lo < hi."""
+    """"uniaxial=1.05:3,planar=1.05:2.5" → {kind: (lo, hi)}; stretches > 0, shear γ ≥ 0, lo < hi;
+    "specimen=0.05:0.5": a specimen test's extensometer strain range (> −1)."""
     out = {}
     for item in ([] if text is None else [t.strip() for t in text.split(",")]):
         kind, _, span = item.partition("=")
@@ -46,12 +50,40 @@ def parse_ranges(text: str | None) -> dict[str, tuple[float, float]]:
             lo_v, hi_v = float(lo), float(hi)
         except ValueError:
             lo_v = hi_v = float("nan")
-        floor = 0.0 if kind.strip() == "simple-shear" else 1e-9
-        if kind.strip() not in CANDIDATE_KINDS or not (floor <= lo_v < hi_v < 100):
+        floor = {"simple-shear": 0.0, "specimen": -1.0 + 1e-9}.get(kind.strip(), 1e-9)
+        if kind.strip() not in CANDIDATE_KINDS + ("specimen",) or not (floor <= lo_v < hi_v < 100):
             raise SceneError(f"--range {item!r}: expected KIND=LO:HI with KIND one of {', '.join(CANDIDATE_KINDS)} "
-                             "and LO < HI (stretches > 0, simple-shear γ >= 0, below 100)")
+                             "or specimen and LO < HI (stretches > 0, simple-shear γ >= 0, specimen extensometer "
+                             "strain > -1, below 100)")
         out[kind.strip()] = (lo_v, hi_v)
     return out
+
+
+def _elongation_sd(value: float | None) -> float:
+    if value is None:
+        return 0.0
+    if not (np.isfinite(value) and value >= 0):
+        raise SceneError(f"--extensometer-std {value!r}: must be >= 0 (mm of elongation, standard deviation)")
+    return float(value)
+
+
+def parse_list(text: str | None, option: str, kind: str) -> list:
+    """"a.toml,b.toml" → [Path, ...] (kind "path"); "10,20" → [float > 0, ...] (kind "mm")."""
+    if text is None:
+        return []
+    items = [t.strip() for t in text.split(",")]
+    if kind == "path":
+        missing = [t for t in items if not t or not Path(t).is_file()]
+        if missing:
+            raise SceneError(f"{option} {text!r}: {', '.join(repr(m) for m in missing)} is not a scene file")
+        return [Path(t) for t in items]
+    try:
+        values = [float(t) for t in items]
+    except ValueError:
+        values = [float("nan")]
+    if not all(np.isfinite(v) and v > 0 for v in values):
+        raise SceneError(f"{option} {text!r}: expected comma-separated gauge lengths in mm, each > 0")
+    return values
 
 
 def _noise(outcome, noise: float | None, scale: float) -> float:
@@ -73,11 +105,11 @@ def _plans(kinds, ranges, fit_sets, points: int) -> list[PlannedTest]:
     return [PlannedTest(k, *(ranges.get(k) or default_range(k, fit_sets)), points) for k in kinds]
 
 
-def parse_expect(text: str | None, model) -> np.ndarray | None:
-    """"C10=0.3,C01=0.05" → the card values in ``model.names`` order (every constant, once)."""
+def parse_expect(text: str | None, names) -> np.ndarray | None:
+    """"C10=0.3,C01=0.05" → the values of ``names`` in their order (every constant, once)."""
     if text is None:
         return None
-    names, got = list(model.names), {}
+    names, got = list(names), {}
     for item in (t.strip() for t in text.split(",")):
         key, _, value = item.partition("=")
         try:
@@ -114,8 +146,7 @@ def design(spec, kinds, ranges, points: int, max_size: int, noise: float | None,
     now, nxt = next_tests(model, x, J0, plans, s, relative)
     warnings = []
     if expect is None and outcome.data["identifiability"]["warning"]:
-        warnings.append("the file's data do not identify the fitted card, so the design is around an arbitrary "
-                        "point of its valley: give the expected constants with --expect")
+        warnings.append(VALLEY)
     return {"name": spec.name, "model": outcome.data["model"], "warnings": warnings,
             "parameters": dict(zip(model.names, map(float, model.card_vector(x)))),
             "parameters_from": "--expect" if expect is not None else "fit",
@@ -123,6 +154,74 @@ def design(spec, kinds, ranges, points: int, max_size: int, noise: float | None,
                                                           "source": "--noise" if noise is not None else "fit"},
             "points_per_test": points, "present_data": now, "answer": _answer(now, nxt),
             "next": nxt, "candidates": combos}
+
+
+VALLEY = ("the file's data do not identify the fitted card, so the design is around an arbitrary point of its "
+          "valley: give the expected constants with --expect")
+
+
+def design_fe(spec, kinds, ranges, points: int, max_size: int | None, noise: float | None, expect: np.ndarray | None,
+              specimens, gauges, elongation_sd: float = 0.0) -> dict:
+    """design.json's dict for a fit file with specimen data (FE in the loop): candidate specimen
+    tests — the fit's scene and ``specimens``, each at its own and at ``gauges`` gauge lengths,
+    over the extensometer strain range, with an extensometer elongation scatter ``elongation_sd`` (mm)
+    — and, when ``kinds`` are given, homogeneous tests of the
+    scene's law (relative residuals only: a force scatter in N is no stress scatter), around the
+    fitted (or expected) constants. Without both --expect and --noise the file is fitted first."""
+    from vlab.identify.datasets import Dataset
+    from vlab.identify.design import add_each, combine, plan_rows, range_options
+    from vlab.identify.fe_design import data_rows, specimen_candidates, specimen_rows, specimen_runs, strain_range
+    from vlab.identify.fe_loop import closed_form, fit_specimen
+
+    fe, names = spec.fe, list(spec.fe["parameters"])
+    relative = spec.residual == "relative"
+    if kinds and not relative:
+        raise SceneError("--candidates with a specimen fit file needs options.residual = \"relative\" (its force "
+                         "scatter in N has no stress equivalent for homogeneous tests); give --specimens instead")
+    count = (1 + len(specimens)) * (1 + len(gauges)) + len(kinds)
+    max_size = min(COMBINE, count) if max_size is None else max_size
+    if not 1 <= max_size <= count:
+        raise SceneError(f"--combine {max_size}: must be 1..{count} (the number of candidate tests: scenes × gauge "
+                         "lengths, plus the homogeneous kinds)")
+    t0 = time.perf_counter()
+    candidates = specimen_candidates(fe, specimens, gauges)  # bad scenes and gauge lengths before any solve
+    outcome = fit_specimen(spec) if expect is None or noise is None else None
+    p = expect if expect is not None else np.array([outcome.data["parameters"][n] for n in names])
+    values = fe["fixed"] | dict(zip(names, map(float, p)))
+    scale = 1.0 if relative else max(float(np.max(np.abs(d.y))) for d in spec.datasets)
+    s = _noise(outcome, noise, scale)
+    lo, hi = ranges.get("specimen") or strain_range(spec)
+    runs = specimen_runs(candidates, values, lo, hi, points)
+    tests = [(r.test, specimen_rows(r.sim, r.test, relative, s, elongation_sd)) for r in runs]
+    options = [(q, specimen_rows(r.sim, q, relative, s, elongation_sd)) for r in runs for q in range_options(r.test)]
+    if kinds:
+        model = closed_form(fe, "fit")
+        x = np.linalg.solve(model.transform, [values[n] for n in model.names])
+        cols = [list(model.names).index(n) for n in names]  # the constants held fixed drop out
+        as_uniaxial = [Dataset("specimen", "", "uniaxial", "fit", 1.0, "nominal", 1.0 + np.array([lo, hi]), None,
+                               np.zeros(2))]
+        plans = _plans(kinds, ranges, as_uniaxial, points)
+        tests += [(q, plan_rows(model, x, q, relative)[:, cols]) for q in plans]
+        options += [(q, plan_rows(model, x, q, relative)[:, cols]) for pl in plans for q in range_options(pl)]
+    combos = combine(tests, s, p, names, max_size)
+    # runs[0] is fe.scene at its own gauge length: the run the present readings come from
+    now, nxt = add_each(data_rows(spec, runs[0], s, elongation_sd), options, s, p, names)
+    warnings = []
+    if outcome is not None and expect is None and not outcome.data["identifiability"]["identifiable"]:
+        warnings.append(VALLEY)
+    return {"name": spec.name, "model": {"name": fe["model"], "fe": True}, "warnings": warnings,
+            "parameters": dict(zip(names, map(float, p))),
+            "parameters_from": "--expect" if expect is not None else "fit",
+            "fit_converged": None if outcome is None else outcome.converged,
+            "noise": {"standard_deviation": s, "residual": spec.residual,
+                      "source": "--noise" if noise is not None else "fit", "of": "load-cell force"},
+            "points_per_test": points, "present_data": now, "answer": _answer(now, nxt),
+            "next": nxt, "candidates": combos,
+            "fe": {"scene": fe["scene_path"], "parameters": names,
+                   "held": {k: v for k, v in fe["fixed"].items() if k not in names},
+                   "strain_range": [lo, hi], "extensometer_std_mm": elongation_sd,
+                   "runs": [r.describe() for r in runs],
+                   "seconds": time.perf_counter() - t0}}
 
 
 def _answer(now: dict, nxt: list[dict]) -> str:
@@ -153,6 +252,22 @@ def _rows(entries, names, extra: bool) -> str:
     return "".join(out)
 
 
+def _runs_table(fe: dict | None) -> str:
+    """An FE design's specimen runs: each scene at each gauge length, run once at the card."""
+    if not fe:
+        return ""
+    rows = "".join(f"<tr><td>{html.escape(Path(r['scene']).name)}</td><td>{html.escape(r['test'])}</td>"
+                   f"<td>{html.escape(r['shape'])}</td><td>{r['gauge_length_mm']:.4g}</td><td>{r['dofs']}</td>"
+                   f"<td>{_cell(r['end_strain'][0])}</td><td>{r['seconds']:.2f}{' (cache)' if r['from_cache'] else ''}"
+                   f"</td></tr>" for r in fe["runs"])
+    return (f"<h2>Specimen tests (FE in the loop)</h2><p>Constants {', '.join(map(html.escape, fe['parameters']))} "
+            f"planned over the extensometer strain {fe['strain_range'][0]:.4g}..{fe['strain_range'][1]:.4g}; "
+            f"extensometer scatter {fe['extensometer_std_mm']:.4g} mm; each scene run once at the card "
+            f"({fe['seconds']:.1f} s in all, the fit included).</p><table><tr><th>scene</th><th>test</th>"
+            f"<th>shape</th><th>gauge length (mm)</th><th>DOFs</th><th>end strain</th><th>run (s)</th></tr>"
+            f"{rows}</table>")
+
+
 def page(d: dict) -> str:
     from vlab.report.html import _STYLE
 
@@ -168,6 +283,7 @@ def page(d: dict) -> str:
             f"{html.escape(d['noise']['source'])}). D = det(Cov_rel)^(1/2p), A = √(tr Cov_rel / p): relative "
             f"standard errors, smaller is better. Present data: {html.escape(now['verdict'])}"
             f"{' — ' + html.escape(now['reason']) if now['reason'] else ''}.</p>"
+            f"{_runs_table(d.get('fe'))}"
             f"<h2>Add one test to the present data</h2><table><tr><th>test</th>{se_h}{red_h}{tail}</tr>"
             f"{_rows(d['next'], names, True)}</table>"
             f"<h2>Candidate tests alone and combined</h2><table><tr><th>tests</th>{se_h}{tail}</tr>"
@@ -175,8 +291,9 @@ def page(d: dict) -> str:
 
 
 def design_command(path: Path, out: Path | None, candidates: str | None, ranges: str | None, points: int,
-                   max_size: int, noise: float | None, console: Console, force: bool = False,
-                   expect: str | None = None, results: Console | None = None) -> int:
+                   max_size: int | None, noise: float | None, console: Console, force: bool = False,
+                   expect: str | None = None, specimens: str | None = None, gauges: str | None = None,
+                   elongation_sd: float | None = None, results: Console | None = None) -> int:
     """Errors and warnings on ``console`` (stderr in the CLI); the verdicts and the report's path on
     ``results`` (stdout; default ``console``)."""
     from vlab.identify.command import _destination
@@ -189,15 +306,24 @@ def design_command(path: Path, out: Path | None, candidates: str | None, ranges:
 
     try:
         spec = load_fit(path)
-        if spec.fe is not None:
-            raise SceneError("vlab design plans homogeneous tests; this fit file has a data set of kind = "
-                             "\"specimen\" (FE in the loop), which it does not cover")
-        kinds, spans = parse_candidates(candidates), parse_ranges(ranges)
-        if not 3 <= points <= 10000:
+        spans, points_ok = parse_ranges(ranges), 3 <= points <= 10000
+        if not points_ok:
             raise SceneError(f"--points {points}: must be 3..10000")
-        if not 1 <= max_size <= len(kinds):
-            raise SceneError(f"--combine {max_size}: must be 1..{len(kinds)} (the number of candidate kinds)")
-        d = design(spec, kinds, spans, points, max_size, noise, parse_expect(expect, spec.model))
+        if spec.fe is not None:
+            kinds = () if candidates is None else parse_candidates(candidates)
+            d = design_fe(spec, kinds, spans, points, max_size, noise, parse_expect(expect, spec.fe["parameters"]),
+                          parse_list(specimens, "--specimens", "path"), parse_list(gauges, "--gauge-lengths", "mm"),
+                          _elongation_sd(elongation_sd))
+        else:
+            if specimens is not None or gauges is not None or elongation_sd is not None or "specimen" in spans:
+                raise SceneError("--specimens, --gauge-lengths, --extensometer-std and --range specimen=... plan "
+                                 "FE-in-the-loop tests: "
+                                 "they need a fit file with a data set of kind = \"specimen\" and an [fe] table")
+            kinds = parse_candidates(candidates)
+            max_size = min(COMBINE, len(kinds)) if max_size is None else max_size
+            if not 1 <= max_size <= len(kinds):
+                raise SceneError(f"--combine {max_size}: must be 1..{len(kinds)} (the number of candidate kinds)")
+            d = design(spec, kinds, spans, points, max_size, noise, parse_expect(expect, spec.model.names))
     except SceneError as exc:
         return invalid("invalid input", exc)
     try:
@@ -216,4 +342,4 @@ def design_command(path: Path, out: Path | None, candidates: str | None, ranges:
     for e in d["candidates"][:5]:
         results.print(Text(f"  {e['label']}: {e['verdict']}, D {_cell(e['D'])}, A {_cell(e['A'])}"), highlight=False)
     results.print(Text(f"report: {dest.path / 'index.html'}"), highlight=False, soft_wrap=True)
-    return 0 if d["fit_converged"] else 1
+    return 0 if d["fit_converged"] is not False else 1

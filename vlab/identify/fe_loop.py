@@ -31,7 +31,7 @@ from vlab.identify.fe_spec import admissible
 from vlab.identify.laws import law_for
 from vlab.identify.states import Constitutive
 
-__all__ = ["fit_specimen", "residuals"]
+__all__ = ["fit_specimen", "residuals", "closed_form"]
 
 EXTRAPOLATION = 0.1  # data may reach 10 % of the simulated strain range beyond its end
 MATCHED = 1e-9  # rms weighted residual at which noise-free readings count as reproduced (solver rtol 1e-8)
@@ -136,7 +136,7 @@ def _homogeneous_comparison(spec, sim, p, se, names) -> dict:
     from vlab.identify.fitting import fit_homogeneous
 
     bulk = "fit" if "K" in names else "fixed"
-    model = _closed_form(spec.fe, bulk)
+    model = closed_form(spec.fe, bulk)
     kind = _HOMOGENEOUS_KIND[spec.fe["scene"].test.kind]
     if kind == "biaxial" and 1 not in spec.fe["axes"]:
         return {"kind": None, "note": "one axis of a biaxial test has no closed form of its own: give both "
@@ -157,7 +157,7 @@ def _homogeneous_comparison(spec, sim, p, se, names) -> dict:
     return out
 
 
-def _closed_form(fe: dict, bulk: str) -> Constitutive:
+def closed_form(fe: dict, bulk: str) -> Constitutive:
     """The identification library's form of the scene's law (vlab's Neo-Hookean, or a card model
     with the scene's volumetric energy); bulk "fit" or "fixed" at the scene's K."""
     terms = sum(1 for n in fe["fixed"] if n.startswith("alpha[")) or 1
@@ -205,7 +205,7 @@ def _fit_specimen(spec, run, t0):
     stats = unc.summarize(p, cov, list(names), dof, spec.confidence, reasons)
     se = np.sqrt(np.clip(np.diag(cov), 0, None))
     values = prob.values(p)
-    model = _closed_form(spec.fe, "fit")
+    model = closed_form(spec.fe, "fit")
     x, cov_x = _card_space(model, values, names, cov)
     datasets = [_dataset_errors(sim, d) for d in spec.datasets if d.kind == "specimen"]
     data = {

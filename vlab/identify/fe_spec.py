@@ -26,7 +26,7 @@ from vlab.fields import SceneError, Table
 from vlab.materials.arruda_boyce import LAMBDA_M_MAX
 from vlab.materials.ogden import ALPHA_RANGE
 
-__all__ = ["parse_fe", "FITTABLE_MODELS", "fittable", "admissible"]
+__all__ = ["parse_fe", "FITTABLE_MODELS", "fittable", "admissible", "load_scene", "check_scene"]
 
 FITTABLE_MODELS = ("neo-hookean", "mooney-rivlin", "yeoh", "gent", "arruda-boyce", "ogden")
 FE_KINDS = ("uniaxial", "biaxial", "planar")
@@ -34,18 +34,39 @@ SIGN_FREE = ("C01", "C20", "C30")  # may take either sign; every other constant 
 
 
 def _scene(t: Table, base: Path):
-    from vlab.scene import parse_scene
-    from vlab.scene.file import parse_toml, read_scene_file
-
     name = t.get("scene")
     if not isinstance(name, str) or not name:
         raise SceneError(f"fe.scene must be a scene file name (string), got {fields.show(name)}")
-    path = (base / name).resolve()
+    return load_scene((base / name).resolve(), "fe.scene")
+
+
+def load_scene(path: Path, label: str):
+    """(path, raw dict, parsed scene) of a scene file; SceneError prefixed with ``label``."""
+    from vlab.scene import parse_scene
+    from vlab.scene.file import parse_toml, read_scene_file
+
     try:
         raw = parse_toml(read_scene_file(path), path.name, "scene file")
     except SceneError as exc:
-        raise SceneError(f"fe.scene: {exc}") from None
+        raise SceneError(f"{label}: {exc}") from None
     return path, raw, parse_scene(raw, path.name, path.parent)
+
+
+def check_scene(scene, model_name: str, label: str) -> None:
+    """A scene vlab can run in the loop: the fit's material model (one of FITTABLE_MODELS), the
+    displacement formulation, no [effects], test.kind in FE_KINDS."""
+    name = scene.material.model
+    if name != model_name:
+        raise SceneError(f"{label}: the scene's material.model is {name!r} but model.name is "
+                         f"{model_name!r}; they must be the same model")
+    if name not in FITTABLE_MODELS:
+        raise SceneError(f"{label}: FE-in-the-loop fits support material.model in {', '.join(FITTABLE_MODELS)}, "
+                         f"got {name!r}")
+    if scene.mesh.formulation != "displacement" or scene.effects:
+        raise SceneError(f"{label}: FE-in-the-loop fits need mesh.formulation = \"displacement\" and no [effects]")
+    if scene.test.kind not in FE_KINDS:
+        raise SceneError(f"{label}: test.kind must be one of {', '.join(FE_KINDS)} for an FE-in-the-loop fit, "
+                         f"got {scene.test.kind!r}")
 
 
 def fittable(values: dict) -> tuple[str, ...]:
@@ -108,9 +129,6 @@ def _axes(scene, datasets) -> tuple[int, ...]:
     from vlab.loading.kinds import kind_of
 
     kind = scene.test.kind
-    if kind not in FE_KINDS:
-        raise SceneError(f"fe.scene: test.kind must be one of {', '.join(FE_KINDS)} for an FE-in-the-loop fit, "
-                         f"got {kind!r}")
     two = [d.b is not None for d in datasets if d.kind == "specimen"]
     axes = kind_of(scene.test).axes
     if any(two) and 1 not in axes:  # the kind has no load cell along y
@@ -130,14 +148,7 @@ def parse_fe(raw, base: Path, model, datasets) -> dict:
     t = Table("fe", raw, ("scene", "parameters", "start", "max_solves", "cache"))
     path, scene_raw, scene = _scene(t, base)
     name = scene.material.model
-    if name != model.law.model:
-        raise SceneError(f"fe.scene: the scene's material.model is {name!r} but model.name is "
-                         f"{model.law.model!r}; they must be the same model")
-    if name not in FITTABLE_MODELS:
-        raise SceneError(f"fe.scene: FE-in-the-loop fits support material.model in {', '.join(FITTABLE_MODELS)}, "
-                         f"got {name!r}")
-    if scene.mesh.formulation != "displacement" or scene.effects:
-        raise SceneError("fe.scene: FE-in-the-loop fits need mesh.formulation = \"displacement\" and no [effects]")
+    check_scene(scene, model.law.model, "fe.scene")
     if any(d.kind != "specimen" for d in datasets if d.role == "fit"):
         raise SceneError("an FE-in-the-loop fit takes only data sets of kind = \"specimen\"")
     values = flat_constants(scene.material)

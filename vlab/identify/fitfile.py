@@ -37,7 +37,13 @@ __all__ = ["FitSpec", "load_fit", "parse_fit", "parse_fit_text", "parse_model_na
 
 K_MAX = 1e9  # MPa: 2000 times diamond's bulk modulus; beyond it the residuals overflow (1e300 was inf)
 WEIGHT_MAX = 1e6  # a data set's weight relative to the others; 1e300 overflowed the residuals (SVD failed)
-KINDS = ("uniaxial", "equibiaxial", "planar", "biaxial", "simple-shear", "volumetric", "specimen") + tuple(FIT_KINDS)
+BUILTIN_KINDS = ("uniaxial", "equibiaxial", "planar", "biaxial", "simple-shear", "volumetric", "specimen")
+
+
+def kinds() -> tuple[str, ...]:
+    """The [[data]] kinds: the built-in ones and every kind in the registry now (one a script
+    registered after this module was imported included)."""
+    return BUILTIN_KINDS + tuple(FIT_KINDS)
 
 
 @dataclass(frozen=True, eq=False)
@@ -134,7 +140,7 @@ def _dataset_of(raw, i: int, base: Path) -> Dataset:
     file = t.get("file")
     if not isinstance(file, str) or not file:
         raise SceneError(f"{t.field('file')} must be a CSV file name (string), got {fields.show(file)}")
-    kind = t.choice("kind", KINDS)
+    kind = t.choice("kind", kinds())
     if kind in FIT_KINDS:
         return _closed_form_dataset(t, FIT_KINDS[kind], file, base)
     if "geometry" in t.raw:

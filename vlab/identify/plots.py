@@ -182,8 +182,9 @@ def _stress_label(kind: str, measure: str) -> str:
 
 
 def plot_specimens(name: str, panels: list[dict], path: Path) -> None:
-    """One panel per kind (vlab.identify.specimens.band_panels): the envelope of the specimens'
-    fitted curves (grey band), each specimen's curve and data in its colour, the pooled fit (black)."""
+    """One panel per kind (vlab.identify.specimens.band_panels, record_band_panels: a panel may
+    bring its own xlabel, ylabel and log_x): the envelope of the specimens' fitted curves (grey
+    band), each specimen's curve and data in its colour, the pooled fit (black)."""
     fig, axes = plt.subplots(1, len(panels), figsize=(4.6 * len(panels), 4.2), squeeze=False)
     colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     for ax, p in zip(axes[0], panels):
@@ -195,8 +196,10 @@ def plot_specimens(name: str, panels: list[dict], path: Path) -> None:
         for j, (s, y) in enumerate(p["curves"].items()):
             ax.plot(p["a"], y, "-", lw=0.8, color=colours[j % len(colours)])
         ax.plot(p["a"], p["pooled"], "-", color="k", lw=1.6, label="pooled fit (the card)")
-        ax.set_xlabel(_XLABEL.get(p["kind"], "stretch λ"))
-        ax.set_ylabel(_stress_label(p["kind"], p["measure"]))
+        ax.set_xlabel(p.get("xlabel") or _XLABEL.get(p["kind"], "stretch λ"))
+        ax.set_ylabel(p.get("ylabel") or _stress_label(p["kind"], p["measure"]))
+        if p.get("log_x"):
+            ax.set_xscale("log")
         ax.set_title(p["kind"], fontsize=9)
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7)

@@ -196,24 +196,64 @@ def band_panels(pooled, spec, outcomes: dict) -> list[dict]:
     return out
 
 
-def _add_band_figure(pooled, spec, outcomes: dict) -> None:
-    """specimens.png (the band of the specimens' fitted curves with the pooled fit), or why not."""
+def record_band_panels(pooled, spec, outcomes: dict) -> list[dict]:
+    """Per record kind in the data (relaxation, cyclic, DMA storage and loss): the first record of
+    that kind is the reference history; each specimen's fitted model and the pooled fit are run
+    over it (lo, hi: the specimens' envelope), drawn against its time (s) — a cyclic record without
+    a time column against its row — or its frequency (Hz); each specimen's records are drawn
+    against their own time, row or frequency."""
     from vlab.identify.records import KINDS
 
+    out = []
+    for kind in ("relaxation", "cyclic", "dma"):
+        sets = [d for d in spec.datasets if d.kind == kind]
+        if not sets:
+            continue
+        ref = sets[0]
+        run = lambda o: np.real(KINDS[kind].predict(o.spec.model, o.spec.effects, o.x[None, :], ref)[0])  # noqa: E731
+        curves = {s: run(o) for s, o in outcomes.items() if o.converged}
+        if not curves:
+            continue
+        pooled_y, stack = run(pooled), np.array(list(curves.values()))
+        axis, label = _record_axis(ref)
+        halves = (("storage", 0), ("loss", 1)) if kind == "dma" else ((None, None),)
+        for part, j in halves:
+            pick = (lambda y: np.split(y, 2)[j]) if part else (lambda y: y)  # noqa: E731
+            out.append({"kind": kind if part is None else f"DMA {part} ({ref.extra['modulus']})",
+                        "measure": "nominal", "a": axis, "xlabel": label, "log_x": kind == "dma",
+                        "ylabel": f"{part} modulus (MPa)" if part else "nominal stress (MPa)",
+                        "lo": pick(stack.min(0)), "hi": pick(stack.max(0)),
+                        "curves": {k: pick(v) for k, v in curves.items()}, "pooled": pick(pooled_y),
+                        "data": [(d.specimen, _record_axis(d)[0], pick(d.y)) for d in sets]})
+    return out
+
+
+def _record_axis(d) -> tuple[np.ndarray, str]:
+    """The x of a record's points: time (s), the row of a cyclic record without time, frequency (Hz)."""
+    if d.kind == "relaxation":
+        return d.a, "time (s)"
+    if d.kind == "dma":
+        return d.a, "frequency (Hz)"
+    mask = d.extra["mask"]
+    if d.extra["time"] is not None:
+        return d.extra["time"][mask], "time (s)"
+    return np.nonzero(mask)[0] + 1.0, "row of the history"
+
+
+def _add_band_figure(pooled, spec, outcomes: dict) -> None:
+    """specimens.png (the band of the specimens' fitted curves — equilibrium curves, or records run
+    over a reference history — with the pooled fit), or why not."""
     spec_d = pooled.data["specimens"]
-    if any(d.kind in KINDS for d in spec.datasets):
-        spec_d["figure"] = None
-        spec_d["figure_reason"] = "records (relaxation, DMA, cyclic) are histories: the band is drawn for " \
-                                  "equilibrium curves only"
-        return
-    panels = band_panels(pooled, spec, outcomes)
+    panels = band_panels(pooled, spec, outcomes) + record_band_panels(pooled, spec, outcomes)
     if not panels:
-        spec_d["figure"], spec_d["figure_reason"] = None, f"no data set of kind {', '.join(BAND_KINDS)}"
+        spec_d["figure"], spec_d["figure_reason"] = None, (f"no data set of kind {', '.join(BAND_KINDS)} or a "
+                                                           "record (relaxation, cyclic, dma)")
         return
     from vlab.identify.plots import plot_specimens
 
     spec_d["figure"], spec_d["figure_reason"] = "specimens.png", None
     caption = (f"The {len(outcomes)} specimens' fitted curves (grey band: their envelope; thin lines: each "
-               "specimen) with their data (points) and the pooled fit (black).")
+               "specimen) with their data (points) and the pooled fit (black). A record's band is each "
+               "specimen's fitted model run over the first record of its kind (the reference history).")
     pooled.extras.setdefault("figures", []).append(("specimens.png", caption))
     pooled.extras.setdefault("writers", []).append(("specimens.png", lambda p: plot_specimens(spec.name, panels, p)))

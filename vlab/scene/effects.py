@@ -7,7 +7,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from vlab import fields
-from vlab.effects import EFFECTS
+from vlab.effects import COMBINED, EFFECTS
 from vlab.fields import SceneError
 from vlab.scene.material import continuum
 
@@ -54,9 +54,12 @@ def parse_effects(raw: Any, material: MaterialSpec, test: TestSpec) -> tuple:
                              f"(1/s) or test.ramp_time (s)")
         specs.append(spec)
     laws = [s.name for s in specs if EFFECTS[s.name].role == "material"]
-    if len(laws) > 1:
-        raise SceneError(f"effects: one history-dependent law at a time, got {', '.join(laws)}")
-    if laws and material.model not in EFFECTS[laws[0]].models:
-        raise SceneError(f"effects.{laws[0]} wraps material.model = one of "
-                         f"{', '.join(EFFECTS[laws[0]].models)}, got {material.model!r}")
+    if len(laws) > 1 and frozenset(laws) not in COMBINED:
+        pairs = " or ".join(" with ".join(sorted(c)) for c in COMBINED)
+        raise SceneError(f"effects: one history-dependent law at a time, got {', '.join(laws)}"
+                         + (f" (combined: {pairs})" if pairs else ""))
+    for law in laws:
+        if material.model not in EFFECTS[law].models:
+            raise SceneError(f"effects.{law} wraps material.model = one of "
+                             f"{', '.join(EFFECTS[law].models)}, got {material.model!r}")
     return tuple(specs)

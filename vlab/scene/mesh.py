@@ -19,7 +19,8 @@ from vlab import fields
 from vlab.fields import SceneError
 from vlab.geometry.symmetry import SYMMETRY_LEVELS
 from vlab.materials.registry import MODELS as REGISTRY
-from vlab.scene.specimen import FINE_MESH_SHAPES, SYMMETRIC_SHAPES, MeshFileSpecimen, Specimen
+from vlab.geometry.shapes import SHAPES
+from vlab.scene.specimen import MeshFileSpecimen, Specimen
 
 if TYPE_CHECKING:
     from vlab.scene.test import TestSpec
@@ -55,13 +56,15 @@ def parse_mesh(raw: Any, specimen: Specimen) -> MeshSpec:
         return dataclasses.replace(_parse_mesh_of_file(t, specimen), max_dofs=max_dofs)
     size = t.number("size", gt=0, le=specimen.max_dimension, note=" (the largest specimen dimension)")
     gauge_size = t.number("gauge_size", default=None, gt=0, le=size, note=" (mesh.size)")
-    if gauge_size is not None and specimen.shape not in FINE_MESH_SHAPES:
+    if gauge_size is not None and not SHAPES[specimen.shape].gauge_size:
+        fine = [name for name, s in SHAPES.items() if s.gauge_size]
         raise SceneError(f"{t.field('gauge_size')} applies to specimen.shape = "
-                         f"{' or '.join(map(repr, FINE_MESH_SHAPES))} only, not {specimen.shape!r}")
+                         f"{' or '.join(map(repr, fine))} only, not {specimen.shape!r}")
     symmetry = t.choice("symmetry", SYMMETRY_LEVELS, default="none")
-    if symmetry != "none" and specimen.shape not in SYMMETRIC_SHAPES:
+    if symmetry != "none" and not SHAPES[specimen.shape].symmetric:
+        mirrored = [name for name, s in SHAPES.items() if s.symmetric]
         raise SceneError(f"{t.field('symmetry')} must be 'none' for specimen.shape = {specimen.shape!r} "
-                         f"(symmetry reduction is for {', '.join(SYMMETRIC_SHAPES)}), got {symmetry!r}")
+                         f"(symmetry reduction is for {', '.join(mirrored)}), got {symmetry!r}")
     cells = getattr(specimen, "cells", ("tet", "hex"))  # a specimen's own cells (2D: tri, quad)
     cell = t.choice("cell", cells, default=cells[0])
     return MeshSpec(size=size, order=t.integer("order", 1, 2, default=1), mesher=_mesher(t, specimen, cell, symmetry),

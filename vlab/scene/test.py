@@ -17,7 +17,7 @@ from typing import Any
 from vlab import fields
 from vlab.fields import SceneError
 from vlab.loading.protocol import HOLDS, PROTOCOLS, ProtocolSpec
-from vlab.scene.specimen import SPECIMEN_TESTS
+from vlab.geometry.shapes import SHAPES
 
 __all__ = ["TestSpec", "PROTOCOL_KEYS", "GRIP_KINDS", "parse_test"]
 
@@ -59,7 +59,7 @@ def parse_test(raw: Any, shape: str = "block") -> TestSpec:
     option_keys = tuple(dict.fromkeys(key for k in KINDS.values() for key in k.option_keys))
     t = fields.Table("test", raw, ("kind", "grips") + load_keys + option_keys + ("steps", "imperfection", "misalignment")
                      + PROTOCOL_KEYS)
-    tests = SPECIMEN_TESTS[shape]
+    tests = SHAPES[shape].tests  # the registry now: a shape registered by a script counts
     kind = KINDS[t.choice("kind", tuple(KINDS))]
     if kind.name not in tests:
         raise SceneError(f"{t.field('kind')} must be one of {', '.join(tests)} for specimen.shape = "

@@ -51,9 +51,6 @@ def split_model(raw) -> tuple[dict, dict]:
         return raw, {}
     rest = {k: v for k, v in raw.items() if k not in MODEL_KEYS}
     effects = {"viscoelastic": parse_viscoelastic(raw.get("viscoelastic")), "mullins": parse_mullins(raw.get("mullins"))}
-    if effects["viscoelastic"] is not None and effects["mullins"] is not None:
-        raise SceneError("model.viscoelastic and model.mullins are fitted one at a time (a relaxation or DMA record "
-                         "for the Prony series, cycles for the softening); give one of them")
     return rest, effects
 
 

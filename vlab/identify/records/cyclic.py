@@ -12,9 +12,15 @@ The rows are the history in the order it happened (the first row the first point
 λ = 1); the model runs over all of them, the residual takes the chosen branch (loading: the
 points where the stretch rose from the row before, the first row included; unloading: where it
 fell). With [model] mullins the stress is the Ogden–Roxburgh softened ground law
-(softening.py); with [model] viscoelastic the Prony history (needs the time column); with
-neither, the ground law, and a record that returns below its earlier maximum gets a warning with
-the misfit. Dataset: a = stretch at the residual's points, y = nominal stress there (MPa);
+(softening.py); with [model] viscoelastic the Prony history (needs the time column); with both,
+the softened ground law plus the Maxwell branches,
+
+    P_1 = η(ψ0, W_max) P0 + (λ1² ΣQ_1 − λ_f² ΣQ_f)/λ1        (MPa; prony.branch_stress),
+
+the softening acting on the long-term (equilibrium) response only and the branches, Neo-Hookean
+of μ0 as in vlab's viscoelastic effect, not softened (as Abaqus applies its Mullins effect to the
+long-term modulus of a viscoelastic material); with neither, the ground law, and a record that
+returns below its earlier maximum gets a warning with the misfit. Dataset: a = stretch at the residual's points, y = nominal stress there (MPa);
 extra = {"test", "stretch" (every row), "time" (or None), "mask"}.
 """
 
@@ -27,7 +33,7 @@ import numpy as np
 from vlab import fields
 from vlab.fields import SceneError, Table
 from vlab.identify.datasets import STRESS_UNITS, Dataset, read_columns
-from vlab.identify.records.prony import history_stress, principal
+from vlab.identify.records.prony import branch_stress, principal, without_mullins
 from vlab.identify.records.raw import check_increasing
 
 KIND = "cyclic"
@@ -79,15 +85,15 @@ def stress_along(model, effects, X, test, lam, time=None):
     from vlab.identify.records.softening import softened_stress
 
     prony, mullins = effects.get("viscoelastic"), effects.get("mullins")
-    if prony is not None:
-        return history_stress(model, prony, X, test, time, lam)
     c, _ = model.split(np.asarray(X)[:, None, :])
     l1, l2, l3, f = principal(test, lam)
     w = model.law.w(c, l1[None, :], l2[None, :], l3[None, :])
-    P0 = (w[0] - w[f]) / l1[None, :] + 0.0 * c[0]
-    if mullins is None:
-        return P0
-    return softened_stress(model.law, mullins, np.asarray(X), c, P0, l1, l2, l3)
+    P = (w[0] - w[f]) / l1[None, :] + 0.0 * c[0]
+    if mullins is not None:
+        P = softened_stress(model.law, mullins, np.asarray(X), c, P, l1, l2, l3)
+    if prony is not None:
+        P = P + branch_stress(model, prony, without_mullins(X, effects), test, time, lam)
+    return P
 
 
 def predict(model, effects, X, d):

@@ -22,7 +22,7 @@ import numpy as np
 from vlab import fields
 from vlab.fields import SceneError, Table
 from vlab.identify.datasets import STRESS_UNITS, Dataset, read_columns
-from vlab.identify.records.prony import dynamic_moduli
+from vlab.identify.records.prony import dynamic_moduli, without_mullins
 
 KIND = "dma"
 NEEDS_PRONY = True
@@ -58,8 +58,8 @@ def parse(raw, i: int, base: Path) -> Dataset:
 
 
 def predict(model, effects, X, d):
-    prony = effects.get("viscoelastic")
-    s, l = dynamic_moduli(model, prony, X, d.a, d.extra["modulus"])
+    prony = effects.get("viscoelastic")  # a virgin specimen at small strain is on the primary path: η = 1
+    s, l = dynamic_moduli(model, prony, without_mullins(X, effects), d.a, d.extra["modulus"])
     return np.concatenate([s, l], axis=-1)
 
 

@@ -1,8 +1,9 @@
-"""The fit of lab records (relaxation, DMA) with any homogeneous curves: a hyperelastic ground
-law and, with [model] viscoelastic, a Prony series — one least-squares problem.
+"""The fit of lab records (relaxation, DMA, cycles) with any homogeneous curves: a hyperelastic
+ground law and, with [model] viscoelastic, a Prony series, with [model] mullins the Ogden–Roxburgh
+softening, or both together (cyclic.stress_along) — one least-squares problem.
 
-Internal coordinates x = [the law's x, β_0..β_{N−1}, τ_0..τ_{N−1} (when fitted)]; the card
-values are c = T x with T = diag(the law's T, I). Residuals are relative (or absolute) per point
+Internal coordinates x = [the law's x, β_0..β_{N−1}, τ_0..τ_{N−1} (when fitted), r, m,
+mullins_beta (when fitted)]; the card values are c = T x with T = diag(the law's T, I). Residuals are relative (or absolute) per point
 as in solve.py, a DMA record's storage and loss each with their own floor (1 % of its largest).
 Equilibrium curves (uniaxial, planar, …) are the ground law's long-term response. Every
 Jacobian is the exact complex step through the whole history (prony.py). Starts: the law's
@@ -96,36 +97,36 @@ def _i1(datasets) -> float:
 
 
 def _start(rng, model, effects, scale, i1, window):
+    """(x0, lo, hi) in the order x = [the law's, β_i, τ_i (when fitted), r, m, mullins_beta]."""
     x0, lo, hi = model.law.start(rng, scale, i1)
     prony, mullins = effects.get("viscoelastic"), effects.get("mullins")
+    if prony is not None:
+        N = prony.terms
+        b0 = np.exp(rng.uniform(np.log(0.05), np.log(1.0), N))
+        x0, lo, hi = np.r_[x0, b0], np.r_[lo, np.zeros(N)], np.r_[hi, np.full(N, 1e4)]
+        if prony.tau is None:
+            t_lo, t_hi = window
+            grid = np.geomspace(t_lo, t_hi, N + 2)[1:-1] if N > 0 else []
+            t0 = np.asarray(grid) * np.exp(rng.uniform(-0.5, 0.5, N))
+            x0, lo, hi = np.r_[x0, t0], np.r_[lo, np.full(N, t_lo / 100)], np.r_[hi, np.full(N, 100 * t_hi)]
     if mullins is not None:  # r in (1.2, 4); m a fraction of the largest energy; β small
         w_top = 0.5 * scale * (i1 - 3.0)
         x0 = np.r_[x0, rng.uniform(1.2, 4.0), w_top * np.exp(rng.uniform(np.log(0.05), np.log(1.0)))]
         lo, hi = np.r_[lo, 1.0 + 1e-9, 1e-12], np.r_[hi, np.inf, np.inf]
         if mullins.beta is None:
             x0, lo, hi = np.r_[x0, rng.uniform(0.0, 0.3)], np.r_[lo, 0.0], np.r_[hi, np.inf]
-        return x0, lo, hi
-    if prony is None:
-        return x0, lo, hi
-    N = prony.terms
-    b0 = np.exp(rng.uniform(np.log(0.05), np.log(1.0), N))
-    x0, lo, hi = np.r_[x0, b0], np.r_[lo, np.zeros(N)], np.r_[hi, np.full(N, 1e4)]
-    if prony.tau is None:
-        t_lo, t_hi = window
-        grid = np.geomspace(t_lo, t_hi, N + 2)[1:-1] if N > 0 else []
-        t0 = np.asarray(grid) * np.exp(rng.uniform(-0.5, 0.5, N))
-        x0, lo, hi = np.r_[x0, t0], np.r_[lo, np.full(N, t_lo / 100)], np.r_[hi, np.full(N, 100 * t_hi)]
     return x0, lo, hi
 
 
 def _canonical(x, model, prony):
-    """Prony terms in rising τ (interchangeable terms, one order), the law's own order first."""
+    """Prony terms in rising τ (interchangeable terms, one order), the law's own order first;
+    the Prony entries follow the law's, the Mullins ones (if any) stay last."""
     n = len(model.law.names)
     order = np.r_[model.law.canonical_order(x[:n]), np.arange(n, len(x))]
     if prony is not None and prony.tau is None:
         N = prony.terms
-        k = np.argsort(x[-N:])
-        order[-2 * N:] = np.r_[len(x) - 2 * N + k, len(x) - N + k]
+        k = np.argsort(x[n + N:n + 2 * N])
+        order[n:n + 2 * N] = np.r_[n + k, n + N + k]
     return order
 
 
@@ -187,13 +188,14 @@ def _errors(obj, x, d) -> dict:
     return out
 
 
-def _prony_values(prony, x):
+def _prony_values(prony, x, n: int):
+    """β and τ of the card values x (the law's n first, then β_i, τ_i)."""
     if prony is None:
         return {}
     N = prony.terms
     if prony.tau is None:
-        return {"beta": x[-2 * N:-N], "tau": x[-N:]}
-    return {"beta": x[-N:], "tau": np.asarray(prony.tau, float)}
+        return {"beta": x[n:n + N], "tau": x[n + N:n + 2 * N]}
+    return {"beta": x[n:n + N], "tau": np.asarray(prony.tau, float)}
 
 
 def _card(model, values_law, effects_values: dict) -> dict:
@@ -300,7 +302,7 @@ def _card_entries(model, effects: dict, values) -> tuple[dict, dict]:
     mullins_beta; the [effects.*] tables of the card) of the fitted card values."""
     prony, mullins = effects.get("viscoelastic"), effects.get("mullins")
     n = len(model.law.names)
-    pv = _prony_values(prony, values)
+    pv = _prony_values(prony, values, n)
     params = {k: v for k, v in model.law.card(values[:n]).items() if k != "model"}
     if prony is not None:
         params |= {"beta": [float(v) for v in pv["beta"]], "tau": [float(v) for v in pv["tau"]]}

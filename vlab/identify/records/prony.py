@@ -35,7 +35,8 @@ import numpy as np
 from vlab import fields
 from vlab.fields import SceneError, Table
 
-__all__ = ["PronySpec", "parse_viscoelastic", "history_stress", "dynamic_moduli", "mu0_of", "principal"]
+__all__ = ["PronySpec", "parse_viscoelastic", "history_stress", "branch_stress", "dynamic_moduli", "mu0_of",
+           "principal", "without_mullins"]
 
 MAX_TERMS = 6
 _AB_MU0 = (1.0, 3 / 5, 99 / 175, 513 / 875, 42039 / 67375)
@@ -100,16 +101,30 @@ def principal(kind: str, lam):
     return lam, np.ones_like(lam), 1.0 / lam, 2
 
 
+def without_mullins(X, effects: dict):
+    """The parameter rows without the trailing Mullins entries (x = [law, Prony, Mullins]), so the
+    Prony series reads its β, τ from the end of what is left."""
+    mullins = effects.get("mullins")
+    X = np.asarray(X)
+    return X if mullins is None else X[..., :X.shape[-1] - len(mullins.names)]
+
+
 def history_stress(model, prony: PronySpec | None, X, kind: str, t, lam):
     """Nominal stress P_1 (m, n) along the record's history (t s, λ), rest at t = 0, λ = 1."""
     X = np.asarray(X)
     c, _ = model.split(X[:, None, :])
     l1, l2, l3, f = principal(kind, lam)
-    lf = (l1, l2, l3)[f]
     w = model.law.w(c, l1[None, :], l2[None, :], l3[None, :])
     P = (w[0] - w[f]) / l1[None, :] + 0.0 * c[0]
-    if prony is None:
-        return P
+    return P if prony is None else P + branch_stress(model, prony, X, kind, t, lam)
+
+
+def branch_stress(model, prony: PronySpec, X, kind: str, t, lam):
+    """The Maxwell branches' part of P_1 (m, n): (λ1² ΣQ_1 − λ_f² ΣQ_f)/λ1 (module docstring)."""
+    X = np.asarray(X)
+    c, _ = model.split(X[:, None, :])
+    l1, l2, l3, f = principal(kind, lam)
+    lf = (l1, l2, l3)[f]
     beta, tau = prony.split(X)
     mu = mu0_of(model.law, [ci[:, 0] for ci in c])[:, None]
     I1 = l1 * l1 + l2 * l2 + l3 * l3
@@ -119,14 +134,14 @@ def history_stress(model, prony: PronySpec | None, X, kind: str, t, lam):
     Q1 = np.zeros_like(beta * mu)
     Qf = np.zeros_like(Q1)
     s1p = sfp = 0.0
-    out = np.empty(P.shape, dtype=np.result_type(P, beta, tau))
+    out = np.empty((X.shape[0], len(dt)), dtype=np.result_type(X, beta, tau, mu))
     for k in range(len(dt)):
         xi = np.exp(-dt[k] / (2.0 * tau))
         Q1 = xi * (xi * Q1 - beta * s1p) + beta * xi * S1[:, k:k + 1]
         Qf = xi * (xi * Qf - beta * sfp) + beta * xi * Sf[:, k:k + 1]
         s1p, sfp = S1[:, k:k + 1], Sf[:, k:k + 1]
         out[:, k] = (l1[k] ** 2 * Q1.sum(axis=1) - lf[k] ** 2 * Qf.sum(axis=1)) / l1[k]
-    return P + out
+    return out
 
 
 def dynamic_moduli(model, prony: PronySpec, X, frequency, modulus: str = "tensile"):

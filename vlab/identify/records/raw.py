@@ -52,9 +52,13 @@ KEYS = ("file", "kind", "columns", "role", "weight", "name", "zero", "trim", "re
 
 
 def is_raw(raw) -> bool:
-    """A [[data]] table giving a force and displacement column (a machine export)."""
+    """A [[data]] table giving a force and displacement column (a machine export), unless its kind
+    reads a force column of its own (FE in the loop, or a closed-form kind of vlab.identify.kinds)."""
+    from vlab.identify.kinds import FIT_KINDS
+
     cols = raw.get("columns") if isinstance(raw, dict) else None
-    return isinstance(cols, dict) and ("force" in cols or "displacement" in cols) and raw.get("kind") != "specimen"
+    own = raw.get("kind") == "specimen" or raw.get("kind") in FIT_KINDS
+    return isinstance(cols, dict) and ("force" in cols or "displacement" in cols) and not own
 
 
 def _factor(unit: str, to: str) -> float:

@@ -8,8 +8,10 @@
     units = "MPa"               # the stress column's unit (datasets.STRESS_UNITS)
 
 Time (s) must increase strictly; the history starts at rest (t = 0, λ = 1), as `vlab run` starts,
-so a first row at t = 0 must have λ = 1. Predicted with prony.history_stress: the model is run
-over the record's own times, step for step as vlab's viscoelastic effect integrates them.
+so a first row at t = 0 must have λ = 1. Predicted with cyclic.stress_along (the ground law plus
+prony.branch_stress, softened by [model] mullins when given — inert on a monotonic ramp and hold,
+where ψ0 is its own maximum): the model is run over the record's own times, step for step as
+vlab's viscoelastic effect integrates them.
 Dataset: a = time (s), b = stretch, y = nominal stress (MPa); extra["test"] the kind.
 """
 
@@ -22,7 +24,6 @@ import numpy as np
 from vlab import fields
 from vlab.fields import SceneError, Table
 from vlab.identify.datasets import STRESS_UNITS, Dataset, read_columns
-from vlab.identify.records.prony import history_stress
 from vlab.identify.records.raw import check_increasing
 
 KIND = "relaxation"
@@ -68,8 +69,9 @@ def parse(raw, i: int, base: Path) -> Dataset:
 
 
 def predict(model, effects, X, d):
-    prony = effects.get("viscoelastic")
-    return history_stress(model, prony, X, d.extra["test"], d.a, d.b)
+    from vlab.identify.records.cyclic import stress_along  # with [model] mullins too: the joint model
+
+    return stress_along(model, effects, X, d.extra["test"], d.b, d.a)
 
 
 def scale(d) -> float:
