@@ -128,7 +128,7 @@ def test_shipped_example_console_page_and_strict_json_say_the_same(tmp_path):
             lo, hi = sp["per_specimen"][s]["constants"][k]["interval"]
             assert lo <= v <= hi, (s, k, lo, hi)
     page = (out / "index.html").read_text()
-    text = " ".join(r.stderr.split())
+    text = " ".join(r.stdout.split())  # the fit's summary is a result: stdout
     assert "<h2>Specimens</h2>" in page and "specimens.png" in page
     for k, st in sp["statistics"].items():
         cv = f"{100 * st['coefficient_of_variation']:.3g} %"

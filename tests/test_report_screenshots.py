@@ -117,9 +117,10 @@ def test_sweep_report_in_the_browser(tmp_path):
     points = expand_grid(scene_dict(name="shot-sweep"), [parse_axis("material.nu=0.3,0.45")])
     summaries = [summarize(p.source, RunKnobs(), p.label) for p in points]
     index = write_sweep_report(tmp_path / "sweep", "shot-sweep: sweep", summaries, {})
-    shot = screenshot(index, "sweep-report", tmp_path, size=(1300, 900))
-    assert shot.std() > STD_FLOOR  # a table page: text on white, not an empty page
+    shot = screenshot(index, "sweep-report", tmp_path, size=(1300, 1400))
+    assert shot.std() > STD_FLOOR  # the chart and the table, not an empty page
     assert "0.45" in index.read_text(encoding="utf-8")
+    assert [p.name for p in assert_images_shown(index.parent)] == ["sweep.png"]
 
 
 def test_cost_report_in_the_browser(tmp_path):

@@ -172,7 +172,7 @@ def fit(fitfile: Path = typer.Argument(..., help="Fit file (TOML): data sets, mo
     from vlab.identify.command import fit_command
 
     execution = _execution(workers, scheduler, default=None)
-    raise typer.Exit(fit_command(fitfile, out, models, console, force, execution, export))
+    raise typer.Exit(fit_command(fitfile, out, models, console, force, execution, export, results_console))
 
 
 def _print_estimate(est: Optional[dict]) -> None:
@@ -184,7 +184,8 @@ def _print_estimate(est: Optional[dict]) -> None:
     q = est["quantities"]
     parts = ", ".join(f"{k} ± {v['error']:.2g}" for k, v in q.items() if v["error"] is not None)
     show(f"accuracy estimate (companion mesh.size {est['companion_mesh_size']:g}, {est['cost_s']:.2f} s): "
-         f"{parts}" + (" — exact by construction (round-off)" if est["exact_by_construction"] else ""))
+         f"{parts}" + (" — exact by construction (round-off): the mesh adds no error to E, ν, stress"
+                       if est["exact_by_construction"] else ""))
 
 
 def _print_summary(data: dict) -> None:
@@ -205,7 +206,7 @@ def _print_summary(data: dict) -> None:
              f"(input E = {data['input']['E']:.6g}, nu = {data['input']['nu']:.6g})")
         from vlab.report.explain import by_design_notes
 
-        for key, note in by_design_notes(data).items():  # a difference by design, said where it shows
+        for key, note in by_design_notes(data, brief=True).items():  # a difference by design, said where it shows
             show(f"  {key}: {note}")
     elif kind.measures_E:
         show(f"E and nu {m['note']}")
@@ -571,7 +572,7 @@ def export_card(source: Path = typer.Argument(..., help="A vlab fit folder, its 
     """Write a material card for another solver, exactly in its convention (or refuse, exit 2)."""
     from vlab.export.command import export_command
 
-    raise typer.Exit(export_command(source, to, out, units, elastic_only, force, say))
+    raise typer.Exit(export_command(source, to, out, units, elastic_only, force, say, show))
 
 
 @app.command("import-card")
@@ -583,7 +584,7 @@ def import_card(file: Path = typer.Argument(..., help="An Abaqus/CalculiX, ANSYS
     """Read a solver's material card into a vlab [material] card."""
     from vlab.export.command import import_command
 
-    raise typer.Exit(import_command(file, out, solver, units, force, say))
+    raise typer.Exit(import_command(file, out, solver, units, force, say, show))
 @app.command()
 def design(fitfile: Path = typer.Argument(..., help="Fit file (TOML): homogeneous data sets, or specimen data with [fe]."),
            candidates: Optional[str] = typer.Option(None, "--candidates", help="Test kinds to plan, e.g. "
@@ -610,7 +611,7 @@ def design(fitfile: Path = typer.Argument(..., help="Fit file (TOML): homogeneou
     from vlab.identify.design_command import design_command
 
     raise typer.Exit(design_command(fitfile, out, candidates, ranges, points, combine, noise, console, force,
-                                    expect, specimens, gauges, elongation_sd))
+                                    expect, specimens, gauges, elongation_sd, results_console))
 
 
 @app.command()

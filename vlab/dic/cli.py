@@ -5,7 +5,7 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
-from vlab.cli_io import EXIT_INVALID, fail, say
+from vlab.cli_io import EXIT_INVALID, fail, say, show
 
 
 def run_dic(reference: Path, deformed: list[Path], options: dict, dest, quiet: bool) -> None:
@@ -37,4 +37,4 @@ def run_dic(reference: Path, deformed: list[Path], options: dict, dest, quiet: b
         write(dest, reference, fields, settings, time.perf_counter() - start)
     except ReportFolderError as exc:
         fail("invalid output folder", exc)
-    say(f"report: {dest.path / 'index.html'}")
+    show(f"report: {dest.path / 'index.html'}")

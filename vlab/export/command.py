@@ -93,8 +93,9 @@ def export_texts(card, solvers: list[str], units: str = "mm", elastic_only: bool
 
 
 def export_command(source: Path, to: str, out: Path | None, units: str, elastic_only: bool, force: bool,
-                   say) -> int:
-    """Write the card of ``source`` for the solvers in ``to`` (module docstring)."""
+                   say, show=None) -> int:
+    """Write the card of ``source`` for the solvers in ``to`` (module docstring); a refusal is said
+    with ``say`` (stderr in the CLI), the files written with ``show`` (stdout; default ``say``)."""
     from vlab.export import EXPORTERS
     from vlab.export import card as cards
 
@@ -111,7 +112,7 @@ def export_command(source: Path, to: str, out: Path | None, units: str, elastic_
         say(("cannot export", "red"), f" {exc}")
         return 2
     for t in solvers:
-        say(f"{t}: {paths[t]}")
+        (show or say)(f"{t}: {paths[t]}")
     return 0
 
 
@@ -165,8 +166,10 @@ def import_toml(card, path: Path, solver: str) -> str:
     return "\n".join(lines) + "\n" + text
 
 
-def import_command(path: Path, out: Path | None, solver: str | None, units: str | None, force: bool, say) -> int:
-    """Read a solver card into a vlab [material] card (card.toml or --out)."""
+def import_command(path: Path, out: Path | None, solver: str | None, units: str | None, force: bool, say,
+                   show=None) -> int:
+    """Read a solver card into a vlab [material] card (card.toml or --out); a refusal with ``say``
+    (stderr), the card and its file with ``show`` (stdout; default ``say``)."""
     try:
         card, name = read_card(path, solver, units)
         text = import_toml(card, Path(path), name)
@@ -175,8 +178,8 @@ def import_command(path: Path, out: Path | None, solver: str | None, units: str 
     except SceneError as exc:
         say(("cannot import card", "red"), f" {exc}")
         return 2
-    say(text.rstrip())
-    say(f"card: {target}")
+    (show or say)(text.rstrip())
+    (show or say)(f"card: {target}")
     return 0
 
 

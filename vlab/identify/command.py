@@ -15,7 +15,8 @@ from vlab.fields import SceneError
 __all__ = ["fit_command"]
 
 
-def _print_fit(console: Console, d: dict) -> None:
+def _print_fit(console: Console, d: dict, errors: Console | None = None) -> None:
+    """The fit's summary on ``console`` (stdout in the CLI); its warnings on ``errors`` (stderr)."""
     from vlab.identify.report import percent
 
     # Text, not markup: the CLI's console prints verbatim (a name or reason may hold "[...]")
@@ -32,7 +33,8 @@ def _print_fit(console: Console, d: dict) -> None:
                       f"max {percent(x['max_relative'])}", highlight=False)
     _print_specimens(console, d.get("specimens"))
     for w in d["warnings"]:
-        console.print(Text.assemble("  ", ("warning", "yellow"), f" {w}"), highlight=False, soft_wrap=True)
+        (errors or console).print(Text.assemble("  ", ("warning", "yellow"), f" {w}"), highlight=False,
+                                  soft_wrap=True)
     if d["converged"] and not d["trust"]["trustworthy"]:
         console.print(Text.assemble(("card not trustworthy", "red"), ": " + "; ".join(d["trust"]["because"])),
                       highlight=False, soft_wrap=True)
@@ -97,8 +99,9 @@ def _destination(out: Path, force: bool, spec, path: Path):
 
 
 def fit_command(path: Path, out: Path | None, models: str | None, console: Console, force: bool = False,
-                execution=None, export: str | None = None) -> int:
-    """``execution`` (vlab.study.sweep.Execution, from --workers/--scheduler): the FE-in-the-loop
+                execution=None, export: str | None = None, results: Console | None = None) -> int:
+    """Errors and warnings go to ``console`` (stderr in the CLI), the summary, ranking and the
+    report's path to ``results`` (stdout; default ``console``). ``execution`` (vlab.study.sweep.Execution, from --workers/--scheduler): the FE-in-the-loop
     solves on Dask; refused (exit 2) for a fit without a specimen data set. ``export``: solvers
     (--export) whose cards go to OUT/cards/ (vlab.export), checked before the fit starts."""
     from vlab.identify.request import fit_request
@@ -114,7 +117,7 @@ def fit_command(path: Path, out: Path | None, models: str | None, console: Conso
     except ReportFolderError as exc:
         return _refused(console, "invalid output folder", exc)
     try:
-        return _fit_and_write(request, dest, dest.path, console, execution)
+        return _fit_and_write(request, dest, dest.path, console, execution, results or console)
     except SchedulerError as exc:
         return _refused(console, "invalid option", exc)
     except ReportFolderError as exc:
@@ -127,15 +130,15 @@ def _refused(console: Console, what: str, exc: Exception) -> int:
     return 2
 
 
-def _fit_and_write(request, dest, out: Path, console: Console, execution=None) -> int:
+def _fit_and_write(request, dest, out: Path, console: Console, execution, results: Console) -> int:
     from vlab.identify.request import run_ranking, run_single
 
     if request.names:
         from vlab.identify.ranking import write_ranking
 
         rows = write_ranking(request.spec, run_ranking(request), dest, request.text)
-        _print_ranking(console, rows)
-        console.print(f"report: {out / 'index.html'}", highlight=False, soft_wrap=True)
+        _print_ranking(results, rows)
+        results.print(f"report: {out / 'index.html'}", highlight=False, soft_wrap=True)
         if not all(r["converged"] for r in rows):
             return EXIT_FAILED
         return EXIT_OK if rows[0]["trustworthy"] else EXIT_UNTRUSTED
@@ -146,6 +149,6 @@ def _fit_and_write(request, dest, out: Path, console: Console, execution=None) -
     except SceneError as exc:  # found while fitting (e.g. the scene's test does not cover the data)
         return _refused(console, "invalid fit file", exc)
     d = write_fit_report(outcome, dest, request.text)
-    _print_fit(console, d)
-    console.print(f"report: {out / 'index.html'}", highlight=False, soft_wrap=True)
+    _print_fit(results, d, console)
+    results.print(f"report: {out / 'index.html'}", highlight=False, soft_wrap=True)
     return exit_code(d)

@@ -39,6 +39,13 @@ def parse_candidates(text: str | None) -> tuple[str, ...]:
     return tuple(dict.fromkeys(items))
 
 
+def _points_ok(points: int) -> bool:
+    """--points: 3..10000 (SceneError otherwise)."""
+    if not 3 <= points <= 10000:
+        raise SceneError(f"--points {points}: must be 3..10000")
+    return True
+
+
 def parse_ranges(text: str | None) -> dict[str, tuple[float, float]]:
     """"uniaxial=1.05:3,planar=1.05:2.5" → {kind: (lo, hi)}; stretches > 0, shear γ ≥ 0, lo < hi;
     "specimen=0.05:0.5": a specimen test's extensometer strain range (> −1)."""
@@ -309,7 +316,8 @@ def page(d: dict) -> str:
 def design_command(path: Path, out: Path | None, candidates: str | None, ranges: str | None, points: int,
                    max_size: int | None, noise: float | None, console: Console, force: bool = False,
                    expect: str | None = None, specimens: str | None = None, gauges: str | None = None,
-                   elongation_sd: float | None = None) -> int:
+                   elongation_sd: float | None = None, results: Console | None = None) -> int:
+    """Errors and warnings on ``console`` (stderr), the verdicts and report path on ``results`` (stdout)."""
     from vlab.identify.command import _destination
     from vlab.identify.fitfile import load_fit
     from vlab.report.folder import ReportFolderError, report_folder
@@ -319,9 +327,7 @@ def design_command(path: Path, out: Path | None, candidates: str | None, ranges:
 
     try:
         spec = load_fit(path)
-        if not 3 <= points <= 10000:
-            raise SceneError(f"--points {points}: must be 3..10000")
-        spans = parse_ranges(ranges)
+        spans = parse_ranges(ranges) if _points_ok(points) else {}
         if spec.fe is not None:
             kinds = () if candidates is None else parse_candidates(candidates)
             d = design_fe(spec, kinds, spans, points, max_size, noise, parse_expect(expect, spec.fe["parameters"]),
@@ -344,17 +350,18 @@ def design_command(path: Path, out: Path | None, candidates: str | None, ranges:
             (tmp / "index.html").write_text(page(d), encoding="utf-8")
     except ReportFolderError as exc:
         return invalid("invalid output folder", exc)
-    _summary(d, dest.path / "index.html", console)
+    _summary(d, dest.path / "index.html", console, results or console)
     return 0 if d["fit_converged"] is not False else 1
 
 
-def _summary(d: dict, index: Path, console: Console) -> None:
-    """The console summary: the present data's verdict, warnings, the answer, the best candidates."""
-    console.print(Text(f"{d['name']}: {d['model']['name']}, present data {d['present_data']['verdict']}"),
+def _summary(d: dict, index: Path, console: Console, results: Console) -> None:
+    """The summary: the present data's verdict, the answer, the best candidates and the report on
+    ``results`` (stdout), warnings on ``console`` (stderr)."""
+    results.print(Text(f"{d['name']}: {d['model']['name']}, present data {d['present_data']['verdict']}"),
                   highlight=False)
     for w in d["warnings"]:
         console.print(Text.assemble("  ", ("warning", "yellow"), f" {w}"), highlight=False, soft_wrap=True)
-    console.print(Text(f"  next: {d['answer']}"), highlight=False, soft_wrap=True)
+    results.print(Text(f"  next: {d['answer']}"), highlight=False, soft_wrap=True)
     for e in d["candidates"][:5]:
-        console.print(Text(f"  {e['label']}: {e['verdict']}, D {_cell(e['D'])}, A {_cell(e['A'])}"), highlight=False)
-    console.print(Text(f"report: {index}"), highlight=False, soft_wrap=True)
+        results.print(Text(f"  {e['label']}: {e['verdict']}, D {_cell(e['D'])}, A {_cell(e['A'])}"), highlight=False)
+    results.print(Text(f"report: {index}"), highlight=False, soft_wrap=True)

@@ -4,9 +4,13 @@ plots), or, for a uniform field, one swatch with the value stated.
 
 Panels are cropped to the union of their non-background pixels, so one camera (one scale) still
 holds across panels. Long specimens (cropped width > 1.6 × height) are stacked in one column,
-others side by side. Returns each panel's pixel box in the PNG (x0, y0, x1, y1; origin top left)
-so tests and readers can find the specimen. The foot row holds the colour bar between the axis
-triad (left) and the scale bar (right) of vlab.render.guides, outside every panel.
+others side by side. Each title is wrapped at word boundaries to its panel's width (measured in
+points with the font's metrics; a word wider than the panel lowers the font size, down to
+TITLE_MIN_PT), and the title band is as tall as the longest title: six models side by side have
+narrow panels, and unwrapped titles ran into their neighbours. Returns each panel's pixel box in
+the PNG (x0, y0, x1, y1; origin top left) so tests and readers can find the specimen. The foot row
+holds the colour bar between the axis triad (left) and the scale bar (right) of
+vlab.render.guides, outside every panel.
 """
 
 from __future__ import annotations
@@ -18,6 +22,8 @@ import numpy as np
 from vlab.render.guides import guides, side_width
 
 FIG_WIDTH_IN, DPI = 12.4, 100  # 1240 px: the report page's width
+TITLE_PT, TITLE_MIN_PT = 11.0, 7.0
+LINE_SPACING = 1.25  # title line height / font size
 BACKGROUND_LEVEL = 250  # a pixel whose three channels are all above this is background (white)
 
 
@@ -31,6 +37,46 @@ def crop_box(images: list[np.ndarray], pad: int = 8) -> tuple[int, int, int, int
         return 0, mask.shape[0], 0, mask.shape[1]
     return (max(rows[0] - pad, 0), min(rows[-1] + 1 + pad, mask.shape[0]),
             max(cols[0] - pad, 0), min(cols[-1] + 1 + pad, mask.shape[1]))
+
+
+def _text_width_pt(text: str, size: float) -> float:
+    """Width of ``text`` set in the default font at ``size`` points, in points."""
+    from matplotlib.font_manager import FontProperties
+    from matplotlib.textpath import TextToPath
+
+    return TextToPath().get_text_width_height_descent(text, FontProperties(size=size), ismath=False)[0]
+
+
+def _words(line: str) -> list[str]:
+    """The line's break points: spaces, except before a number (it stays with what it measures)."""
+    words: list[str] = []
+    for word in line.split(" "):
+        if words and word[:1] and word[0] in "0123456789+-−.":
+            words[-1] += " " + word
+        else:
+            words.append(word)
+    return words
+
+
+def wrap_title(title: str, width_pt: float) -> tuple[str, float]:
+    """(title with line breaks, font size) so that no line is wider than ``width_pt`` points: its
+    lines wrapped greedily at spaces at TITLE_PT, or at a smaller size where a word alone is wider."""
+    size = TITLE_PT
+    while True:
+        lines = []
+        for line in title.split("\n"):
+            current = ""
+            for word in _words(line):
+                trial = f"{current} {word}" if current else word
+                if current and _text_width_pt(trial, size) > width_pt:
+                    lines.append(current)
+                    current = word
+                else:
+                    current = trial
+            lines.append(current)
+        if size <= TITLE_MIN_PT or all(_text_width_pt(ln, size) <= width_pt for ln in lines):
+            return "\n".join(lines), size
+        size = max(size - 1.0, TITLE_MIN_PT)
 
 
 def _layout(n: int, aspect: float) -> tuple[int, int]:
@@ -49,24 +95,27 @@ def compose(images: list[np.ndarray], titles: list[str], path: Path, bar: dict, 
     crops = [im[r0:r1, c0:c1] for im in images]
     aspect = (c1 - c0) / max(r1 - r0, 1)
     rows, cols = _layout(len(crops), aspect)
-    gap, title_h, bar_h, side = 0.15, 0.6, 1.0, 0.2  # inches
+    gap, bar_h, side = 0.15, 1.0, 0.2  # inches
     panel_w = (FIG_WIDTH_IN - 2 * side - (cols - 1) * gap) / cols
     panel_h = min(panel_w / aspect, 5.0)
     panel_w = min(panel_w, panel_h * aspect)
+    wrapped = [wrap_title(t, panel_w * 72.0) for t in titles]
+    # the band holds the tallest title (lines × line height) and the axes' title pad
+    title_h = max(0.6, max(t.count("\n") + 1 for t, _ in wrapped) * TITLE_PT * LINE_SPACING / 72.0 + 0.2)
     height = rows * (panel_h + title_h) + bar_h + 0.1
     fig = Figure(figsize=(FIG_WIDTH_IN, height), dpi=DPI)
     FigureCanvasAgg(fig)
     boxes = []
     try:
         x_free = FIG_WIDTH_IN - cols * panel_w - (cols - 1) * gap
-        for i, (crop, title) in enumerate(zip(crops, titles)):
+        for i, (crop, (title, size)) in enumerate(zip(crops, wrapped)):
             row, col = divmod(i, cols)
             x = x_free / 2 + col * (panel_w + gap)
             y = height - (row + 1) * (panel_h + title_h)
             ax = fig.add_axes([x / FIG_WIDTH_IN, y / height, panel_w / FIG_WIDTH_IN, panel_h / height])
             ax.imshow(crop, interpolation="antialiased")
             ax.set_axis_off()
-            ax.set_title(title, fontsize=11, loc="left")
+            ax.set_title(title, fontsize=size, loc="left")
             x0, y0 = int(round(x * DPI)), int(round((height - y - panel_h) * DPI))
             boxes.append([x0, y0, x0 + int(panel_w * DPI), y0 + int(panel_h * DPI)])
         _colour_bar(fig, bar, height, bar_h, side=side_width(panel_w))

@@ -98,12 +98,45 @@ def _point_on_curve(data: dict, strain: float, true: bool) -> tuple[list[float],
     return [float(np.interp(strain, xm[order], x[order]))], [float(np.interp(strain, xm[order], y[order]))]
 
 
+def crosshead_displacement(data: dict) -> np.ndarray | None:
+    """The crosshead (grip) displacement Δ = (λ − 1) L₀ in mm at each reading, the unloaded origin
+    first; L₀ the initial grip separation (results.json → specimen). None where either is missing."""
+    L0 = ((data.get("specimen") or {}).get("grip_separation") or {}).get("x")
+    strain = data["curve"].get("crosshead_strain")
+    if L0 is None or strain is None:
+        return None
+    return np.r_[0.0, strain] * L0
+
+
+def _draw_machine(ax, datas: list[dict]) -> None:
+    """The machine's own record: load-cell force F (N) against crosshead displacement Δ (mm), every
+    reading of the whole protocol (loops included), before any specimen dimension enters but L₀."""
+    for d in datas:
+        delta = crosshead_displacement(d)
+        if delta is not None:
+            ax.plot(delta, np.r_[0.0, d["curve"]["force"]], "-", marker="o", ms=2.5, lw=1.4,
+                    color=colour(label(d)), label=f"{label(d)} (FE)")
+    ax.set_xlabel("crosshead (grip) displacement Δ = (λ − 1) L₀ [mm]")
+    ax.set_ylabel("load-cell force F [N]")
+    ax.set_title("Machine record: force against crosshead displacement", fontsize=11)
+    ax.axhline(0, color="0.7", lw=0.5)
+    ax.axvline(0, color="0.7", lw=0.5)
+    ax.grid(alpha=0.3)
+
+
 def plot_overlay(datas: list[dict], path: Path, true: bool = False,
-                 departures: dict[str, dict] | None = None) -> None:
+                 departures: dict[str, dict] | None = None) -> list[dict]:
     """Stress–strain curves of all models, analytic dashed, fit window shaded with an inset zoom,
-    departure from Neo-Hookean marked (○ 5 %, ✕ 10 %)."""
+    departure from Neo-Hookean marked (○ 5 %, ✕ 10 %); beside them, where the results give the
+    grip separation, the machine's force–crosshead record. Returns the panels (figures.describe)."""
     departures = departures or {}
-    fig, ax = plt.subplots(figsize=(9.6, 5.4), dpi=120)
+    machine = any(crosshead_displacement(d) is not None for d in datas)
+    if machine:
+        fig, (ax, right) = plt.subplots(1, 2, figsize=(15.0, 5.4), dpi=120, gridspec_kw={"width_ratios": [1.2, 1.0]})
+        _draw_machine(right, datas)
+    else:
+        fig, ax = plt.subplots(figsize=(9.6, 5.4), dpi=120)
+        right = ax
     _draw_curves(ax, datas, true, departures)
     window = _window(datas)
     if window is not None:
@@ -126,9 +159,9 @@ def plot_overlay(datas: list[dict], path: Path, true: bool = False,
     ax.axhline(0, color="0.7", lw=0.5)
     ax.axvline(0, color="0.7", lw=0.5)
     ax.grid(alpha=0.3)
-    ax.legend(handles=_legend_handles(datas, departures, window), fontsize=8, loc="upper left",
-              bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0)
-    plt.save(fig, path)
+    right.legend(handles=_legend_handles(datas, departures, window), fontsize=8, loc="upper left",
+                 bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0)
+    return plt.save(fig, path)
 
 
 def _legend_handles(datas, departures, window):

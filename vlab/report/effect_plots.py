@@ -8,7 +8,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
+
 from vlab.report import figures as plt  # pyplot-free Agg figures
+
+MODEL_STYLES = ("-", "--", ":", "-.")  # several models on one loop figure: the cycles keep the colours
 
 
 def _axes(data: dict) -> tuple[str, str, str, str]:
@@ -42,8 +46,11 @@ def effect_figures(datas: list[dict], folder: Path) -> list:
     names = {_protocol(d)["name"] for d in datas}
     if names & {"load-unload", "cyclic"}:
         _hysteresis(datas, folder / "hysteresis.png")
-        figures.append(Figure("hysteresis.png", "Load against grip extension over the whole protocol: "
-                              "the area enclosed by a loop is the energy dissipated per cycle."))
+        figures.append(Figure("hysteresis.png", "Load against crosshead travel over the whole protocol, one "
+                              "colour per cycle (a cycle: from where the crosshead turns back to load "
+                              "until it turns back again); the area enclosed by a loop is the energy "
+                              "dissipated in that cycle, and a reload below the first loading is "
+                              "softening (Mullins)."))
     if "relaxation" in names:
         ylabel, what = _relaxation_words(datas[0])
         _against_time(datas, folder / "relaxation.png", _axes(datas[0])[2], ylabel, what)
@@ -61,26 +68,63 @@ def _label(data: dict) -> str:
     return " + ".join([data["input"]["model"], *declared])
 
 
-def _finish(fig, ax, path: Path, title: str) -> None:
+def _finish(fig, ax, path: Path, title: str) -> list[dict]:
     ax.set_title(title, fontsize=10)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="best")
-    plt.save(fig, path)
+    return plt.save(fig, path)
 
 
-def _hysteresis(datas: list[dict], path: Path) -> None:
-    fig, ax = plt.subplots(figsize=(6.4, 4.4), dpi=120)
+def cycle_starts(control) -> list[int]:
+    """Indices where a cycle starts in a control column (grip strain, γ) with its origin first: 0,
+    then every reading where the control turns from falling to rising (a local minimum; held
+    readings in between are skipped). Load–unload: one cycle; cyclic: one per amplitude. A last
+    stretch that only rises (fully reversed shear's −γₙ → 0, back to rest) ends the last cycle."""
+    x = np.asarray(control, dtype=float)
+    starts, falling = [0], False
+    for i in range(1, len(x)):
+        step = x[i] - x[i - 1]
+        if step > 0 and falling:
+            starts.append(i - 1)
+        if step != 0:
+            falling = step < 0
+    if len(starts) > 1 and np.all(np.diff(x[starts[-1]:]) >= 0):
+        starts.pop()
+    return starts
+
+
+def _hysteresis(datas: list[dict], path: Path) -> list[dict]:
+    """Force against the crosshead (mm where results.json gives the grip separation, else strain;
+    simple shear: γ), a colour per cycle numbered in the legend with its peak, a line style per model."""
+    import matplotlib as mpl
+
+    from vlab.report.comparison_plots import crosshead_displacement
+
+    fig, ax = plt.subplots(figsize=(7.6, 4.8), dpi=120)
     x_col, f_col, _, xlabel = _axes(datas[0])
-    for d in datas:
+    in_mm = x_col == "crosshead_strain" and all(crosshead_displacement(d) is not None for d in datas)
+    n_cycles = max(len(cycle_starts([0.0] + d["curve"][x_col])) for d in datas)
+    cmap = mpl.colormaps["viridis"]
+    for m, d in enumerate(datas):
         c = d["curve"]
-        x = [0.0] + c[x_col]
-        ax.plot(x, [0.0] + c[f_col], "-", marker="o", ms=2, label=_label(d))
-        ax.annotate("", xy=(x[2], c[f_col][1]), xytext=(x[1], c[f_col][0]),
-                    arrowprops={"arrowstyle": "->", "color": "0.4"})
-    ax.set_xlabel(xlabel)
+        x = crosshead_displacement(d) if in_mm else np.r_[0.0, c[x_col]]
+        f = np.r_[0.0, c[f_col]]
+        starts = cycle_starts([0.0] + c[x_col]) + [len(x) - 1]
+        for k, (a, b) in enumerate(zip(starts[:-1], starts[1:])):
+            colour = cmap(0.85 * k / max(n_cycles - 1, 1))
+            peak = x[a:b + 1][np.argmax(np.abs(x[a:b + 1]))]
+            name = f"cycle {k + 1}: to {peak:.3g}{' mm' if in_mm else ''}"
+            ax.plot(x[a:b + 1], f[a:b + 1], MODEL_STYLES[m % len(MODEL_STYLES)], marker="o", ms=2, color=colour,
+                    label=name if len(datas) == 1 else f"{_label(d)}, {name}")
+        if len(x) > 2:
+            ax.annotate("", xy=(x[2], f[2]), xytext=(x[1], f[1]), arrowprops={"arrowstyle": "->", "color": "0.4"})
+    ax.set_xlabel("crosshead (grip) displacement Δ = (λ − 1) L₀ [mm]" if in_mm else xlabel)
     ax.set_ylabel("load-cell force [N]")
     ax.axhline(0, color="0.7", lw=0.5)
-    _finish(fig, ax, path, f"{datas[0]['scene']['name']}: {_protocol(datas[0])['name']} loops")
+    title = f"{datas[0]['scene']['name']}: {_protocol(datas[0])['name']}, {n_cycles} cycle{'s' * (n_cycles > 1)}"
+    if len(datas) == 1:
+        title += f" ({_label(datas[0])})"
+    return _finish(fig, ax, path, title)
 
 
 def _against_time(datas: list[dict], path: Path, column: str, ylabel: str, what: str) -> None:

@@ -19,8 +19,23 @@ def subplots(nrows: int = 1, ncols: int = 1, *, figsize=None, dpi=None, **kwargs
     return fig, fig.subplots(nrows, ncols, **kwargs)
 
 
-def save(fig: Figure, path) -> None:
-    """Lay the figure out (tight_layout), write the PNG, free the figure.
+def describe(fig: Figure) -> list[dict]:
+    """What each panel of ``fig`` shows, for tests and callers that check a figure: per axes (insets
+    excluded) its title, axis labels, x scale, number of data lines (axhline/axvline references, drawn in
+    axes coordinates on one axis, are not counted), their colours and the legend entries."""
+    panels = []
+    for ax in fig.axes:
+        legend = ax.get_legend()
+        lines = [ln for ln in ax.get_lines() if ln.get_transform() == ax.transData]
+        panels.append({"title": ax.get_title(), "xlabel": ax.get_xlabel(), "ylabel": ax.get_ylabel(),
+                       "xscale": ax.get_xscale(),
+                       "lines": len(lines), "colours": [ln.get_color() for ln in lines],
+                       "legend": [t.get_text() for t in legend.get_texts()] if legend else []})
+    return panels
+
+
+def save(fig: Figure, path) -> list[dict]:
+    """Lay the figure out (tight_layout), write the PNG, free the figure; returns :func:`describe`.
 
     The layout engine that tight_layout leaves set is dropped before saving: with one set,
     savefig draws the whole figure once more, without rendering, before the real draw (the
@@ -29,7 +44,9 @@ def save(fig: Figure, path) -> None:
     fig.tight_layout()
     fig.set_layout_engine(None)
     fig.savefig(path)
+    panels = describe(fig)
     close(fig)
+    return panels
 
 
 def close(fig: Figure) -> None:

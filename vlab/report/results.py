@@ -89,6 +89,7 @@ def result_to_dict(result: RunResult) -> dict:
         "measured": _measured(result),
         "input": material_input(scene.material),
         "curve": curve_columns(result) | {"units": dict(_kind(result).units)},
+        "specimen": _instrument_geometry(result),
         "reference": result.reference,
         "homogeneity": d.homogeneity,
         "bending": d.bending,  # test.misalignment: ASTM E1012 percent bending (measure/bending.py)
@@ -106,6 +107,14 @@ def result_to_dict(result: RunResult) -> dict:
         "failure": None if history.failure is None else failure_dict(scene, history.failure),
         "accuracy_estimate": d.accuracy_estimate,  # vlab.study.estimate; None if off
     })
+
+
+def _instrument_geometry(result: RunResult) -> dict:
+    """The full specimen's initial grip separation L₀ (mm) per loaded axis (x, y), so a reader turns
+    the crosshead strain back into the machine's crosshead displacement Δ = (λ − 1) L₀ (mm)."""
+    sep = getattr(result.specimen, "grip_separation", None) or {}
+    return {"grip_separation": {"xy"[a]: float(sep[a]) for a in _kind(result).axes if a in sep},
+            "units": {"grip_separation": "mm"}}
 
 
 def _measured(result: RunResult) -> dict:

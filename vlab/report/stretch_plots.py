@@ -39,7 +39,10 @@ def _uniaxial(datas, folder: Path, true: bool, departures: dict) -> list:
         Figure("stress_strain.png", f"{kind.capitalize()} stress against extensometer strain for every "
                "model; dashed: the analytic homogeneous solution where the specimen has one; shaded: "
                "the E fit window (inset: zoom on it); ○/✕: where a model's stress first differs from "
-               "Neo-Hookean's by 5 %/10 %."),
+               "Neo-Hookean's by 5 %/10 %. Right: the machine's own record, load-cell force "
+               "against crosshead (grip) displacement Δ = (λ − 1) L₀ over the whole test, the first plot a "
+               "lab looks at; it stretches the whole length between the grips (a dogbone's shoulders too), "
+               "which is why E is read from the extensometer."),
         Figure("lateral_strain.png", "Lateral against axial strain and the apparent Poisson's ratio "
                "−ε_lat/ε_axial as the strain grows."),
     ]

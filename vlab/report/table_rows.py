@@ -261,6 +261,9 @@ def _estimate(d: dict) -> str:
             f"{est['assumed_order']}, cost {_fmt(est['cost_s'], 3)} s")
     if est.get("exact_by_construction"):
         text += f". <b>Exact by construction</b>: {html.escape(est['note'])}"
+    if "E" in by_design_notes(d):  # the other number that looks like an error and is not one
+        text += (". This is the discretisation error of the FE answer only; E differs from its input for "
+                 "the reason under the E row")
     return text
 
 

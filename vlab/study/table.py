@@ -88,6 +88,20 @@ def page(title: str, body: str) -> str:
             f"<style>{STYLE}</style></head><body><h1>{html.escape(title)}</h1>{body}</body></html>")
 
 
+def _chart(summaries: list[dict], tmp: Path) -> str:
+    """The chart's figure element (vlab.study.sweep_plots), or a line saying why there is none."""
+    from vlab.study.sweep_plots import plot_sweep, swept_keys
+
+    panels = plot_sweep(summaries, tmp / "sweep.png")
+    if panels is None:
+        return "<p><small>No chart: no run completed.</small></p>" if swept_keys(summaries) else ""
+    keys = swept_keys(summaries)
+    lines = f"; a line per value of {html.escape(', '.join(keys[1:]))}" if len(keys) > 1 else ""
+    return (f"<figure><img src='sweep.png' alt='{html.escape(keys[0])} against each measured quantity'>"
+            f"<figcaption>{html.escape(keys[0])} against each quantity the runs measured, one panel each{lines}; "
+            "failed or invalid runs have no point (their diagnosis is in the table).</figcaption></figure>")
+
+
 def write_sweep_report(folder: Path, title: str, summaries: list[dict], meta: dict) -> Path:
     """``folder``/sweep.csv, sweep.json (every summary + meta) and index.html, written atomically."""
     from vlab.study.commands import sweep_record
@@ -106,5 +120,6 @@ def write_sweep_report(folder: Path, title: str, summaries: list[dict], meta: di
     with report_folder(folder, "sweep") as tmp:
         write_csv(headers, rows, tmp / "sweep.csv")
         (tmp / "sweep.json").write_text(json.dumps(sweep_record(meta, summaries), indent=1, default=str))
-        (tmp / "index.html").write_text(page(title, intro + html_table(headers, rows)), encoding="utf-8")
+        chart = _chart(summaries, tmp)
+        (tmp / "index.html").write_text(page(title, intro + chart + html_table(headers, rows)), encoding="utf-8")
     return destination(folder).path / "index.html"

@@ -34,25 +34,26 @@ def _spec(parsed, samples: Optional[int]):
 
 
 def _print(budget: dict, index: Path) -> None:
-    from vlab.cli_io import say
+    """The budget's results on stdout (the sweeps' progress bars are on stderr)."""
+    from vlab.cli_io import show
 
     for name, label in (("E", "E"), ("nu", "nu"), ("E_crosshead", "E (crosshead)")):
         q = budget.get(name)
         if q is None:
             continue
-        say(f"{label} = {q['mean']:.6g} ± {q['U']:.3g} (k = 2, Monte Carlo of {q['samples']}; GUM U = "
-            f"{q['gum']['U']:.3g})")
+        show(f"{label} = {q['mean']:.6g} ± {q['U']:.3g} (k = 2, Monte Carlo of {q['samples']}; GUM U = "
+             f"{q['gum']['U']:.3g})")
         for r in q["contributions"][:4]:
             share = "—" if r["share"] is None else f"{100 * r['share']:.3g} %"
             sob = "—" if r["sobol"] is None else f"{r['sobol']:.2f}"
-            say(f"  {r['input']:<36} share {share:>8}  Sobol {sob}")
-    say(f"{budget['runs']['paired'] + budget['runs']['samples']} runs ({budget['runs']['cache_hits']} cached, "
-        f"{budget['runs']['computed']} computed, {budget['failed_samples']} samples failed); report: {index}")
+            show(f"  {r['input']:<36} share {share:>8}  Sobol {sob}")
+    show(f"{budget['runs']['paired'] + budget['runs']['samples']} runs ({budget['runs']['cache_hits']} cached, "
+         f"{budget['runs']['computed']} computed, {budget['failed_samples']} samples failed); report: {index}")
     pb = budget.get("percent_bending")
     if pb:
         g = {k: "—" if pb[k] is None else f"{pb[k]:.3g}" for k in ("nominal", "mean", "u", "max_abs")}
-        say(f"ASTM E1012 percent bending at the gauge centre: nominal {g['nominal']} %, samples {g['mean']} ± "
-            f"{g['u']} % (largest {g['max_abs']} %)")
+        show(f"ASTM E1012 percent bending at the gauge centre: nominal {g['nominal']} %, samples {g['mean']} ± "
+             f"{g['u']} % (largest {g['max_abs']} %)")
 
 
 def budget_command(scene: Path, samples: Optional[int], workers: Optional[int], scheduler: Optional[str], out: Optional[Path],
