@@ -84,6 +84,7 @@ class LevelStability:
 class MonitorOptions:
     eigenvalues: bool = False  # lowest eigenvalue of K_ff at every vetted state (shift-invert Lanczos)
     limit_points: bool = True  # reject a falling force (off on a post-buckled path)
+    locking_nu: float | None = None  # ν of locking-prone displacement-only elements (vlab.checks.locking)
 
 
 class StabilityMonitor:
@@ -203,7 +204,7 @@ class StabilityMonitor:
             negative_eigenvalues=int(r.negative_eigenvalues or 0),
             lateral_fraction=None if mode is None else lateral_fraction(self.body.space.node_coordinates, mode, axis),
             mode=mode,
-            non_elliptic_fraction=self._non_elliptic(ev))
+            non_elliptic_fraction=self._non_elliptic(ev), locking_nu=self.options.locking_nu)
 
     def _non_elliptic(self, ev: Evaluation) -> float | None:
         material = self.body.material  # None: the spring network has no tangent field
@@ -260,6 +261,11 @@ class StabilityMonitor:
     def _kind(c: CriticalState | None) -> str:
         if c is None or c.mode is None:
             return "a bifurcation"
+        if c.suspect:
+            return (f"not evidence of a physical instability: the material is strongly elliptic at every "
+                    f"point and the mode is local, while displacement-only elements at nu = {c.locking_nu:g} "
+                    f"lock on this non-uniform field, which can make the discrete tangent indefinite where "
+                    f"the solid is stable; mesh.formulation = 'mixed' tells the two apart")
         if c.non_elliptic_fraction:
             return (f"loss of ellipticity: the material tangent admits a deformation band at "
                     f"{100 * c.non_elliptic_fraction:.3g} % of the quadrature points, a material instability")
