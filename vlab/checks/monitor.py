@@ -252,7 +252,8 @@ class StabilityMonitor:
                     f"test.imperfection to follow the post-buckled path")
         what = (f"{r.negative_eigenvalues} negative eigenvalue(s)" if r.negative_eigenvalues
                 else f"{r.zero_eigenvalues} zero eigenvalue(s)")
-        return (f"no stable state beyond {self._previous_stretch()}: loss of stability "
+        what_lost = "an unconfirmed loss of stability" if c is not None and c.suspect else "loss of stability"
+        return (f"no stable state beyond {self._previous_stretch()}: {what_lost} "
                 f"at {self._fmt(r.stretch)} — the tangent on the free DOFs has {what}, so the "
                 f"converged state is not an energy minimum ({self.model}; {self._kind(c)}"
                 f"{self._yield_note()})")
