@@ -69,17 +69,19 @@ def _locking_checked(result: RunResult, on_level, specimen: Specimen | None, obs
     """A stop the locking displacement-only elements cannot vouch for (CriticalState.suspect), run
     again with mesh.formulation = "mixed" on the same mesh when the user left the formulation at
     its default: the mixed run is the answer (it reaches the stretch, or its own stop is the true
-    one), with a warning that says what the displacement-only run found; else the first run."""
+    one), with a warning that says what the displacement-only run found; else the first run. Not
+    under an ``observe`` factory (FE-in-the-loop sensitivities): its observers belong to the first
+    run's body, so that run's stop, whose message names the cure, stands."""
     critical = result.solver.critical_state
     mixed = locking_free(result.scene) if critical is not None and critical.suspect else None
-    if mixed is None:
+    if mixed is None or observe is not None:
         return result
     second = _run_scene(mixed, on_level, specimen, observe)
     outcome = ("reached the requested stretch, so that stop was an artefact of the locked elements"
                if second.history.failure is None else "stops too (its own diagnosis follows)")
     second.diagnostics.warnings.insert(0, (
-        f"mesh.formulation: the displacement-only elements (the default) stopped at "
-        f"{critical.stretch_unstable} with {critical.negative_eigenvalues} negative eigenvalue(s) of a local "
+        f"mesh.formulation: the displacement-only elements (the default) stopped at grip stretch "
+        f"{', '.join(f'{v:.4g}' for v in critical.stretch_unstable)} with {critical.negative_eigenvalues} negative eigenvalue(s) of a local "
         f"mode while the material stayed strongly elliptic; at nu = {critical.locking_nu:g} they lock on this "
         f"non-uniform field, so the run was repeated with mesh.formulation = 'mixed' on the same mesh, which "
         f"{outcome}; these are the mixed run's results (set mesh.formulation to choose)"))
