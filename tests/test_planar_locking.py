@@ -170,4 +170,4 @@ def test_the_roller_block_in_pure_shear_gives_the_closed_form_planar_modulus_and
     assert m["planar_modulus"] == pytest.approx(MU * (1 + 3 * centre**-4), rel=1e-3)  # 2.7867 (4μ = 2.8)
     assert m["nu"] == pytest.approx(0.5, abs=1e-3) and m["E"] == pytest.approx(3 * MU, rel=1e-2)
     lam = np.array(data["curve"]["stretch"])
-    np.testing.assert_allclose(data["curve"]["stress"], MU * (lam - lam**-3), rtol=2e-3, atol=1e-6)
+    np.testing.assert_allclose(data["curve"]["stress"], MU * (lam - lam**-3), rtol=5e-4, atol=1e-6)  # 1.0e-4 measured (K/μ = 1e4)
