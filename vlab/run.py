@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from vlab import jit
 from vlab.checks.buckling import lateral_deflection
 from vlab.checks.imperfection import imperfect_specimen
+from vlab.checks.locking import LOCKING_NU, locking_free, locking_prone, uniform_field  # noqa: F401  (uniform_field: importable here)
 from vlab.checks.monitor import StabilityMonitor
 from vlab.fe.linsolve import solver_in_use
 from vlab.fe.stepping import Level
@@ -36,7 +37,6 @@ __all__ = ["RunResult", "Diagnostics", "SolverObjects", "MeshQualityError", "run
            "checked_quality", "make_body", "specimen_thickness"]
 
 log = logging.getLogger(__name__)
-LOCKING_NU = 0.45  # above this, displacement-only elements lock on non-uniform fields
 
 
 def run_scene(scene: Scene, on_level=None, specimen: Specimen | None = None,
@@ -59,9 +59,37 @@ def _timed_run(scene: Scene, on_level, specimen: Specimen | None, observe=None) 
     jit.available(current())  # numba's one-time start-up (~0.3 s), before the clocks: no import starts it
     with phase_clock() as phases:
         result = _run_scene(scene, on_level, specimen, observe)
+        result = _locking_checked(result, on_level, specimen, observe)
     result.timing |= {"assembly_s": 0.0, "linear_solve_s": 0.0} | phases.as_timing()
     result.timing["peak_memory_mb"] = phases.peak_memory_mb  # per phase (vlab.fe.timers)
     return result
+
+
+def _locking_checked(result: RunResult, on_level, specimen: Specimen | None, observe=None) -> RunResult:
+    """A stop the locking displacement-only elements cannot vouch for (CriticalState.suspect), run
+    again with mesh.formulation = "mixed" on the same mesh when the user left the formulation at
+    its default: the mixed run is the answer (it reaches the stretch, or its own stop is the true
+    one), with a warning that says what the displacement-only run found; else the first run. Not
+    under an ``observe`` factory (FE-in-the-loop sensitivities): its observers belong to the first
+    run's body, so that run's stop, whose message names the cure, stands."""
+    critical = result.solver.critical_state
+    mixed = locking_free(result.scene) if critical is not None and critical.suspect else None
+    if mixed is None or observe is not None:
+        return result
+    second = _run_scene(mixed, on_level, specimen, observe)
+    # the wall time the answer cost includes the displacement-only run that raised the doubt
+    second.timing["displacement_run_s"] = result.timing["total_s"]
+    second.timing["total_s"] += result.timing["total_s"]
+    outcome = ("reached the requested stretch, so that stop was an artefact of the locked elements"
+               if second.history.failure is None else "stops too (its own diagnosis follows)")
+    second.diagnostics.warnings.insert(0, (
+        f"mesh.formulation: the displacement-only elements (the default) stopped at grip stretch "
+        f"{', '.join(f'{v:.4g}' for v in critical.stretch_unstable)} with {critical.negative_eigenvalues} negative eigenvalue(s) of a local "
+        f"mode while the material stayed strongly elliptic; at nu = {critical.locking_nu:g} they lock on this "
+        f"non-uniform field, so the run was repeated with mesh.formulation = 'mixed' on the same mesh, which "
+        f"{outcome}; these are the mixed run's results (set mesh.formulation to choose)"))
+    log.warning(second.diagnostics.warnings[0])
+    return second
 
 
 def _run_scene(scene: Scene, on_level, specimen: Specimen | None, observe=None) -> RunResult:
@@ -177,17 +205,6 @@ def specimen_thickness(scene: Scene) -> float:
     return SHAPES[scene.specimen.shape].thickness(scene.specimen)
 
 
-def uniform_field(scene: Scene) -> bool:
-    """The test's deformation is uniform on every mesh (the kind's exact homogeneous state for this
-    shape and grips, e.g. the roller block or the kinematic shear block; no imperfection, no
-    self-weight): a displacement-only element cannot lock there, so no locking warning."""
-    from vlab.loading.kinds import kind_of
-
-    kind = kind_of(scene.test)
-    return (kind.has_oracle(scene.specimen.shape, scene.test.grips) and scene.test.imperfection is None
-            and scene.effect("gravity") is None)
-
-
 def _warnings(scene: Scene) -> list[str]:
     """Caveats about the set-up (also logged)."""
     found = []
@@ -195,7 +212,7 @@ def _warnings(scene: Scene) -> list[str]:
     if scene.effects or scene.test.protocol.name != "monotonic":
         from vlab.effects.build import effect_warnings
         found += effect_warnings(scene)
-    if nu > LOCKING_NU and scene.mesh.formulation == "displacement" and not uniform_field(scene):
+    if locking_prone(scene):
         cure = (f'use mesh.formulation = "mixed" (locking-free up to nu = {MIXED_NU_LIMIT:g})'
                 if MODELS[scene.material.model].split is not None else
                 f'mesh.formulation = "mixed" would cure it but needs material.model in '

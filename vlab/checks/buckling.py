@@ -23,7 +23,11 @@ sway. So the material's strong ellipticity is checked at the critical state
   "bifurcation in tension", and no imperfection can follow it;
 * loss of ellipticity — the material tangent lost strong ellipticity somewhere (a material
   instability: its discrete mode is set by the mesh);
-* a structural bifurcation with a local mode — otherwise (wrinkling, barrelling, …).
+* a structural bifurcation with a local mode — otherwise (wrinkling, barrelling, …), unless the
+  elements are displacement-only and near-incompressible on a non-uniform field
+  (``locking_nu``, vlab.checks.locking): a locked mesh's spurious stresses can make K_ff indefinite
+  where the solid is stable, so such a local mode is ``suspect`` (unconfirmed) until a
+  locking-free formulation shows it too.
 """
 
 from __future__ import annotations
@@ -54,6 +58,7 @@ class CriticalState:
     lateral_fraction: float | None
     mode: np.ndarray | None
     non_elliptic_fraction: float | None = None  # share of quadrature points; None: not checked
+    locking_nu: float | None = None  # ν of locking-prone displacement-only elements; None: not prone
 
     @property
     def compressed(self) -> bool:
@@ -69,7 +74,16 @@ class CriticalState:
         return not self.non_elliptic_fraction and self.sideways and self.compressed
 
     @property
+    def suspect(self) -> bool:
+        """A local mode of locking-prone displacement-only elements in an elliptic material: not
+        evidence of a physical instability (module docstring)."""
+        return self.locking_nu is not None and not self.non_elliptic_fraction and not self.is_buckling \
+            and not self.sideways
+
+    @property
     def kind(self) -> str:
+        if self.suspect:
+            return "unconfirmed (local mode of locking displacement-only elements)"
         if self.is_buckling:
             return "buckling"
         if self.non_elliptic_fraction:
@@ -92,7 +106,7 @@ class CriticalState:
                 "eigenvalue_unstable": self.eigenvalue_unstable, "force_stable": self.force_stable,
                 "negative_eigenvalues": self.negative_eigenvalues,
                 "lateral_fraction": self.lateral_fraction,
-                "non_elliptic_fraction": self.non_elliptic_fraction,
+                "non_elliptic_fraction": self.non_elliptic_fraction, "locking_nu": self.locking_nu,
                 "units": {"eigenvalue": "N/mm", "force": "N", "strain": "1 (grip)"}}
 
 

@@ -84,6 +84,7 @@ class LevelStability:
 class MonitorOptions:
     eigenvalues: bool = False  # lowest eigenvalue of K_ff at every vetted state (shift-invert Lanczos)
     limit_points: bool = True  # reject a falling force (off on a post-buckled path)
+    locking_nu: float | None = None  # ν of locking-prone displacement-only elements (vlab.checks.locking)
 
 
 class StabilityMonitor:
@@ -203,7 +204,7 @@ class StabilityMonitor:
             negative_eigenvalues=int(r.negative_eigenvalues or 0),
             lateral_fraction=None if mode is None else lateral_fraction(self.body.space.node_coordinates, mode, axis),
             mode=mode,
-            non_elliptic_fraction=self._non_elliptic(ev))
+            non_elliptic_fraction=self._non_elliptic(ev), locking_nu=self.options.locking_nu)
 
     def _non_elliptic(self, ev: Evaluation) -> float | None:
         material = self.body.material  # None: the spring network has no tangent field
@@ -251,7 +252,8 @@ class StabilityMonitor:
                     f"test.imperfection to follow the post-buckled path")
         what = (f"{r.negative_eigenvalues} negative eigenvalue(s)" if r.negative_eigenvalues
                 else f"{r.zero_eigenvalues} zero eigenvalue(s)")
-        return (f"no stable state beyond {self._previous_stretch()}: loss of stability "
+        what_lost = "an unconfirmed loss of stability" if c is not None and c.suspect else "loss of stability"
+        return (f"no stable state beyond {self._previous_stretch()}: {what_lost} "
                 f"at {self._fmt(r.stretch)} — the tangent on the free DOFs has {what}, so the "
                 f"converged state is not an energy minimum ({self.model}; {self._kind(c)}"
                 f"{self._yield_note()})")
@@ -260,6 +262,11 @@ class StabilityMonitor:
     def _kind(c: CriticalState | None) -> str:
         if c is None or c.mode is None:
             return "a bifurcation"
+        if c.suspect:
+            return (f"not evidence of a physical instability: the material is strongly elliptic at every "
+                    f"point and the mode is local, while displacement-only elements at nu = {c.locking_nu:g} "
+                    f"lock on this non-uniform field, which can make the discrete tangent indefinite where "
+                    f"the solid is stable; mesh.formulation = 'mixed' tells the two apart")
         if c.non_elliptic_fraction:
             return (f"loss of ellipticity: the material tangent admits a deformation band at "
                     f"{100 * c.non_elliptic_fraction:.3g} % of the quadrature points, a material instability")

@@ -3,6 +3,11 @@
 - The planar modulus E_p = E/(1 − ν²): slope of the nominal stress F/A₀ against the extensometer
   strain over the modulus window; ν from the thickness strain, ε_z = −ν/(1 − ν) ε_x ⇒ ν = r/(1 + r),
   r = −dε_z/dε_x (Hooke with ε_y = 0, σ_z = 0: σ_y = ν σ_x, ε_x = (1 − ν²) σ_x / E); E = (1 − ν²) E_p.
+  Incompressible: r = 1, ν = ½, E_p = 4μ = 4E/3. The width is held (ε_y = 0), so no lateral
+  extensometer gives ν here. An isotropic solid has −1 < ν ≤ ½, i.e. −½ < r ≤ 1: a ratio outside
+  that range by more than twice its fit's standard error (r = 1.064 ± 0.0004 on a locked
+  displacement-only strip) says the gauge centre is not in homogeneous pure shear, and ν (and
+  the E built on it) are then not reported ("not measured", with r); the planar modulus is.
 - The field probe (results.json → homogeneity) over the specimen's gauge region (the centre of a
   planar-tension strip, away from its free edges): the axial strain √C₁₁ − 1, the lateral strain
   √C₂₂ − 1 (0 in pure shear) and P₁₁; the pure-shear stress P₁₁^ps of the material at the mean
@@ -36,12 +41,28 @@ def planar_constants(curve, window, method) -> ElasticConstants:
         return ElasticConstants(None, None, None, None, [], f"not measured: {exc}",
                                 {"planar_modulus": None, "planar_modulus_fit": None})
     r = -r_fit.slope
+    extra = {"planar_modulus": p_fit.slope, "planar_modulus_fit": p_fit.as_dict(), "thickness_strain_ratio": r}
+    margin = 2.0 * r_fit.slope_stderr  # noise may carry an incompressible solid's r a little past 1
+    if not (R_RANGE[0] < r + margin and r - margin <= R_RANGE[1]):
+        return ElasticConstants(None, None, None, r_fit.as_dict(), [{"axis": "x", "planar_modulus": p_fit.slope}],
+                                _outside_note(r, r_fit.slope_stderr), extra)
     nu = r / (1.0 + r)
     E = (1.0 - nu**2) * p_fit.slope
     return ElasticConstants(E, nu, None, r_fit.as_dict(),
                             [{"axis": "x", "planar_modulus": p_fit.slope, "E": E, "nu": nu}],
                             "planar tension: E = (1 - nu^2) x planar modulus, nu from the thickness strain",
-                            {"planar_modulus": p_fit.slope, "planar_modulus_fit": p_fit.as_dict()})
+                            extra)
+
+
+R_RANGE = (-0.5, 1.0)  # r = -dε_z/dε_x of an isotropic solid in pure shear: ν = r/(1 + r) in (−1, ½]
+
+
+def _outside_note(r: float, stderr: float) -> str:
+    return (f"not measured: the thickness strain ratio r = -d(eps_z)/d(eps_x) = {r:.4g} (+/- {stderr:.2g}) "
+            f"is outside {R_RANGE[0]:g} < r <= {R_RANGE[1]:g}, so nu = r/(1 + r) = {r / (1.0 + r):.4g} is no "
+            f"isotropic material's Poisson's ratio (-1 < nu <= 0.5): the gauge centre is not in homogeneous "
+            f"pure shear (volumetric locking, or the clamps restraining the thickness); the planar modulus "
+            f"is still reported")
 
 
 @dataclass

@@ -14,6 +14,7 @@ from typing import Callable
 
 from vlab.checks.admissibility import inadmissible_request
 from vlab.checks.conditioning import restrained_but_singular
+from vlab.checks.locking import locking_prone
 from vlab.checks.monitor import MonitorOptions, StabilityMonitor
 from vlab.effects import EFFECTS
 from vlab.fe.iterative import choose as choose_linear, supports
@@ -46,7 +47,8 @@ def stability_monitor(prepared: Prepared) -> StabilityMonitor:
     return StabilityMonitor(prepared.body, prepared.partition, {a: loading.moving_dofs[a] for a in kind.axes},
                             kind, scene.test.targets, _law_label(scene), loading.u_hat,
                             MonitorOptions(eigenvalues=scene.solver.eigenvalues,
-                                           limit_points=_watch_limit_points(scene)))
+                                           limit_points=_watch_limit_points(scene),
+                                           locking_nu=scene.material.moduli.nu if locking_prone(scene) else None))
 
 
 def solve(prepared: Prepared, monitor: StabilityMonitor, observers: list[Observer]) -> Solved:

@@ -31,7 +31,7 @@ class Planar(TestKind):
     measures_E = True
     plot = PlotSpec("stretch", "stress", "grip stretch λ [–]", "nominal stress F/A₀ [MPa]",
                     (("stretch", "stress", "stress_x"),))
-    measured_units = {"planar_modulus": "MPa"}
+    measured_units = {"planar_modulus": "MPa", "thickness_strain_ratio": "1"}
     doc = "planar tension (pure shear): lateral stretch held at 1, thickness free"
     fit, field_probe = "planar", "pure-shear"  # vlab/measure/kinds.py
 
