@@ -77,6 +77,11 @@ def test_export_and_import_card_files_on_stdout_refusals_on_stderr(tmp_path):
     assert back.exit_code == 0 and f"card: {tmp_path / 'b.toml'}" in out and "C30" in out and err == "", (out, err)
     bad, out, err = _invoke("export", src, "--to", "nastran", "--out", tmp_path / "n.bdf")
     assert bad.exit_code == 2 and "cannot export" in err and out == ""
+    nh = tmp_path / "nh.toml"
+    nh.write_text(card_toml({"model": "neo-hookean", "E": 10.0, "nu": 0.3}))
+    refused, out, err = _invoke("export", nh, "--to", "lsdyna", "--out", tmp_path / "nh.k")
+    assert refused.exit_code == 2 and out == "" and not (tmp_path / "nh.k").exists()
+    assert err.count("cannot export") == 1 and "lsdyna" in err, err  # the refusal's words, the label not twice
 
 
 def test_dic_report_path_on_stdout_progress_on_stderr(tmp_path):

@@ -109,7 +109,7 @@ def export_command(source: Path, to: str, out: Path | None, units: str, elastic_
         for t in solvers:
             write_file(paths[t], texts[t], force)
     except (SceneError, ExportError) as exc:
-        say(("cannot export", "red"), f" {exc}")
+        say(("cannot export", "red"), f" {str(exc).removeprefix('cannot export').lstrip()}")  # refusals say it once
         return 2
     for t in solvers:
         (show or say)(f"{t}: {paths[t]}")
