@@ -13,7 +13,10 @@ material remembers; None), ``tangent_kernel`` ("numpy", or the compiled kernel's
 ``cell_cauchy`` (a body's own cell-averaged Cauchy stress, None: computed from ``material``) and
 ``advance`` (None; a body with element unknowns of its own, the mixed body's θ, defines
 ``advance(evaluation, du, alpha) -> Evaluation``, their Newton update along u + α du, which the
-line search calls instead of ``evaluate`` on states that carry them: ``volume_change`` not None).
+line search calls instead of ``evaluate`` on states that carry them: ``volume_change`` not None),
+and ``set_load`` (None; a body whose load is not carried by the prescribed DOFs, the liquid of
+vlab.fe.liquid, defines ``set_load(t)``, which the stepper calls with each substep's load
+parameter before it evaluates anything there).
 
 An :class:`~vlab.fe.problem.Evaluation` declares the same way what a mixed state adds:
 ``constraint`` (max |Π v(F) − θ|; 0) and ``volume_change`` (θ − 1; None).
@@ -73,6 +76,7 @@ class BodyDefaults:
     history: HistoryCapability | None = None
     tangent_kernel: str = "numpy"
     advance = None  # (evaluation, du, alpha) -> Evaluation for a body with element unknowns
+    set_load = None  # (t) -> None for a body whose own load depends on the load parameter t
     #: u -> F (d,d,e,q) bit for bit as ``evaluate`` computes it, or None. With it a recorded
     #: load level keeps no F (vlab.fe.stepping.Level.released: 576 B per Q1 hex per level) and
     #: rebuilds it when read; a body that keys data by the identity of an evaluation (history

@@ -300,6 +300,9 @@ def _attempt(system: System, stepping: Stepping, cache: TangentCache, walk: _Wal
              q_target: float | None) -> _Step:
     """One substep to ``t_try`` (under force control: to the held force ``q_target``), vetted by
     ``stepping.accept``; on success ``walk`` moves to it. NewtonFailure if it fails or is rejected."""
+    set_load = getattr(system.body, "set_load", None)
+    if set_load is not None:  # a load the body carries itself (vlab.fe.liquid)
+        set_load(t_try)
     if q_target is not None:  # from the new increment
         found = solve_force_controlled(system, system.body.evaluate(walk.current.u), walk.t, q_target,
                                        stepping.newton)

@@ -26,7 +26,12 @@ __all__ = ["cavity_pressure_readers", "inflation_constants", "thick_sphere_press
 
 
 def cavity_pressure_readers(space, specimen, loading, material) -> dict:
-    """Readers of p (MPa) and of (A/B)³ (module docstring)."""
+    """Readers of p (MPa) and of (A/B)³ (module docstring); on a membrane (the liquid-loaded bulge
+    test) those of vlab.measure.bulge."""
+    if loading.liquid is not None:
+        from vlab.measure.bulge import bulge_readers
+
+        return bulge_readers(space, specimen, loading, material)
     nodes = loading.moving_dofs[0] // 3
     X = space.node_coordinates[nodes]
     V0 = specimen.area0[0]
@@ -65,18 +70,22 @@ def limit_point(stretch, pressure) -> dict | None:
 def inflation_constants(curve, window, method) -> ElasticConstants:
     """The limit point and the initial slope (module docstring)."""
     p = curve.extra.get("pressure", [])
-    found = limit_point(curve.stretch[0], p)
+    stretch = curve.extra.get("pole_stretch") or curve.stretch[0]  # a bulge's pole, a balloon's inner wall
+    found = limit_point(stretch, p)
     note = ("inflation: E and nu are not measured; the pressure maximum is a property of the balloon "
             "(measured.limit_point)")
     extra: dict = {"limit_point": found}
     if found is None:
-        extra["limit_point_note"] = (f"no pressure maximum up to stretch {max(curve.stretch[0]):.4g}"
+        extra["limit_point_note"] = (f"no pressure maximum up to stretch {max(stretch):.4g}"
                                      if curve.t else "no level recorded")
     try:
-        fit = fit_line(np.array(curve.stretch[0]) - 1.0, np.array(p), window, method)
+        fit = fit_line(np.array(stretch) - 1.0, np.array(p), window, method)
         extra |= {"initial_slope": fit.slope, "initial_slope_fit": fit.as_dict()}
     except FitError as exc:
         extra |= {"initial_slope": None, "initial_slope_note": str(exc)}
     if curve.t:
-        extra |= {"stretch_at_end": curve.stretch[0][-1], "pressure_at_end": p[-1] if p else None}
+        extra |= {"stretch_at_end": stretch[-1], "pressure_at_end": p[-1] if p else None}
+        for key in ("volume_ratio", "pole_height", "pole_stress", "pole_stress_fe"):
+            if curve.extra.get(key):
+                extra[f"{key}_at_end"] = curve.extra[key][-1]
     return ElasticConstants(None, None, None, None, [{"axis": "r", "limit_point": found}], note, extra)

@@ -46,7 +46,8 @@ def stability_monitor(prepared: Prepared) -> StabilityMonitor:
     return StabilityMonitor(prepared.body, prepared.partition, {a: loading.moving_dofs[a] for a in kind.axes},
                             kind, scene.test.targets, _law_label(scene), loading.u_hat,
                             MonitorOptions(eigenvalues=scene.solver.eigenvalues,
-                                           limit_points=_watch_limit_points(scene)))
+                                           limit_points=_watch_limit_points(scene)
+                                           and loading.liquid is None))
 
 
 def solve(prepared: Prepared, monitor: StabilityMonitor, observers: list[Observer]) -> Solved:
@@ -102,7 +103,8 @@ def _watch_limit_points(scene: Scene) -> bool:
     on a deliberately imperfect (post-buckled) path: unloading, relaxing, creeping and a bent
     strip's softening are the physics asked for. Instrument noise changes no physics. A kind whose
     grips do not move in proportion to t (torsion's rotating grip) has no load Q = û_p · f conjugate
-    to t to watch."""
+    to t to watch, nor has a liquid-loaded test (the bulge test: its pressure maximum is measured,
+    vlab.measure.inflation.limit_point; the caller checks the loading)."""
     physical = [e for e in scene.effects if EFFECTS[e.name].role != "measure"]
     return (scene.test.protocol.name == "monotonic" and not physical and scene.test.imperfection is None
             and kind_of(scene.test).proportional)

@@ -55,7 +55,8 @@ def parse_test(raw: Any, shape: str = "block") -> TestSpec:
     """[test]: the kind (vlab.loading.kinds) parses its own load key; grips per specimen shape."""
     from vlab.loading.kinds import KINDS
 
-    load_keys = tuple(dict.fromkeys(k.load_key for k in KINDS.values()))
+    load_keys = tuple(dict.fromkeys([k.load_key for k in KINDS.values()]
+                                    + [key for k in KINDS.values() for key in k.shape_load_keys.values()]))
     option_keys = tuple(dict.fromkeys(key for k in KINDS.values() for key in k.option_keys))
     t = fields.Table("test", raw, ("kind", "grips") + load_keys + option_keys + ("steps", "imperfection", "misalignment")
                      + PROTOCOL_KEYS)
@@ -69,18 +70,21 @@ def parse_test(raw: Any, shape: str = "block") -> TestSpec:
     if grips not in grip_kinds:
         raise SceneError(f"{t.field('grips')} must be one of {', '.join(grip_kinds)} for specimen.shape = "
                          f"{shape!r} with test.kind = {kind.name!r}, got {grips!r}")
+    load_key = kind.shape_load_keys.get(shape, kind.load_key)
     for key in load_keys:
-        if key != kind.load_key and key in t.raw:
-            owners = " or ".join(repr(k.name) for k in KINDS.values() if k.load_key == key)
-            raise SceneError(f"{t.field(key)} applies to test.kind = {owners}, not {kind.name!r}; "
-                             f"give test.{kind.load_key}")
+        if key != load_key and key in t.raw:
+            owners = " or ".join([repr(k.name) for k in KINDS.values() if k.load_key == key]
+                                 + [f"{k.name!r} on specimen.shape = {s!r}" for k in KINDS.values()
+                                    for s, other in k.shape_load_keys.items() if other == key])
+            raise SceneError(f"{t.field(key)} applies to test.kind = {owners}, not {kind.name!r} on specimen.shape "
+                             f"= {shape!r}; give test.{load_key}")
     options = _options(t, kind, option_keys)
     protocol_name = t.choice("protocol", PROTOCOLS, default="monotonic")
     if protocol_name == "cyclic" and not kind.cyclic:
         raise SceneError(f"test.protocol = 'cyclic' needs test.kind = "
                          f"{' or '.join(repr(k.name) for k in KINDS.values() if k.cyclic)}, got {kind.name!r}")
-    targets = _targets(t, kind, protocol_name)
-    if kind.load_key == "stretch" and all(s == 1.0 for s in targets):
+    targets = _targets(t, kind, protocol_name, load_key)
+    if load_key == "stretch" and all(s == 1.0 for s in targets):
         raise SceneError(f"{t.field('stretch')} must not be 1 everywhere (a stretch of 1 applies no load), "
                          f"got {fields.show(t.raw['stretch'])}")
     stretch = targets if kind.load_key == "stretch" else ()
@@ -105,13 +109,14 @@ def _options(t: fields.Table, kind, option_keys: tuple[str, ...]) -> tuple[tuple
     return tuple((key, t.choice(key, allowed, default=allowed[0])) for key, allowed in kind.option_keys.items())
 
 
-def _targets(t: fields.Table, kind, protocol_name: str) -> tuple[float, ...]:
-    """The kind's load at t = 1; a stretch-driven cyclic test peaks at its largest amplitude."""
+def _targets(t: fields.Table, kind, protocol_name: str, load_key: str) -> tuple[float, ...]:
+    """The kind's load at t = 1 (given as ``load_key``, the shape's); a stretch-driven cyclic test
+    peaks at its largest amplitude."""
     if protocol_name != "cyclic" or kind.load_key != "stretch":
         if "amplitudes" in t.raw and protocol_name == "cyclic":
             raise SceneError(f"{t.field('amplitudes')} is for stretch-driven cycles; with test.kind = "
                              f"{kind.name!r} give the amplitudes as test.{kind.load_key} = [..]")
-        t.get(kind.load_key)  # a missing key is an error naming it
+        t.get(load_key)  # a missing key is an error naming it
         return kind.parse_load(t, protocol_name)
     amplitudes = _amplitudes(t)
     if "stretch" in t.raw:

@@ -86,6 +86,7 @@ class TestKind:
     proportional = True  # u_p(t) = t · û_p (False: the loading's own path, e.g. a rotating grip)
     homogeneous = True  # ``state`` exists (False: torsion, whose shear grows with the radius)
     option_keys: dict[str, tuple[str, ...]] = {}  # the kind's own [test] choice keys: allowed values, default first
+    shape_load_keys: dict[str, str] = {}  # specimen shape -> the load key it takes instead of ``load_key``
     doc = ""
 
     # --- grammar -------------------------------------------------------------------------------
