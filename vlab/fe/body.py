@@ -16,7 +16,8 @@ material remembers; None), ``tangent_kernel`` ("numpy", or the compiled kernel's
 line search calls instead of ``evaluate`` on states that carry them: ``volume_change`` not None),
 and ``set_load`` (None; a body whose load is not carried by the prescribed DOFs, the liquid of
 vlab.fe.liquid, defines ``set_load(t)``, which the stepper calls with each substep's load
-parameter before it evaluates anything there).
+parameter before it evaluates anything there, and ``load_rate(evaluation)``, ∂f/∂t at fixed u
+(N), which the load-step predictor adds to the grips' K_fp Δu_p).
 
 An :class:`~vlab.fe.problem.Evaluation` declares the same way what a mixed state adds:
 ``constraint`` (max |Π v(F) − θ|; 0) and ``volume_change`` (θ − 1; None).
@@ -77,6 +78,7 @@ class BodyDefaults:
     tangent_kernel: str = "numpy"
     advance = None  # (evaluation, du, alpha) -> Evaluation for a body with element unknowns
     set_load = None  # (t) -> None for a body whose own load depends on the load parameter t
+    load_rate = None  # (evaluation) -> ∂f/∂t (N) of such a body
     #: u -> F (d,d,e,q) bit for bit as ``evaluate`` computes it, or None. With it a recorded
     #: load level keeps no F (vlab.fe.stepping.Level.released: 576 B per Q1 hex per level) and
     #: rebuilds it when read; a body that keys data by the identity of an evaluation (history

@@ -126,6 +126,14 @@ class LiquidBody(BodyDefaults):
         """The load parameter of the evaluations from now on (the stepper's substep target)."""
         self.t = float(t)
 
+    def load_rate(self, evaluation: Evaluation) -> np.ndarray:
+        """∂f/∂t at fixed u (N): −(dp/dt) ∂V/∂u, dp/dt = k V_p(1) (volume) or p* (pressure)."""
+        _, _, grad, _ = self.state(evaluation.u)
+        rate = self.liquid.target * (self.liquid.stiffness if self.liquid.control == "volume" else 1.0)
+        out = np.zeros(len(evaluation.u))
+        out[self._dofs] = -rate * grad.ravel()
+        return out
+
     def cell_cauchy(self, evaluation: Evaluation) -> np.ndarray | None:
         return self.inner.cell_cauchy(evaluation)
 

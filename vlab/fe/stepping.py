@@ -364,6 +364,9 @@ def _substep(system: System, current: Evaluation, tangent: Tangent, t0, t1, step
     dt = t1 - t0
     du_p = system.grip_increment(t0, t1)
     predicted = -tangent.factor.solve(tangent.Kfp @ du_p)
+    load_rate = getattr(system.body, "load_rate", None)
+    if load_rate is not None:  # a load the body carries itself: K v = −∂f/∂t as well
+        predicted -= dt * tangent.factor.solve(load_rate(current)[free])
     here = PathPoint(t0, current.u, predicted / dt if converged_tangent is not None and dt else None)
     predicted = _extrapolated(predicted, here, previous, free, dt)
     for scale in (1.0, 0.5, 0.25, 0.0):

@@ -21,7 +21,7 @@ The bulge test runs the same kind on a clamped ``membrane`` (vlab.geometry.membr
 ``clamped``): its load is ``volume_ratio`` v = (V₀ + V) / V₀, the liquid pumped into the chamber of
 volume V₀ under the sheet (vlab.loading.bulge). Records per level: ``stretch`` (the pole's in-plane
 stretch), ``pressure``, ``volume_ratio``, ``pole_height`` (mm), ``pole_stress`` (the lab's
-p R_c / (2t)) and ``pole_stress_fe`` (the FE's), ``rim_force`` (N, z, the quarter's rim). Oracle: the
+p R_c / (2t)) and ``pole_stress_fe`` (the FE's), ``cap_force`` (N, z, the quarter's rim). Oracle: the
 pole is in equibiaxial stretch, σ_eq(λ) = λ Ŵ'(λ) / 2 at the recorded pole stretch
 (vlab.loading.thick_sphere.equibiaxial_stress), which both pole stresses approach as t/a → 0 and
 the mesh is refined (tests/test_bulge.py states the study).
@@ -56,10 +56,10 @@ class Inflation(TestKind):
              "pressure": "MPa (membrane: the liquid's)",
              "volume_ratio": "1 (sphere: cavity V / V0; membrane: (V0 + V) / V0, V0 the chamber's liquid)",
              "outer_stretch": "1 (sphere: outer surface, hoop)",
-             "cap_force": "N (sphere: octant cavity wall, x resultant)",
+             "cap_force": "N (sphere: octant cavity wall, x resultant; membrane: the quarter's rim, z resultant)",
              "pole_height": "mm (membrane: mid-surface)", "pole_stress": "MPa (membrane, lab: p R_c / (2 t))",
              "pole_stress_fe": "MPa (membrane, FE: (s_xx + s_yy)/2 - s_zz at the pole)",
-             "rim_force": "N (membrane: the quarter's rim, z resultant)", "time": "s"}
+             "time": "s"}
 
     def parse_load(self, t: fields.Table, protocol: str) -> tuple[float, ...]:
         key = "volume_ratio" if "volume_ratio" in t.raw else "stretch"  # the shape's (test.py checks which)
@@ -140,7 +140,7 @@ class Inflation(TestKind):
             return {"stretch": list(curve.extra["pole_stretch"])} | {
                 key: list(curve.extra[key]) for key in ("pressure", "volume_ratio", "pole_height", "pole_stress",
                                                         "pole_stress_fe") if key in curve.extra} | {
-                "rim_force": list(curve.force[0])}
+                "cap_force": list(curve.force[0])}
         return {"stretch": list(curve.stretch[0]), "pressure": list(curve.extra.get("pressure", [])),
                 "volume_ratio": [lam**3 for lam in curve.stretch[0]],
                 "outer_stretch": [1.0 + e for e in curve.strain[0]], "cap_force": list(curve.force[0])}
