@@ -115,6 +115,7 @@ class Failure:
     min_J: float | None = None
     element: int | None = None
     quadrature_point: int | None = None
+    u_converged: np.ndarray | None = None  # the last converged state's displacements (mm)
 
 
 @dataclass
@@ -269,7 +270,7 @@ def _level(system: System, stepping: Stepping, cache: TangentCache, walk: _Walk,
             walk.factorizations += failure.record.factorized
             stop = steps.failed(failure, s_try, t_try)
             if stop is not None:
-                return _diagnose(index, target, *stop, walk.t)
+                return _diagnose(index, target, *stop, walk.t, walk.current.u)
             continue
         if history is not None:
             history.commit(walk.current)
@@ -425,7 +426,7 @@ def _settled(system: System, current: Evaluation, stepping: Stepping) -> Evaluat
 
 
 def _diagnose(index: int, target: float, attempted: float, failure: NewtonFailure,
-              converged: float) -> Failure:
+              converged: float, u_converged: np.ndarray | None = None) -> Failure:
     ev = failure.evaluation
     inverted = ev is not None and not ev.admissible
     return Failure(
@@ -434,5 +435,5 @@ def _diagnose(index: int, target: float, attempted: float, failure: NewtonFailur
         residuals=list(failure.record.residuals),
         min_J=None if ev is None else ev.min_J,
         element=ev.worst[0] if inverted else None,
-        quadrature_point=ev.worst[1] if inverted else None,
+        quadrature_point=ev.worst[1] if inverted else None, u_converged=u_converged,
     )

@@ -22,23 +22,34 @@ from vlab.fe.liquid import Liquid
 from vlab.geometry.specimen import Specimen
 from vlab.loading.grips import GripLoading
 
-__all__ = ["LIQUID_BULK_MODULUS", "bulge_loading", "wetted_triangles"]
+__all__ = ["LIQUID_BULK_MODULUS", "bulge_loading", "face_triangles", "wetted_triangles"]
 
 LIQUID_BULK_MODULUS = 2200.0  # MPa, water at 20 °C
 
 
-def wetted_triangles(mesh, tol: float) -> np.ndarray:
-    """The boundary facets on z = 0, each split into two triangles counter-clockwise seen from
-    +z (the liquid pushes them up): (n, 3) node indices."""
+def face_triangles(mesh, on_face, normal) -> np.ndarray:
+    """The boundary facets whose nodes all satisfy ``on_face`` (positions (k, 3) -> bool (k,)), each
+    split into two triangles counter-clockwise about ``normal(centroid)`` (the side the liquid
+    pushes towards): (n, 3) node indices."""
     facets = mesh.facets[:, mesh.boundary_facets()]
-    on_face = np.all(np.abs(mesh.p[2, facets]) <= tol, axis=0)
+    points = mesh.p.T
     triangles = []
-    for quad in facets[:, on_face].T:
-        P = mesh.p[:2, quad].T
+    for quad in facets.T:
+        P = points[quad]
+        if not np.all(on_face(P)):
+            continue
         c = P.mean(axis=0)
-        quad = quad[np.argsort(np.arctan2(P[:, 1] - c[1], P[:, 0] - c[0]))]
+        n = normal(c)
+        e1 = P[0] - c
+        e2 = np.cross(n, e1)
+        quad = quad[np.argsort(np.arctan2((P - c) @ e2, (P - c) @ e1))]
         triangles += [quad[[0, 1, 2]], quad[[0, 2, 3]]]
     return np.array(triangles, dtype=np.int64)
+
+
+def wetted_triangles(mesh, tol: float) -> np.ndarray:
+    """The membrane's face z = 0, counter-clockwise seen from +z."""
+    return face_triangles(mesh, lambda P: np.abs(P[:, 2]) <= tol, lambda c: np.array([0.0, 0.0, 1.0]))
 
 
 def bulge_loading(specimen: Specimen, X: np.ndarray, control: str, target: float) -> GripLoading:

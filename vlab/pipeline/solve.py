@@ -69,6 +69,14 @@ def solve(prepared: Prepared, monitor: StabilityMonitor, observers: list[Observe
     history = run_schedule(system, _stepping(scene, monitor, linear_solver), observe)
     # a singular unloaded tangent with the grips holding: ill-conditioning, not a free specimen
     history = restrained_but_singular(history, prepared.body, prepared.partition, prepared.space)
+    if history.failure is not None and prepared.loading.liquid is not None:
+        from dataclasses import replace
+
+        from vlab.measure.inflation import pressure_maximum_reason
+
+        reason = pressure_maximum_reason(prepared, history.failure)
+        if reason is not None:  # the specimen's pressure maximum, not the solver's failure
+            history.failure = replace(history.failure, reason=reason)
     return Solved(history, linear_solver)
 
 

@@ -56,7 +56,7 @@ def parse_test(raw: Any, shape: str = "block") -> TestSpec:
     from vlab.loading.kinds import KINDS
 
     load_keys = tuple(dict.fromkeys([k.load_key for k in KINDS.values()]
-                                    + [key for k in KINDS.values() for key in k.shape_load_keys.values()]))
+                                    + [key for k in KINDS.values() for key in k.extra_load_keys]))
     option_keys = tuple(dict.fromkeys(key for k in KINDS.values() for key in k.option_keys))
     t = fields.Table("test", raw, ("kind", "grips") + load_keys + option_keys + ("steps", "imperfection", "misalignment")
                      + PROTOCOL_KEYS)
@@ -70,15 +70,17 @@ def parse_test(raw: Any, shape: str = "block") -> TestSpec:
     if grips not in grip_kinds:
         raise SceneError(f"{t.field('grips')} must be one of {', '.join(grip_kinds)} for specimen.shape = "
                          f"{shape!r} with test.kind = {kind.name!r}, got {grips!r}")
-    load_key = kind.shape_load_keys.get(shape, kind.load_key)
+    options = _options(t, kind, option_keys)
+    load_key = kind.load_key_for(shape, dict(options))
     for key in load_keys:
         if key != load_key and key in t.raw:
-            owners = " or ".join([repr(k.name) for k in KINDS.values() if k.load_key == key]
-                                 + [f"{k.name!r} on specimen.shape = {s!r}" for k in KINDS.values()
-                                    for s, other in k.shape_load_keys.items() if other == key])
-            raise SceneError(f"{t.field(key)} applies to test.kind = {owners}, not {kind.name!r} on specimen.shape "
-                             f"= {shape!r}; give test.{load_key}")
-    options = _options(t, kind, option_keys)
+            if key in (kind.load_key, *kind.extra_load_keys):  # this kind's, on another shape or control
+                given = "".join(f", test.{k} = {v!r}" for k, v in options)
+                raise SceneError(f"{t.field(key)} is not the load of test.kind = {kind.name!r} on specimen.shape = "
+                                 f"{shape!r}{given}: give test.{load_key}")
+            owners = " or ".join(repr(k.name) for k in KINDS.values() if key in (k.load_key, *k.extra_load_keys))
+            raise SceneError(f"{t.field(key)} applies to test.kind = {owners}, not {kind.name!r}; "
+                             f"give test.{load_key}")
     protocol_name = t.choice("protocol", PROTOCOLS, default="monotonic")
     if protocol_name == "cyclic" and not kind.cyclic:
         raise SceneError(f"test.protocol = 'cyclic' needs test.kind = "

@@ -86,7 +86,7 @@ class TestKind:
     proportional = True  # u_p(t) = t · û_p (False: the loading's own path, e.g. a rotating grip)
     homogeneous = True  # ``state`` exists (False: torsion, whose shear grows with the radius)
     option_keys: dict[str, tuple[str, ...]] = {}  # the kind's own [test] choice keys: allowed values, default first
-    shape_load_keys: dict[str, str] = {}  # specimen shape -> the load key it takes instead of ``load_key``
+    extra_load_keys: tuple[str, ...] = ()  # load keys besides ``load_key`` that ``load_key_for`` may choose
     doc = ""
 
     # --- grammar -------------------------------------------------------------------------------
@@ -107,6 +107,16 @@ class TestKind:
     def check_specimen(self, test, specimen) -> None:
         """Refuse a load the specimen's dimensions make too large (SceneError naming the field);
         most kinds' loads are dimensionless and need nothing here."""
+
+    def load_key_for(self, shape: str, options: dict[str, str]) -> str:
+        """The [test] key of the load on specimen ``shape`` with the kind's ``options`` (its
+        option_keys as given): ``load_key`` unless the kind says otherwise."""
+        return self.load_key
+
+    def for_test(self, test) -> "TestKind":
+        """The kind that runs ``test``: this one, or its variant for the test's options (a
+        pressure-controlled inflation's control value is the pressure, not a stretch)."""
+        return self
 
     # --- grips ---------------------------------------------------------------------------------
     def at(self, targets: tuple[float, ...], t: float) -> list[float]:

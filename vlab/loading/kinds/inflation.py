@@ -41,6 +41,7 @@ class Inflation(TestKind):
     axes = (0,)
     oracle_setups = {"sphere-shell": "cavity", "membrane": "clamped"}
     symmetric = False  # the octant is built reduced already
+    cyclic = True  # volume control: up and back down the same (elastic) curve
     measures_E = False
     force_column, control_column = "cap_force", "stretch"
     plot = PlotSpec("stretch", "pressure", "inner hoop stretch λ_a [–]", "pressure p [MPa]",
@@ -48,10 +49,10 @@ class Inflation(TestKind):
     measured_units = {"limit_point": "pressure MPa, stretch 1", "initial_slope": "MPa (dp/dλ_a at λ_a = 1)"}
     doc = ("inflation of a spherical shell (a balloon) or of a clamped membrane (the bulge test) under volume "
            "control (through the pressure maximum)")
-    shape_load_keys = {"membrane": "volume_ratio"}
+    extra_load_keys = ("volume_ratio", "pressure")
     readers = ("cavity-pressure",)  # vlab/measure/kinds.py
     fit = "inflation"
-    option_keys = {"control": ("volume",)}
+    option_keys = {"control": ("volume", "pressure")}
     units = {"stretch": "1 (sphere: inner surface, hoop; membrane: pole, in-plane, FE)",
              "pressure": "MPa (membrane: the liquid's)",
              "volume_ratio": "1 (sphere: cavity V / V0; membrane: (V0 + V) / V0, V0 the chamber's liquid)",
@@ -61,7 +62,22 @@ class Inflation(TestKind):
              "pole_stress_fe": "MPa (membrane, FE: (s_xx + s_yy)/2 - s_zz at the pole)",
              "time": "s"}
 
+    def load_key_for(self, shape: str, options: dict[str, str]) -> str:
+        """``pressure`` (MPa) under control = "pressure"; else a membrane's ``volume_ratio``, a
+        sphere's ``stretch``."""
+        if options.get("control") == "pressure":
+            return "pressure"
+        return "volume_ratio" if shape == "membrane" else "stretch"
+
+    def for_test(self, test) -> TestKind:
+        return PRESSURE_INFLATION if test.option("control") == "pressure" else self
+
     def parse_load(self, t: fields.Table, protocol: str) -> tuple[float, ...]:
+        if "pressure" in t.raw:
+            p = fields.number(t.field("pressure"), t.get("pressure"), note=" (MPa, > 0)")
+            if not p > 0.0:
+                raise SceneError(f"{t.field('pressure')} must be > 0 (MPa, the final pressure), got {p:g}")
+            return (p,)
         key = "volume_ratio" if "volume_ratio" in t.raw else "stretch"  # the shape's (test.py checks which)
         what = "the pumped volume ratio" if key == "volume_ratio" else "the inner hoop stretch"
         field, v = t.field(key), t.get(key)
@@ -74,6 +90,9 @@ class Inflation(TestKind):
 
     def check(self, test, effects: dict) -> None:
         super().check(test, effects)
+        if test.protocol.name == "cyclic" and test.option("control") == "pressure":
+            raise SceneError("test.protocol = 'cyclic' needs test.control = 'volume' for test.kind = 'inflation' "
+                             "(a pressure cycle cannot pass the pressure maximum), got test.control = 'pressure'")
         if test.grips not in ("cavity", "clamped"):
             raise SceneError(f"test.grips must be 'cavity' (a sphere-shell) or 'clamped' (a membrane) for "
                              f"test.kind = 'inflation', got {test.grips!r}")
@@ -86,8 +105,10 @@ class Inflation(TestKind):
             from vlab.loading.bulge import bulge_loading
 
             return bulge_loading(specimen, X, test.option("control"), test.targets[0])
-        from vlab.loading.inflation import inflation_loading
+        from vlab.loading.inflation import inflation_loading, pressure_loading
 
+        if test.option("control") == "pressure":
+            return pressure_loading(specimen, X, test.targets[0])
         return inflation_loading(specimen, X, test.targets[0])
 
     def isochoric(self, values):
@@ -107,13 +128,19 @@ class Inflation(TestKind):
         P.setflags(write=False)
         return HomogeneousState(F=F, P=P, lateral_stretch=float(values[0]) ** -2)
 
+    @staticmethod
+    def stretch(curve) -> list[float]:
+        """The recorded stretch: a bulge's pole, a balloon's inner wall measured (pressure control)
+        or prescribed (volume control)."""
+        return list(curve.extra.get("pole_stretch") or curve.extra.get("inner_stretch") or curve.stretch[0])
+
     def reference(self, material, curve) -> dict:
         if "pole_stretch" in curve.extra:
             return self._membrane_reference(material, curve)
         from vlab.loading.thick_sphere import thick_sphere_pressure
 
         ratio = curve.extra["wall_ratio"][0] if curve.extra.get("wall_ratio") else None
-        out = {"pressure": [thick_sphere_pressure(material, lam, ratio) for lam in curve.stretch[0]],
+        out = {"pressure": [thick_sphere_pressure(material, lam, ratio) for lam in self.stretch(curve)],
                "note": "incompressible thick sphere; the FE model is compressible (K/mu finite)"}
         out["max_relative_error_pressure"] = relative_error(curve.extra.get("pressure", []), out["pressure"])
         return out
@@ -141,9 +168,33 @@ class Inflation(TestKind):
                 key: list(curve.extra[key]) for key in ("pressure", "volume_ratio", "pole_height", "pole_stress",
                                                         "pole_stress_fe") if key in curve.extra} | {
                 "cap_force": list(curve.force[0])}
-        return {"stretch": list(curve.stretch[0]), "pressure": list(curve.extra.get("pressure", [])),
-                "volume_ratio": [lam**3 for lam in curve.stretch[0]],
+        volume = curve.extra.get("volume_ratio") or [lam**3 for lam in curve.stretch[0]]
+        return {"stretch": self.stretch(curve), "pressure": list(curve.extra.get("pressure", [])),
+                "volume_ratio": list(volume),
                 "outer_stretch": [1.0 + e for e in curve.strain[0]], "cap_force": list(curve.force[0])}
 
 
 INFLATION = Inflation()
+
+
+class PressureInflation(Inflation):
+    """Inflation under ``control = "pressure"``: the control value is the pressure p(t) = t p*
+    (MPa); the stretch is measured. There is no equilibrium past a pressure maximum: the test
+    stops there, and the stop says so (vlab.measure.inflation.pressure_maximum_reason)."""
+
+    rest = 0.0
+
+    def at(self, targets, t: float) -> list[float]:
+        return [t * targets[0]]
+
+    def grip_strain(self, targets) -> tuple[float, ...]:
+        return (targets[0],)
+
+    def describe(self, values) -> str:
+        return f"pressure {values[0]:.4g} MPa"
+
+    def isochoric(self, values):
+        return np.eye(3)  # the stretch a pressure reaches is not known before the solve
+
+
+PRESSURE_INFLATION = PressureInflation()
