@@ -108,3 +108,38 @@ def test_the_axial_key_belongs_to_torsion_only():
            "test": {"kind": "uniaxial", "stretch": 1.1, "axial": "free"}}
     with pytest.raises(SceneError, match=r"test\.axial applies to test\.kind = 'torsion'"):
         parse_scene(raw)
+
+
+def test_an_end_rotation_in_degrees_is_the_twist_over_the_length():
+    """test.angle (degrees, the end rotation) is ψ = angle π / (180 L): the same run as test.twist."""
+    raw = scene("neo-hookean", A / 2)
+    del raw["test"]["twist"]
+    raw["specimen"]["length"] = 2.0
+    raw["test"]["angle"] = math.degrees(PSI * 2.0)
+    assert parse_scene(raw).test.targets[0] == pytest.approx(PSI, rel=1e-15)
+    by_angle = result_to_dict(run_scene(parse_scene(raw)))
+    raw["test"] = raw["test"] | {"twist": PSI}
+    del raw["test"]["angle"]
+    by_twist = result_to_dict(run_scene(parse_scene(raw)))
+    assert by_angle["curve"]["twist"] == by_twist["curve"]["twist"]
+    assert by_angle["curve"]["torque"] == pytest.approx(by_twist["curve"]["torque"], rel=1e-12)
+
+
+@pytest.mark.parametrize("test,message", [
+    ({"angle": 30.0}, r"give one of test\.twist or test\.angle"),
+    ({"angle": 0.0, "twist": None}, r"test\.angle must not be 0"),
+    ({"angle": 1e4, "twist": None}, r"an angle <= 286\.5 degrees"),
+])
+def test_a_bad_angle_names_its_field(test, message):
+    raw = scene("neo-hookean", A / 2)
+    raw["test"] |= test
+    raw["test"] = {k: v for k, v in raw["test"].items() if v is not None}
+    with pytest.raises(SceneError, match=message):
+        parse_scene(raw)
+
+
+def test_an_angle_is_refused_for_another_kind():
+    raw = scene("neo-hookean", A / 2)
+    raw["test"] = {"kind": "confined-compression", "grips": "die", "stretch": 0.9, "angle": 3.0}
+    with pytest.raises(SceneError, match=r"test\.angle applies to test\.kind = 'torsion'"):
+        parse_scene(raw)

@@ -51,12 +51,14 @@ class TestSpec:
         return self.shear or self.twist or self.stretch
 
 
-def parse_test(raw: Any, shape: str = "block") -> TestSpec:
-    """[test]: the kind (vlab.loading.kinds) parses its own load key; grips per specimen shape."""
+def parse_test(raw: Any, shape: str = "block", specimen=None) -> TestSpec:
+    """[test]: the kind (vlab.loading.kinds) parses its own load key; grips per specimen shape;
+    ``specimen`` (the parsed spec) converts a load given by an alternative key (a torsion angle)."""
     from vlab.loading.kinds import KINDS
 
     load_keys = tuple(dict.fromkeys([k.load_key for k in KINDS.values()]
-                                    + [key for k in KINDS.values() for key in k.extra_load_keys]))
+                                    + [key for k in KINDS.values() for key in k.extra_load_keys]
+                                    + [key for k in KINDS.values() for key in k.alternative_load_keys]))
     option_keys = tuple(dict.fromkeys(key for k in KINDS.values() for key in k.option_keys))
     t = fields.Table("test", raw, ("kind", "grips") + load_keys + option_keys + ("steps", "imperfection", "misalignment")
                      + PROTOCOL_KEYS)
@@ -72,6 +74,12 @@ def parse_test(raw: Any, shape: str = "block") -> TestSpec:
                          f"{shape!r} with test.kind = {kind.name!r}, got {grips!r}")
     options = _options(t, kind, option_keys)
     load_key = kind.load_key_for(shape, dict(options))
+    given = [key for key in (load_key, *(a for a, b in kind.alternative_load_keys.items() if b == load_key))
+             if key in t.raw]
+    if len(given) > 1:
+        raise SceneError(f"give one of {' or '.join(f'test.{k}' for k in given)} for test.kind = {kind.name!r}, "
+                         f"not both")
+    load_key = given[0] if given else load_key
     for key in load_keys:
         if key != load_key and key in t.raw:
             if key in (kind.load_key, *kind.extra_load_keys):  # this kind's, on another shape or control
@@ -86,6 +94,8 @@ def parse_test(raw: Any, shape: str = "block") -> TestSpec:
         raise SceneError(f"test.protocol = 'cyclic' needs test.kind = "
                          f"{' or '.join(repr(k.name) for k in KINDS.values() if k.cyclic)}, got {kind.name!r}")
     targets = _targets(t, kind, protocol_name, load_key)
+    if load_key in kind.alternative_load_keys:
+        targets = kind.converted_load(load_key, targets, specimen)
     if load_key == "stretch" and all(s == 1.0 for s in targets):
         raise SceneError(f"{t.field('stretch')} must not be 1 everywhere (a stretch of 1 applies no load), "
                          f"got {fields.show(t.raw['stretch'])}")

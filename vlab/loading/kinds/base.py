@@ -87,6 +87,7 @@ class TestKind:
     homogeneous = True  # ``state`` exists (False: torsion, whose shear grows with the radius)
     option_keys: dict[str, tuple[str, ...]] = {}  # the kind's own [test] choice keys: allowed values, default first
     extra_load_keys: tuple[str, ...] = ()  # load keys besides ``load_key`` that ``load_key_for`` may choose
+    alternative_load_keys: dict[str, str] = {}  # a key the load may be given as instead -> the key it replaces
     doc = ""
 
     # --- grammar -------------------------------------------------------------------------------
@@ -112,6 +113,11 @@ class TestKind:
         """The [test] key of the load on specimen ``shape`` with the kind's ``options`` (its
         option_keys as given): ``load_key`` unless the kind says otherwise."""
         return self.load_key
+
+    def converted_load(self, key: str, values: tuple[float, ...], specimen) -> tuple[float, ...]:
+        """The targets of a load given as the alternative ``key`` (``alternative_load_keys``), in the
+        units of ``load_key``, for the parsed ``specimen`` spec (its dimensions)."""
+        return values
 
     def for_test(self, test) -> "TestKind":
         """The kind that runs ``test``: this one, or its variant for the test's options (a

@@ -47,19 +47,27 @@ class Torsion(TestKind):
     doc = "torsion of a cylinder: one end clamped, the other turned; length held (fixed) or free"
     readers = ("torque",)  # vlab/measure/kinds.py
     option_keys = {"axial": ("fixed", "free")}
+    alternative_load_keys = {"angle": "twist"}
     fit = "torsion"
     units = {"twist": "rad/mm (end rotation / length)", "torque": "N·mm", "axial_force": "N (tension > 0)",
              "axial_stretch": "1 (turning end: 1 + mean u_x / L)", "surface_shear": "1 (twist x radius)",
              "time": "s"}
 
     def parse_load(self, t: fields.Table, protocol: str) -> tuple[float, ...]:
-        field, v = t.field("twist"), t.get("twist")
+        """(ψ,) from ``twist`` (rad/mm), or (the end rotation in degrees,) from ``angle``
+        (``converted_load`` makes it ψ)."""
+        key, unit = ("angle", "degrees") if "angle" in t.raw else ("twist", "rad/mm")
+        field, v = t.field(key), t.get(key)
         if isinstance(v, list):
-            raise SceneError(f"{field} must be a single number (rad/mm) for kind = 'torsion', got {fields.show(v)}")
-        psi = fields.number(field, v, note=" (rad/mm, not 0)")
-        if psi == 0.0:
-            raise SceneError(f"{field} must not be 0 (no twist applies no load), in rad/mm")
-        return (psi,)
+            raise SceneError(f"{field} must be a single number ({unit}) for kind = 'torsion', got {fields.show(v)}")
+        value = fields.number(field, v, note=f" ({unit}, not 0)")
+        if value == 0.0:
+            raise SceneError(f"{field} must not be 0 (no twist applies no load), in {unit}")
+        return (value,)
+
+    def converted_load(self, key: str, values, specimen) -> tuple[float, ...]:
+        """ψ = angle π / (180 L) (rad/mm) of the end rotation ``angle`` (degrees) over the length L."""
+        return (math.radians(values[0]) / specimen.length,)
 
     def check(self, test, effects: dict) -> None:
         super().check(test, effects)
@@ -75,9 +83,11 @@ class Torsion(TestKind):
                              f"(|test.twist| >= {MIN_STRAIN / specimen.radius:.3g} rad/mm for specimen.radius = "
                              f"{specimen.radius:g} mm), got {test.targets[0]!r}")
         if gamma > SHEAR_LIMIT:
-            raise SceneError(f"test.twist must be <= {SHEAR_LIMIT / specimen.radius:.4g} rad/mm in magnitude "
-                             f"for specimen.radius = {specimen.radius:g} mm (surface shear twist x radius "
-                             f"<= {SHEAR_LIMIT:g}), got {test.targets[0]:g}")
+            raise SceneError(f"test.twist (or test.angle / specimen.length) must be <= "
+                             f"{SHEAR_LIMIT / specimen.radius:.4g} rad/mm in magnitude for specimen.radius = "
+                             f"{specimen.radius:g} mm (surface shear twist x radius <= {SHEAR_LIMIT:g}; an angle "
+                             f"<= {math.degrees(SHEAR_LIMIT * specimen.length / specimen.radius):.4g} degrees), "
+                             f"got {test.targets[0]:g} rad/mm")
 
     def at(self, targets, t: float) -> list[float]:
         return [t * targets[0]]
