@@ -86,7 +86,8 @@ def parse_test(raw: Any, shape: str = "block", specimen=None) -> TestSpec:
                 given = "".join(f", test.{k} = {v!r}" for k, v in options)
                 raise SceneError(f"{t.field(key)} is not the load of test.kind = {kind.name!r} on specimen.shape = "
                                  f"{shape!r}{given}: give test.{load_key}")
-            owners = " or ".join(repr(k.name) for k in KINDS.values() if key in (k.load_key, *k.extra_load_keys))
+            owners = " or ".join(repr(k.name) for k in KINDS.values()
+                                 if key in (k.load_key, *k.extra_load_keys, *k.alternative_load_keys))
             raise SceneError(f"{t.field(key)} applies to test.kind = {owners}, not {kind.name!r}; "
                              f"give test.{load_key}")
     protocol_name = t.choice("protocol", PROTOCOLS, default="monotonic")
