@@ -81,7 +81,7 @@ def parse_test(raw: Any, shape: str = "block", specimen=None) -> TestSpec:
                          f"not both")
     load_key = given[0] if given else load_key
     for key in load_keys:
-        if key != load_key and key in t.raw:
+        if key != load_key and key in t.raw and key not in kind.own_number_keys:
             if key in (kind.load_key, *kind.extra_load_keys):  # this kind's, on another shape or control
                 given = "".join(f", test.{k} = {v!r}" for k, v in options)
                 raise SceneError(f"{t.field(key)} is not the load of test.kind = {kind.name!r} on specimen.shape = "
@@ -100,7 +100,7 @@ def parse_test(raw: Any, shape: str = "block", specimen=None) -> TestSpec:
     if load_key == "stretch" and all(s == 1.0 for s in targets):
         raise SceneError(f"{t.field('stretch')} must not be 1 everywhere (a stretch of 1 applies no load), "
                          f"got {fields.show(t.raw['stretch'])}")
-    stretch = targets if kind.load_key == "stretch" else ()
+    stretch = targets if kind.load_key == "stretch" else kind.parse_own_numbers(t, dict(options))
     return TestSpec(kind=kind.name, grips=grips, stretch=stretch,
                     steps=t.integer("steps", 1, 10000, default=10),
                     protocol=_parse_protocol(t, protocol_name, targets, kind),

@@ -88,6 +88,7 @@ class TestKind:
     option_keys: dict[str, tuple[str, ...]] = {}  # the kind's own [test] choice keys: allowed values, default first
     extra_load_keys: tuple[str, ...] = ()  # load keys besides ``load_key`` that ``load_key_for`` may choose
     alternative_load_keys: dict[str, str] = {}  # a key the load may be given as instead -> the key it replaces
+    own_number_keys: tuple[str, ...] = ()  # [test] numbers besides the load (torsion: "stretch", its pre-stretch)
     doc = ""
 
     # --- grammar -------------------------------------------------------------------------------
@@ -113,6 +114,10 @@ class TestKind:
         """The [test] key of the load on specimen ``shape`` with the kind's ``options`` (its
         option_keys as given): ``load_key`` unless the kind says otherwise."""
         return self.load_key
+
+    def parse_own_numbers(self, t: fields.Table, options: dict[str, str]) -> tuple[float, ...]:
+        """The kind's ``own_number_keys`` as TestSpec.stretch (a stretch kind's is its load: ())."""
+        return ()
 
     def converted_load(self, key: str, values: tuple[float, ...], specimen) -> tuple[float, ...]:
         """The targets of a load given as the alternative ``key`` (``alternative_load_keys``), in the

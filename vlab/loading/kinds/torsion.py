@@ -25,7 +25,7 @@ import math
 
 from vlab import fields
 from vlab.fields import SceneError
-from vlab.loading.kinds.base import MIN_STRAIN, PlotSpec, TestKind, strain_bound
+from vlab.loading.kinds.base import MIN_STRAIN, PlotSpec, TestKind, strain_bound, stretch_value
 
 SHEAR_LIMIT = 5.0  # the largest surface shear ψ a a scene may ask for
 
@@ -48,6 +48,7 @@ class Torsion(TestKind):
     readers = ("torque",)  # vlab/measure/kinds.py
     option_keys = {"axial": ("fixed", "free")}
     alternative_load_keys = {"angle": "twist"}
+    own_number_keys = ("stretch",)
     fit = "torsion"
     units = {"twist": "rad/mm (end rotation / length)", "torque": "N·mm", "axial_force": "N (tension > 0)",
              "axial_stretch": "1 (turning end: 1 + mean u_x / L)", "surface_shear": "1 (twist x radius)",
@@ -64,6 +65,17 @@ class Torsion(TestKind):
         if value == 0.0:
             raise SceneError(f"{field} must not be 0 (no twist applies no load), in {unit}")
         return (value,)
+
+    def parse_own_numbers(self, t: fields.Table, options: dict[str, str]) -> tuple[float, ...]:
+        """(λ₀,): the axial stretch applied with the twist, ``stretch`` (0.2..10, default 1: none);
+        with the length held only (a free end carries no axial load to stretch it)."""
+        if "stretch" not in t.raw:
+            return ()
+        lam = stretch_value(t.field("stretch"), t.get("stretch"))
+        if options.get("axial") == "free":
+            raise SceneError(f"{t.field('stretch')} (the axial stretch of tension–torsion) needs test.axial = "
+                             f"'fixed' (a free end carries no axial load), got test.axial = 'free'")
+        return (lam,) if lam != 1.0 else ()
 
     def converted_load(self, key: str, values, specimen) -> tuple[float, ...]:
         """ψ = angle π / (180 L) (rad/mm) of the end rotation ``angle`` (degrees) over the length L."""
@@ -101,7 +113,8 @@ class Torsion(TestKind):
     def loading(self, specimen, X, test):
         from vlab.loading.torsion import torsion_loading
 
-        return torsion_loading(specimen, X, test.targets[0], test.option("axial"))
+        return torsion_loading(specimen, X, test.targets[0], test.option("axial"),
+                               test.stretch[0] if test.stretch else 1.0)
 
     def isochoric(self, values):
         import numpy as np
