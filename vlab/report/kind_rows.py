@@ -95,7 +95,8 @@ def _limit_point(d: dict) -> str:
     if not lp:
         return "none in the recorded range"
     lo, hi = lp.get("bracket") or (None, None)
-    return f"λ = {_f(lp['stretch'])}, p = {_f(lp['pressure'])} MPa (between recorded λ {_f(lo)} and {_f(hi)})"
+    lam = "pole λ" if "pole_stress_at_end" in d["measured"] else "λ_a"  # a bulge's pole, a balloon's wall
+    return f"{lam} = {_f(lp['stretch'])}, p = {_f(lp['pressure'])} MPa (between recorded {lam} {_f(lo)} and {_f(hi)})"
 
 
 def _inflation_rows(models: list[dict]) -> list[tuple[str, list[str]]]:
