@@ -150,5 +150,5 @@ def test_a_sphere_takes_no_volume_ratio():
     raw = {"name": "balloon", "specimen": {"shape": "sphere-shell", "inner_radius": 10.0, "thickness": 1.0},
            "mesh": {"size": 1.0}, "material": {"model": "neo-hookean", "mu": MU, "K": 1000 * MU},
            "test": {"kind": "inflation", "volume_ratio": 2.0}}
-    with pytest.raises(SceneError, match=r"test\.volume_ratio applies to .*membrane"):
+    with pytest.raises(SceneError, match=r"test\.volume_ratio is not the load of .*sphere-shell.*give test\.stretch"):
         parse_scene(raw)

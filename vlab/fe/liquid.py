@@ -98,9 +98,7 @@ class LiquidBody(BodyDefaults):
         tri = np.asarray(liquid.triangles, dtype=np.int64)
         self._X = body.space.node_coordinates
         self._nodes = np.unique(tri)  # the wetted nodes
-        local = np.searchsorted(self._nodes, tri)
-        self._tri = tri
-        self._local = local
+        self._local = np.searchsorted(self._nodes, tri)  # the triangles' corners among the wetted nodes
         self._dofs = (3 * self._nodes[:, None] + np.arange(3)).ravel()  # the clique's DOFs, node-major
         inner = body.pattern
         n = inner.n

@@ -211,6 +211,11 @@ class TestKind:
              "stress": "MPa (engineering)", "force": "N", "true_stress": "MPa",
              "crosshead_strain": "1 (grip separation change / initial grip separation)", "time": "s"}
 
+    def units_of(self, columns: dict) -> dict[str, str]:
+        """results.json → curve.units of a record with ``columns`` (a kind whose columns depend on
+        the specimen says which units go with which)."""
+        return dict(self.units)
+
     def areas(self, specimen) -> dict[int, float]:
         """Reference area (mm²) each load cell's force is divided by."""
         return {a: specimen.area0[a] for a in self.axes}

@@ -53,14 +53,17 @@ class Inflation(TestKind):
     readers = ("cavity-pressure",)  # vlab/measure/kinds.py
     fit = "inflation"
     option_keys = {"control": ("volume", "pressure")}
-    units = {"stretch": "1 (sphere: inner surface, hoop; membrane: pole, in-plane, FE)",
-             "pressure": "MPa (membrane: the liquid's)",
-             "volume_ratio": "1 (sphere: cavity V / V0; membrane: (V0 + V) / V0, V0 the chamber's liquid)",
-             "outer_stretch": "1 (sphere: outer surface, hoop)",
-             "cap_force": "N (sphere: octant cavity wall, x resultant; membrane: the quarter's rim, z resultant)",
-             "pole_height": "mm (membrane: mid-surface)", "pole_stress": "MPa (membrane, lab: p R_c / (2 t))",
-             "pole_stress_fe": "MPa (membrane, FE: (s_xx + s_yy)/2 - s_zz at the pole)",
+    units = {"stretch": "1 (inner surface, hoop)", "pressure": "MPa", "volume_ratio": "1 (cavity V / V0)",
+             "outer_stretch": "1 (outer surface, hoop)", "cap_force": "N (octant cavity wall, x resultant)",
              "time": "s"}
+    bulge_units = {"stretch": "1 (pole, in-plane, FE)", "pressure": "MPa (the liquid's)",
+                   "volume_ratio": "1 ((V0 + V) / V0, V0 the chamber's liquid, V the bulge's)",
+                   "pole_height": "mm (mid-surface)", "pole_stress": "MPa (lab: p R_c / (2 t))",
+                   "pole_stress_fe": "MPa (FE: (s_xx + s_yy)/2 - s_zz at the pole)",
+                   "cap_force": "N (the quarter's rim, z resultant)", "time": "s"}
+
+    def units_of(self, columns: dict) -> dict[str, str]:
+        return dict(self.bulge_units if "pole_height" in columns else self.units)
 
     def load_key_for(self, shape: str, options: dict[str, str]) -> str:
         """``pressure`` (MPa) under control = "pressure"; else a membrane's ``volume_ratio``, a
