@@ -36,7 +36,7 @@ if TYPE_CHECKING:
     from vlab.fe.problem import Evaluation
     from vlab.fe.space import DisplacementSpace
 
-__all__ = ["Body", "HistoryCapability", "BodyDefaults"]
+__all__ = ["Body", "HistoryCapability", "BodyDefaults", "LoadWrapper"]
 
 
 class HistoryCapability(Protocol):
@@ -87,3 +87,41 @@ class BodyDefaults:
 
     def cell_cauchy(self, evaluation: "Evaluation") -> np.ndarray | None:
         return None
+
+
+class LoadWrapper(BodyDefaults):
+    """A body ``inner`` with a load added to its evaluations: a subclass defines
+    ``_loaded(evaluation, u) -> Evaluation`` (its energy and force with the load) and, where the
+    load changes the tangent, ``stiffness``; everything else is the inner body's
+    (vlab.fe.external_load.LoadedBody, vlab.fe.liquid.LiquidBody)."""
+
+    inner: "Body"
+
+    space = property(lambda self: self.inner.space)
+    pattern = property(lambda self: self.inner.pattern)
+    material = property(lambda self: self.inner.material)
+    history = property(lambda self: self.inner.history)
+    tangent_kernel = property(lambda self: self.inner.tangent_kernel)
+    gradient = property(lambda self: self.inner.gradient)  # a load does not change F
+
+    def cell_cauchy(self, evaluation: "Evaluation") -> np.ndarray | None:
+        return self.inner.cell_cauchy(evaluation)
+
+    def evaluate(self, u: np.ndarray) -> "Evaluation":
+        return self._loaded(self.inner.evaluate(u), u)
+
+    @property
+    def advance(self):
+        """The inner body's Newton update of its own element unknowns (the mixed body's θ),
+        with the load: None if the inner body has none (``__getattr__`` would hand out the
+        inner update without the load)."""
+        inner = self.inner.advance
+        if inner is None:
+            return None
+        return lambda ev, du, alpha: self._loaded(inner(ev, du, alpha), ev.u + alpha * du)
+
+    def _loaded(self, ev: "Evaluation", u: np.ndarray) -> "Evaluation":
+        raise NotImplementedError
+
+    def stiffness(self, evaluation: "Evaluation"):
+        return self.inner.stiffness(evaluation)

@@ -38,7 +38,7 @@ from types import SimpleNamespace
 import numpy as np
 import scipy.sparse as sp
 
-from vlab.fe.body import BodyDefaults
+from vlab.fe.body import LoadWrapper
 from vlab.fe.problem import Evaluation
 
 __all__ = ["Liquid", "LiquidBody", "enclosed_volume"]
@@ -90,8 +90,10 @@ def enclosed_volume(x: np.ndarray, triangles: np.ndarray) -> float:
     return _prisms(x[triangles])[0]
 
 
-class LiquidBody(BodyDefaults):
+class LiquidBody(LoadWrapper):
     """``body`` with a liquid under ``liquid.triangles`` (module docstring); ``set_load(t)``."""
+
+    pattern = None  # the inner pattern with the wetted clique, set in __init__
 
     def __init__(self, body, liquid: Liquid):
         self.inner, self.liquid, self.t = body, liquid, 0.0
@@ -114,12 +116,6 @@ class LiquidBody(BodyDefaults):
         self._clique_slots = np.searchsorted(keys, (self._dofs[:, None] * n + self._dofs[None, :]).ravel())
         self._nnz = len(keys)
 
-    space = property(lambda self: self.inner.space)
-    material = property(lambda self: self.inner.material)
-    history = property(lambda self: self.inner.history)
-    tangent_kernel = property(lambda self: self.inner.tangent_kernel)
-    gradient = property(lambda self: self.inner.gradient)  # the liquid does not change F
-
     def set_load(self, t: float) -> None:
         """The load parameter of the evaluations from now on (the stepper's substep target)."""
         self.t = float(t)
@@ -132,20 +128,6 @@ class LiquidBody(BodyDefaults):
         out[self._dofs] = -rate * grad.ravel()
         return out
 
-    def cell_cauchy(self, evaluation: Evaluation) -> np.ndarray | None:
-        return self.inner.cell_cauchy(evaluation)
-
-    def evaluate(self, u: np.ndarray) -> Evaluation:
-        return self._wetted(self.inner.evaluate(u), u)
-
-    @property
-    def advance(self):
-        """The inner body's update of its own element unknowns, with the liquid (LoadedBody's rule)."""
-        inner = self.inner.advance
-        if inner is None:
-            return None
-        return lambda ev, du, alpha: self._wetted(inner(ev, du, alpha), ev.u + alpha * du)
-
     def state(self, u: np.ndarray) -> tuple[float, float, np.ndarray, np.ndarray]:
         """(V, p, ∂V/∂x per wetted node (m, 3), ∂²V per triangle) at ``u``."""
         x = self._X[self._nodes] + u[self._dofs].reshape(-1, 3)
@@ -155,7 +137,7 @@ class LiquidBody(BodyDefaults):
             np.add.at(grad, self._local[:, k], grad_t[:, k])
         return volume, self.liquid.pressure(self.t, volume), grad, hess_t
 
-    def _wetted(self, ev: Evaluation, u: np.ndarray) -> Evaluation:
+    def _loaded(self, ev: Evaluation, u: np.ndarray) -> Evaluation:
         if not ev.admissible:
             return ev
         volume, p, grad, _ = self.state(u)

@@ -13,7 +13,7 @@ from typing import Any
 from vlab import fields
 from vlab.fields import SceneError
 
-__all__ = ["MIN_STRAIN", "TestKind", "stretch_value", "strain_bound", "PlotSpec", "relative_error"]
+__all__ = ["MIN_STRAIN", "TestKind", "LoadFromZero", "stretch_value", "strain_bound", "PlotSpec", "relative_error"]
 
 STRETCH_RANGE = (0.2, 10.0)  # grip stretches a scene may ask for
 # The smallest deformation a load may ask for, |λ − 1|, |γ| or the surface shear of a twist: the
@@ -219,3 +219,16 @@ class TestKind:
     def areas(self, specimen) -> dict[int, float]:
         """Reference area (mm²) each load cell's force is divided by."""
         return {a: specimen.area0[a] for a in self.axes}
+
+
+class LoadFromZero:
+    """A kind mixin for a load that starts at 0 (a shear γ, a twist ψ, a pressure p): the control
+    value at load parameter t is t × its target, and the schedule counts the target itself."""
+
+    rest = 0.0
+
+    def at(self, targets, t: float) -> list[float]:
+        return [t * targets[0]]
+
+    def grip_strain(self, targets) -> tuple[float, ...]:
+        return (targets[0],)

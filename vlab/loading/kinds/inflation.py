@@ -33,7 +33,7 @@ import numpy as np
 
 from vlab import fields
 from vlab.fields import SceneError
-from vlab.loading.kinds.base import PlotSpec, TestKind, relative_error, stretch_value
+from vlab.loading.kinds.base import LoadFromZero, PlotSpec, TestKind, relative_error, stretch_value
 
 
 class Inflation(TestKind):
@@ -180,18 +180,10 @@ class Inflation(TestKind):
 INFLATION = Inflation()
 
 
-class PressureInflation(Inflation):
+class PressureInflation(LoadFromZero, Inflation):
     """Inflation under ``control = "pressure"``: the control value is the pressure p(t) = t p*
     (MPa); the stretch is measured. There is no equilibrium past a pressure maximum: the test
     stops there, and the stop says so (vlab.measure.inflation.pressure_maximum_reason)."""
-
-    rest = 0.0
-
-    def at(self, targets, t: float) -> list[float]:
-        return [t * targets[0]]
-
-    def grip_strain(self, targets) -> tuple[float, ...]:
-        return (targets[0],)
 
     def describe(self, values) -> str:
         return f"pressure {values[0]:.4g} MPa"

@@ -25,12 +25,12 @@ import math
 
 from vlab import fields
 from vlab.fields import SceneError
-from vlab.loading.kinds.base import MIN_STRAIN, PlotSpec, TestKind, strain_bound, stretch_value
+from vlab.loading.kinds.base import MIN_STRAIN, LoadFromZero, PlotSpec, TestKind, strain_bound, stretch_value
 
 SHEAR_LIMIT = 5.0  # the largest surface shear ψ a a scene may ask for
 
 
-class Torsion(TestKind):
+class Torsion(LoadFromZero, TestKind):
     name = "torsion"
     load_key = "twist"
     rest = 0.0
@@ -100,12 +100,6 @@ class Torsion(TestKind):
                              f"{specimen.radius:g} mm (surface shear twist x radius <= {SHEAR_LIMIT:g}; an angle "
                              f"<= {math.degrees(SHEAR_LIMIT * specimen.length / specimen.radius):.4g} degrees), "
                              f"got {test.targets[0]:g} rad/mm")
-
-    def at(self, targets, t: float) -> list[float]:
-        return [t * targets[0]]
-
-    def grip_strain(self, targets) -> tuple[float, ...]:
-        return (targets[0],)
 
     def describe(self, values) -> str:
         return f"twist {values[0]:.4g} rad/mm"
