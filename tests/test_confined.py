@@ -98,7 +98,7 @@ def test_the_cylinder_mesh_is_valid_and_counted_before_it_is_built():
     ({"stretch": 1.1}, {}, "test.stretch"),
     ({"stretch": [0.9, 0.9]}, {}, "test.stretch"),
     ({"grips": "roller"}, {}, "test.grips"),
-    ({}, {"cell": "tet"}, "mesh.cell"),
+    ({}, {"cell": "quad"}, "mesh.cell"),
 ])
 def test_a_bad_die_scene_names_its_field(test, mesh, field):
     with pytest.raises(SceneError, match=field.replace(".", r"\.")):

@@ -111,3 +111,49 @@ def test_the_octant_mesh_is_valid_counted_and_its_cavity_volume_exact():
 def test_a_bad_inflation_scene_names_its_field(test, field):
     with pytest.raises(SceneError, match=field.replace(".", r"\.")):
         parse_scene(scene(10.0, 1.0, 2.0, 4, test=test))
+
+
+def test_under_pressure_control_the_balloon_stops_at_the_closed_form_pressure_maximum():
+    """The pressure is prescribed past the maximum (1.27 p_max): no equilibrium exists beyond it,
+    and the stop says so at the maximum's pressure (h = 2 mm: the cutbacks bracket it to
+    Δp / 2⁵ = 1.6e-4 MPa, 0.3 %)."""
+    raw = scene(10.0, 1.0, 2.0, 12, size=2.0, test={"control": "pressure", "pressure": 0.06})
+    del raw["test"]["stretch"]
+    raw["solver"] = {"max_cutbacks": 5, "max_iterations": 12}
+    data = result_to_dict(run_scene(parse_scene(raw)))
+    assert not data["converged"]
+    reason = data["failure"]["reason"]
+    assert reason.startswith("pressure maximum (limit point) of the specimen")
+    lam_max = closed_form_maximum(10.0, 1.0)
+    p_max = neo_hookean_thick(lam_max, 10.0, 1.0)
+    p_stop = float(reason.split("no equilibrium above p = ")[1].split(" MPa")[0])
+    assert p_stop == pytest.approx(p_max, rel=5e-3) and p_stop <= p_max * (1 + 1e-3)
+    assert data["failure"]["last_converged_stretch"][0] == pytest.approx(p_stop)  # the control value is p
+    stretch = float(reason.split("inner hoop stretch ")[1].split(" ")[0])
+    assert 1.3 < stretch < lam_max  # on the rising branch, below the maximum's stretch (a flat top)
+    # the recorded curve is the closed form's, read at the measured inner stretch
+    c = data["curve"]
+    closed = [neo_hookean_thick(lam, 10.0, 1.0) for lam in c["stretch"]]
+    np.testing.assert_allclose(c["pressure"], closed, rtol=5e-3, atol=1e-3 * p_max)
+
+
+def test_a_volume_cycle_passes_the_maximum_and_comes_back_down_the_same_curve():
+    raw = scene(10.0, 1.0, 2.0, 10, size=2.0, test={"protocol": "cyclic", "amplitudes": [2.0]})
+    del raw["test"]["stretch"]
+    data = result_to_dict(run_scene(parse_scene(raw)))
+    assert data["converged"], data["failure"]
+    lam, p = np.array(data["curve"]["stretch"]), np.array(data["curve"]["pressure"])
+    top = int(np.argmax(lam))
+    assert lam[top] == pytest.approx(2.0) and lam[-1] == pytest.approx(1.0) and abs(p[-1]) < 1e-9
+    for i in range(top + 1, len(lam)):  # elastic: down at the same stretch, the same pressure
+        j = int(np.argmin(np.abs(lam[:top] - lam[i])))
+        if abs(lam[j] - lam[i]) < 1e-12:
+            assert p[i] == pytest.approx(p[j], rel=1e-6, abs=1e-9)
+    assert data["measured"]["limit_point"] is not None
+
+
+def test_a_pressure_cycle_is_refused():
+    raw = scene(10.0, 1.0, 2.0, 10, test={"control": "pressure", "protocol": "cyclic", "amplitudes": [1.5]})
+    del raw["test"]["stretch"]
+    with pytest.raises(SceneError, match=r"test\.control"):
+        parse_scene(raw)

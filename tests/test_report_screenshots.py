@@ -278,3 +278,54 @@ def test_budget_report_in_the_browser(tmp_path):
     text = index.read_text(encoding="utf-8")
     pb = budget["percent_bending"]
     assert "ASTM E1012 percent bending" in text and f"{pb['max_abs']:.4g}" in text and f"{pb['u']:.4g}" in text
+
+
+def test_design_report_in_the_browser(tmp_path):
+    """`vlab design` on Treloar's uniaxial data with a Mooney–Rivlin card: the page loads without a
+    console error, shows its candidate table and the answer it printed, and is not blank."""
+    import sys
+
+    fit = tmp_path / "design.toml"
+    fit.write_text(f'name = "shot-design"\n[model]\nname = "mooney-rivlin"\nincompressible = true\n[[data]]\n'
+                   f'file = "{(ROOT / "specimens" / "treloar1944" / "uniaxial.csv").as_posix()}"\nkind = "uniaxial"\n'
+                   'columns = { stretch = "stretch", stress = "nominal_stress_MPa" }\n[options]\nstarts = 2\n',
+                   encoding="utf-8")
+    folder = tmp_path / "design"
+    proc = subprocess.run([sys.executable, "-m", "vlab", "design", str(fit), "--out", str(folder),
+                           "--candidates", "uniaxial,equibiaxial,planar", "--points", "10"],
+                          capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stdout + proc.stderr[-2000:]
+    d = json.loads((folder / "design.json").read_text(encoding="utf-8"))
+    report = page_errors(folder / "index.html", tmp_path, "design")
+    assert report["errors"] == [], report
+    shot = screenshot(folder / "index.html", "design-report", tmp_path)
+    assert shot.std() > STD_FLOOR
+    page = (folder / "index.html").read_text(encoding="utf-8")
+    assert html.escape(d["answer"]) in page and f"next: {d['answer']}" in proc.stdout
+    assert page.count("<tr") >= len(d["candidates"])  # a row per candidate
+
+
+def test_dic_report_in_the_browser(tmp_path):
+    """`vlab dic` on a rendered speckle pair under a homogeneous strain: the page loads without a
+    console error and its strain map loads and is not blank."""
+    from typer.testing import CliRunner
+
+    from vlab.cli import app
+    from vlab.dic import speckle
+    from vlab.dic.images import write_grey
+
+    shape = (128, 144)
+    pattern = speckle.make_pattern(shape, size=4.0, density=0.5, seed=5)
+    write_grey(tmp_path / "ref.tif", speckle.render(pattern, shape, supersample=2), 16)
+    write_grey(tmp_path / "def.tif", speckle.render(pattern, shape, speckle.homogeneous(4e-3, 0.0, (70, 60)),
+                                                    supersample=2), 16)
+    folder = tmp_path / "dic"
+    res = CliRunner().invoke(app, ["dic", str(tmp_path / "ref.tif"), str(tmp_path / "def.tif"), "--out", str(folder),
+                                   "--quiet"])
+    assert res.exit_code == 0, res.output
+    report = page_errors(folder / "index.html", tmp_path, "dic")
+    assert report["errors"] == [], report
+    assert [src for src, _ in report["images"]] == ["maps/def.png"] and report["images"][0][1] > 0
+    shot = screenshot(folder / "index.html", "dic-report", tmp_path)
+    assert shot.std() > STD_FLOOR
+    assert_images_shown(folder)

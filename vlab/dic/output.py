@@ -69,7 +69,9 @@ def plot_maps(path: Path, field, title: str) -> None:
         ax.set_title(name if finite.any() else f"{name}: no valid subset")
         ax.set_xlabel("x (px)")
         ax.set_ylabel("y (px)")
-        fig.colorbar(im, ax=ax, shrink=0.8)
+        bar = fig.colorbar(im, ax=ax, shrink=0.8)
+        bar.formatter.set_useOffset(False)  # ZNCC near 1 read as "1e-6 + 9.9999e-1" with an offset
+        bar.update_ticks()
     fig.suptitle(title)
     fig.savefig(path, dpi=90)
     plt.close(fig)

@@ -15,7 +15,7 @@ from dataclasses import replace
 import numpy as np
 
 from vlab.fe.assembly import scatter_vector
-from vlab.fe.body import BodyDefaults
+from vlab.fe.body import LoadWrapper
 from vlab.fe.problem import Evaluation
 from vlab.fe.space import DisplacementSpace
 
@@ -28,39 +28,13 @@ def body_force_vector(space: DisplacementSpace, b) -> np.ndarray:
     return scatter_vector(space, fe)
 
 
-class LoadedBody(BodyDefaults):
+class LoadedBody(LoadWrapper):
     """A body (hyperelastic or with history) under a dead load f_ext (N); same interface."""
 
     def __init__(self, body, f_ext: np.ndarray):
         self.inner, self.f_ext = body, np.asarray(f_ext, dtype=float)
 
-    space = property(lambda self: self.inner.space)
-    pattern = property(lambda self: self.inner.pattern)
-    material = property(lambda self: self.inner.material)
-    history = property(lambda self: self.inner.history)
-    tangent_kernel = property(lambda self: self.inner.tangent_kernel)
-    gradient = property(lambda self: self.inner.gradient)  # the load does not change F
-
-    def cell_cauchy(self, evaluation: Evaluation) -> np.ndarray | None:
-        return self.inner.cell_cauchy(evaluation)
-
-    def evaluate(self, u: np.ndarray) -> Evaluation:
-        return self._loaded(self.inner.evaluate(u), u)
-
-    @property
-    def advance(self):
-        """The inner body's Newton update of its own element unknowns (the mixed body's θ),
-        with the load: None if the inner body has none (``__getattr__`` would hand out the
-        inner update without the load)."""
-        inner = self.inner.advance
-        if inner is None:
-            return None
-        return lambda ev, du, alpha: self._loaded(inner(ev, du, alpha), ev.u + alpha * du)
-
     def _loaded(self, ev: Evaluation, u: np.ndarray) -> Evaluation:
         if not ev.admissible:
             return ev
         return replace(ev, W=ev.W - float(self.f_ext @ u), f_int=ev.f_int - self.f_ext)
-
-    def stiffness(self, evaluation: Evaluation):
-        return self.inner.stiffness(evaluation)

@@ -115,6 +115,7 @@ class Failure:
     min_J: float | None = None
     element: int | None = None
     quadrature_point: int | None = None
+    u_converged: np.ndarray | None = None  # the last converged state's displacements (mm)
 
 
 @dataclass
@@ -269,7 +270,7 @@ def _level(system: System, stepping: Stepping, cache: TangentCache, walk: _Walk,
             walk.factorizations += failure.record.factorized
             stop = steps.failed(failure, s_try, t_try)
             if stop is not None:
-                return _diagnose(index, target, *stop, walk.t)
+                return _diagnose(index, target, *stop, walk.t, walk.current.u)
             continue
         if history is not None:
             history.commit(walk.current)
@@ -300,6 +301,9 @@ def _attempt(system: System, stepping: Stepping, cache: TangentCache, walk: _Wal
              q_target: float | None) -> _Step:
     """One substep to ``t_try`` (under force control: to the held force ``q_target``), vetted by
     ``stepping.accept``; on success ``walk`` moves to it. NewtonFailure if it fails or is rejected."""
+    set_load = getattr(system.body, "set_load", None)
+    if set_load is not None:  # a load the body carries itself (vlab.fe.liquid)
+        set_load(t_try)
     if q_target is not None:  # from the new increment
         found = solve_force_controlled(system, system.body.evaluate(walk.current.u), walk.t, q_target,
                                        stepping.newton)
@@ -361,6 +365,9 @@ def _substep(system: System, current: Evaluation, tangent: Tangent, t0, t1, step
     dt = t1 - t0
     du_p = system.grip_increment(t0, t1)
     predicted = -tangent.factor.solve(tangent.Kfp @ du_p)
+    load_rate = getattr(system.body, "load_rate", None)
+    if load_rate is not None:  # a load the body carries itself: K v = −∂f/∂t as well
+        predicted -= dt * tangent.factor.solve(load_rate(current)[free])
     here = PathPoint(t0, current.u, predicted / dt if converged_tangent is not None and dt else None)
     predicted = _extrapolated(predicted, here, previous, free, dt)
     for scale in (1.0, 0.5, 0.25, 0.0):
@@ -419,7 +426,7 @@ def _settled(system: System, current: Evaluation, stepping: Stepping) -> Evaluat
 
 
 def _diagnose(index: int, target: float, attempted: float, failure: NewtonFailure,
-              converged: float) -> Failure:
+              converged: float, u_converged: np.ndarray | None = None) -> Failure:
     ev = failure.evaluation
     inverted = ev is not None and not ev.admissible
     return Failure(
@@ -428,5 +435,5 @@ def _diagnose(index: int, target: float, attempted: float, failure: NewtonFailur
         residuals=list(failure.record.residuals),
         min_J=None if ev is None else ev.min_J,
         element=ev.worst[0] if inverted else None,
-        quadrature_point=ev.worst[1] if inverted else None,
+        quadrature_point=ev.worst[1] if inverted else None, u_converged=u_converged,
     )

@@ -11,8 +11,9 @@ elements (n_c² + 4 n_c n_r) n_x. Every boundary node of the ring blocks lies on
 so the facetted surface is inscribed (its area is short of π a² by O((π/(2 n_c))²)). The ring
 blocks have one corner cell angle of 135° at the square's corners; none is flat.
 
-Tetrahedra (``mesh.cell = "tet"``) are refused: the Kuhn split of blocks in different lattice
-orders does not conform across the square's edges.
+Tetrahedra (``mesh.cell = "tet"``): each hexahedron split into six by the smallest-index rule of
+vlab.geometry.hex_split (the Kuhn split of blocks in different lattice orders would not conform
+across the square's edges); the same nodes, 6 (n_c² + 4 n_c n_r) n_x elements.
 
 The load cells' reference area is the meshed section's (``section_area``): the FE integrates
 the traction over the facetted section, so dividing by π a² would bias every stress by
@@ -110,16 +111,20 @@ def cylinder_mesh(radius: float, length: float, size: float):
 def cylinder_specimen(spec: CylinderSpecimen, element_size: float, cell: str,
                       gauge_length: float | None = None) -> Specimen:
     a, L = spec.radius, spec.length
-    if cell != "hex":
-        raise SceneError(f"mesh.cell must be 'hex' for specimen.shape = 'cylinder' (an O-grid of "
-                         f"hexahedra), got {cell!r}")
+    mesh = cylinder_mesh(a, L, element_size)
+    if cell == "tet":
+        from vlab.geometry.hex_split import swept_hex_to_tets
+
+        mesh = swept_hex_to_tets(mesh)
+    elif cell != "hex":
+        raise SceneError(f"mesh.cell must be 'hex' or 'tet' for specimen.shape = 'cylinder', got {cell!r}")
     tol = 1e-9 * max(a, L)
     g = gauge_length or L / 2
     if g > L:
         raise SceneError(f"measure.gauge_length must be <= specimen.length = {L:g} mm, got {g:g}")
     return Specimen(
         shape="cylinder",
-        mesh=cylinder_mesh(a, L, element_size),
+        mesh=mesh,
         grips=(Grip("x-", 0, -1, lambda X: np.abs(X[:, 0]) <= tol),
                Grip("x+", 0, +1, lambda X: np.abs(X[:, 0] - L) <= tol)),
         grip_separation={0: L},
@@ -148,7 +153,7 @@ def count_cylinder(spec, mesh) -> MeshCount:
     # the centre's (p n_c + 1)² nodes, each ring block's p n_r rows of p n_c + 1 less its radial
     # edge shared with the next block
     section_nodes = (p * n_c + 1) ** 2 + 4 * (p * n_c) * (p * n_r)
-    elements = (n_c * n_c + 4 * n_c * n_r) * n_x
+    elements = (n_c * n_c + 4 * n_c * n_r) * n_x * (6 if mesh.cell == "tet" else 1)  # P2 nodes = Q2 nodes
     return MeshCount(elements, section_nodes * (p * n_x + 1), 3, "cylinder O-grid divisions")
 
 
@@ -157,4 +162,5 @@ SHAPE = Shape(
     lambda spec, mesh, gauge: cylinder_specimen(spec, mesh.size, mesh.cell, gauge),
     tests={"confined-compression": ("die",), "torsion": ("clamped",)},
     thickness=lambda spec: 2.0 * spec.radius, count=count_cylinder,
-    doc="solid circular cylinder along x (O-grid of hexahedra): confined compression in a die, torsion")
+    doc="solid circular cylinder along x (O-grid of hexahedra, or each split into six tetrahedra): confined "
+        "compression in a die, torsion")

@@ -49,7 +49,7 @@ def build_specimen(spec, mesh, gauge_length: float | None):
 
 
 _BUILTIN = ("block", "dogbone", "sheet", "cruciform", "imported", "planar", "shear", "double_lap", "cad_specimen",
-            "cylinder", "sphere_shell")  # vlab.geometry.<module>.SHAPE
+            "cylinder", "sphere_shell", "membrane")  # vlab.geometry.<module>.SHAPE
 
 for _module in _BUILTIN:
     register(import_module(f"vlab.geometry.{_module}").SHAPE)

@@ -32,12 +32,15 @@ class GripLoading:
     """Prescribed DOFs, their values at t = 1 (mm), and each moving grip's DOFs by axis.
 
     ``path``: where the prescribed values are not t · û_p (a rotating grip: torsion), the full-length
-    vector u_p(t) (mm) at load parameter t; ``u_hat`` is then du_p/dt at t = 0."""
+    vector u_p(t) (mm) at load parameter t; ``u_hat`` is then du_p/dt at t = 0.
+    ``liquid``: a liquid-filled chamber the load drives instead of the grips (the bulge test:
+    vlab.fe.liquid.Liquid), or None."""
 
     prescribed: np.ndarray
     u_hat: np.ndarray  # full-length vector, nonzero only on prescribed DOFs
     moving_dofs: dict[int, np.ndarray]  # axis -> DOFs whose reaction the load cell sums
     path: Callable[[float], np.ndarray] | None = None
+    liquid: object | None = None
 
 
 def grip_loading(specimen: Specimen, X: np.ndarray, stretch: tuple[float, ...], kind: str) -> GripLoading:

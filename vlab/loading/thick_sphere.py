@@ -12,13 +12,19 @@ from __future__ import annotations
 import numpy as np
 from scipy.integrate import quad
 
-__all__ = ["thick_sphere_pressure", "outer_stretch"]
+__all__ = ["thick_sphere_pressure", "outer_stretch", "equibiaxial_stress"]
 
 
 def _w_prime(material, lam: float) -> float:
     """Ŵ'(λ) = 2 (P₁₁ − λ⁻³ P₃₃) at F = diag(λ, λ, λ⁻²)."""
     P = np.asarray(material.stress(np.diag([lam, lam, lam**-2])), dtype=float)
     return 2.0 * (P[0, 0] - lam**-3 * P[2, 2])
+
+
+def equibiaxial_stress(material, lam: float) -> float:
+    """σ_eq(λ) = λ Ŵ'(λ) / 2 (MPa): the Cauchy membrane stress σ₁ = σ₂ of an incompressible sheet in
+    equibiaxial stretch λ with σ₃ = 0 (a bulge test's pole; Neo-Hookean: μ (λ² − λ⁻⁴))."""
+    return 0.5 * lam * _w_prime(material, lam)
 
 
 def outer_stretch(stretch, wall_ratio):

@@ -26,12 +26,19 @@ __all__ = ["cavity_pressure_readers", "inflation_constants", "thick_sphere_press
 
 
 def cavity_pressure_readers(space, specimen, loading, material) -> dict:
-    """Readers of p (MPa) and of (A/B)³ (module docstring)."""
+    """Readers of p (MPa) and of (A/B)³ (module docstring); on a membrane (the liquid-loaded bulge
+    test) those of vlab.measure.bulge."""
+    if loading.liquid is not None and specimen.shape == "membrane":
+        from vlab.measure.bulge import bulge_readers
+
+        return bulge_readers(space, specimen, loading, material)
     nodes = loading.moving_dofs[0] // 3
     X = space.node_coordinates[nodes]
     V0 = specimen.area0[0]
     R = np.linalg.norm(X, axis=1)
     ratio = (specimen.grip_separation[0] / specimen.length_scale) ** 3
+    if loading.liquid is not None:  # pressure control: p is the gas's, λ_a and V are measured
+        return _gas_readers(space, loading.liquid, nodes, X, R, V0) | {"wall_ratio": lambda level: ratio}
 
     def pressure(level) -> float:
         u, f = level.evaluation.u, level.evaluation.f_int
@@ -41,6 +48,43 @@ def cavity_pressure_readers(space, specimen, loading, material) -> dict:
         return float(np.sum(f[dofs] * X) / (3.0 * lam * lam * V0))
 
     return {"pressure": pressure, "wall_ratio": lambda level: ratio}
+
+
+def _gas_readers(space, liquid, nodes, X, R, V0) -> dict:
+    """p = t p*, λ_a = mean |x_i| / |X_i| over the inner nodes, V / V₀ (the prism volume, exact for
+    the facetted cavity: vlab.fe.liquid)."""
+    from vlab.fe.liquid import enclosed_volume
+
+    points = space.node_coordinates
+
+    def moved(level) -> np.ndarray:
+        return points + level.evaluation.u.reshape(-1, 3)
+
+    return {"pressure": lambda level: liquid.pressure(level.t, 0.0),
+            "inner_stretch": lambda level: float(np.mean(np.linalg.norm(moved(level)[nodes], axis=1) / R)),
+            "volume_ratio": lambda level: enclosed_volume(moved(level), liquid.triangles) / V0}
+
+
+def pressure_maximum_reason(prepared, failure) -> str | None:
+    """The stop of a pressure-controlled inflation, said as what it is: the specimen's pressure
+    maximum (no equilibrium at a higher pressure), with the pressure and stretch of the last
+    converged state; None if the test is not pressure-controlled (its stop keeps its reason)."""
+    from types import SimpleNamespace
+
+    liquid = prepared.loading.liquid
+    if liquid is None or liquid.control != "pressure" or failure.u_converged is None:
+        return None
+    readers = cavity_pressure_readers(prepared.space, prepared.specimen, prepared.loading, prepared.oracle)
+    body = prepared.body
+    body.set_load(failure.t_converged)
+    level = SimpleNamespace(t=failure.t_converged, evaluation=body.evaluate(failure.u_converged))
+    p = readers["pressure"](level)
+    lam = readers["pole_stretch" if "pole_stretch" in readers else "inner_stretch"](level)
+    where = "pole" if "pole_stretch" in readers else "inner hoop"
+    return (f"pressure maximum (limit point) of the specimen: under test.control = 'pressure' there is no "
+            f"equilibrium above p = {p:.6g} MPa, reached at {where} stretch {lam:.6g} (the last converged state; "
+            f"the test asked for p = {liquid.target:.6g} MPa); run test.control = 'volume' to follow the "
+            f"curve past it (Newton at the next pressure: {failure.reason})")
 
 
 def limit_point(stretch, pressure) -> dict | None:
@@ -65,18 +109,22 @@ def limit_point(stretch, pressure) -> dict | None:
 def inflation_constants(curve, window, method) -> ElasticConstants:
     """The limit point and the initial slope (module docstring)."""
     p = curve.extra.get("pressure", [])
-    found = limit_point(curve.stretch[0], p)
+    stretch = curve.extra.get("pole_stretch") or curve.extra.get("inner_stretch") or curve.stretch[0]
+    found = limit_point(stretch, p)
     note = ("inflation: E and nu are not measured; the pressure maximum is a property of the balloon "
             "(measured.limit_point)")
     extra: dict = {"limit_point": found}
     if found is None:
-        extra["limit_point_note"] = (f"no pressure maximum up to stretch {max(curve.stretch[0]):.4g}"
+        extra["limit_point_note"] = (f"no pressure maximum up to stretch {max(stretch):.4g}"
                                      if curve.t else "no level recorded")
     try:
-        fit = fit_line(np.array(curve.stretch[0]) - 1.0, np.array(p), window, method)
+        fit = fit_line(np.array(stretch) - 1.0, np.array(p), window, method)
         extra |= {"initial_slope": fit.slope, "initial_slope_fit": fit.as_dict()}
     except FitError as exc:
         extra |= {"initial_slope": None, "initial_slope_note": str(exc)}
     if curve.t:
-        extra |= {"stretch_at_end": curve.stretch[0][-1], "pressure_at_end": p[-1] if p else None}
+        extra |= {"stretch_at_end": stretch[-1], "pressure_at_end": p[-1] if p else None}
+        for key in ("volume_ratio", "pole_height", "pole_stress", "pole_stress_fe"):
+            if curve.extra.get(key):
+                extra[f"{key}_at_end"] = curve.extra[key][-1]
     return ElasticConstants(None, None, None, None, [{"axis": "r", "limit_point": found}], note, extra)

@@ -62,6 +62,10 @@ def prepare(scene: Scene, specimen: Specimen | None = None, settings: Settings |
     if isinstance(material, HistoryMaterial) or scene.effect("gravity") is not None:
         oracle = None  # a history law or a dead load: the elastic homogeneous oracles do not apply
     loading = kind_of(scene.test).loading(specimen, space.node_coordinates, scene.test)
+    if loading.liquid is not None:  # the load is a liquid's pressure on a face (the bulge test)
+        from vlab.fe.liquid import LiquidBody
+
+        body = LiquidBody(body, loading.liquid)
     partition = Partition.build(body.pattern, loading.prescribed)
     return Prepared(scene, specimen, quality, space, body, loading, partition, ground, oracle)
 

@@ -47,7 +47,7 @@ def stability_monitor(prepared: Prepared) -> StabilityMonitor:
     return StabilityMonitor(prepared.body, prepared.partition, {a: loading.moving_dofs[a] for a in kind.axes},
                             kind, scene.test.targets, _law_label(scene), loading.u_hat,
                             MonitorOptions(eigenvalues=scene.solver.eigenvalues,
-                                           limit_points=_watch_limit_points(scene),
+                                           limit_points=_watch_limit_points(scene) and loading.liquid is None,
                                            locking_nu=scene.material.moduli.nu if locking_prone(scene) else None))
 
 
@@ -70,6 +70,14 @@ def solve(prepared: Prepared, monitor: StabilityMonitor, observers: list[Observe
     history = run_schedule(system, _stepping(scene, monitor, linear_solver), observe)
     # a singular unloaded tangent with the grips holding: ill-conditioning, not a free specimen
     history = restrained_but_singular(history, prepared.body, prepared.partition, prepared.space)
+    if history.failure is not None and prepared.loading.liquid is not None:
+        from dataclasses import replace
+
+        from vlab.measure.inflation import pressure_maximum_reason
+
+        reason = pressure_maximum_reason(prepared, history.failure)
+        if reason is not None:  # the specimen's pressure maximum, not the solver's failure
+            history.failure = replace(history.failure, reason=reason)
     return Solved(history, linear_solver)
 
 
@@ -104,7 +112,8 @@ def _watch_limit_points(scene: Scene) -> bool:
     on a deliberately imperfect (post-buckled) path: unloading, relaxing, creeping and a bent
     strip's softening are the physics asked for. Instrument noise changes no physics. A kind whose
     grips do not move in proportion to t (torsion's rotating grip) has no load Q = û_p · f conjugate
-    to t to watch."""
+    to t to watch, nor has a liquid-loaded test (the bulge test: its pressure maximum is measured,
+    vlab.measure.inflation.limit_point; the caller checks the loading)."""
     physical = [e for e in scene.effects if EFFECTS[e.name].role != "measure"]
     return (scene.test.protocol.name == "monotonic" and not physical and scene.test.imperfection is None
             and kind_of(scene.test).proportional)

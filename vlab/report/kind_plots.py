@@ -40,7 +40,10 @@ KIND_CAPTIONS = {
     "inflation": ("Inflation of a spherical shell under volume control: cavity pressure against the inner hoop "
                   "stretch λ_a; dashed: the incompressible thick-sphere closed form; the marker: the pressure "
                   "maximum (measured.limit_point), which pressure control could not pass. Right: the outer "
-                  "hoop stretch λ_b against λ_a (incompressible: λ_b³ = 1 + (λ_a³ − 1) A³/B³)."),
+                  "hoop stretch λ_b against λ_a (incompressible: λ_b³ = 1 + (λ_a³ − 1) A³/B³). A clamped "
+                  "membrane (the bulge test): the liquid's pressure against the pole stretch; right: the pole "
+                  "stress, the lab's p R_c / (2t) and the FE's, against the pole stretch; dashed: the "
+                  "equibiaxial membrane stress of the card at that stretch."),
 }
 
 
@@ -106,15 +109,33 @@ def _torsion_side(ax, d: dict, c, curve: dict) -> None:
             "-o", ms=2.5, color=c, label=f"{d['input']['model']} {'axial stretch' if free else 'N'} (FE)")
 
 
+def _bulge(d: dict) -> bool:
+    """An inflation record of the bulge test (a membrane), not of a balloon."""
+    return "pole_height" in d["curve"]
+
+
 def _inflation_side(ax, d: dict, c, curve: dict) -> None:
-    """λ_b against λ_a; the pressure maximum (measured.limit_point) marked on the main panel."""
-    ax.plot(np.r_[1.0, curve["stretch"]], np.r_[1.0, curve["outer_stretch"]], "-o", ms=2.5, color=c,
-            label=f"{d['input']['model']} λ_b (FE)")
+    """λ_b against λ_a (a balloon) or the pole stresses against the pole stretch (a bulge); the
+    pressure maximum (measured.limit_point) marked on the main panel."""
+    if _bulge(d):
+        ax.plot(np.r_[1.0, curve["stretch"]], _with_origin(curve["pole_stress"]), "-o", ms=2.5, color=c,
+                label=f"{d['input']['model']} lab p R_c / (2t)")
+        if curve.get("pole_stress_fe"):
+            ax.plot(np.r_[1.0, curve["stretch"]], _with_origin(curve["pole_stress_fe"]), ":s", ms=2.5, color=c,
+                    label=f"{d['input']['model']} FE")
+        ref = (d.get("reference") or {}).get("pole_stress")
+        if ref:
+            ax.plot(np.r_[1.0, curve["stretch"]], _with_origin(ref), "--", color="0.15", lw=0.9,
+                    label="equibiaxial σ(λ) of the card")
+        ax.figure.axes[0].set_xlabel("pole stretch λ [–]")
+    else:
+        ax.plot(np.r_[1.0, curve["stretch"]], np.r_[1.0, curve["outer_stretch"]], "-o", ms=2.5, color=c,
+                label=f"{d['input']['model']} λ_b (FE)")
     limit = (d.get("measured") or {}).get("limit_point")
     if limit:
         left = ax.figure.axes[0]
         left.plot([limit["stretch"]], [limit["pressure"]], "v", ms=8, color=c, zorder=5,
-                  label=f"limit point λ_a = {limit['stretch']:.4g}")
+                  label=f"limit point {'λ' if _bulge(d) else 'λ_a'} = {limit['stretch']:.4g}")
         left.legend(fontsize=7)
 
 
@@ -154,6 +175,8 @@ def _side_labels(datas: list[dict], kind) -> tuple[str, str, str]:
         free = _free_end(datas[0])
         return ("twist ψ [rad/mm]", "axial stretch [–]" if free else "axial force N [N]",
                 "Poynting effect: " + ("the free end lengthens" if free else "axial force, length held"))
+    if kind.name == "inflation" and _bulge(datas[0]):
+        return ("pole stretch λ [–]", "pole stress [MPa]", "Bulge test: the pole stress, lab estimate and FE")
     return _SIDE_LABELS.get(kind.name, _SIDE_LABELS["simple-shear"])
 
 

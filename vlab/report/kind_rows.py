@@ -95,12 +95,26 @@ def _limit_point(d: dict) -> str:
     if not lp:
         return "none in the recorded range"
     lo, hi = lp.get("bracket") or (None, None)
-    return f"λ_a = {_f(lp['stretch'])}, p = {_f(lp['pressure'])} MPa (between recorded λ_a {_f(lo)} and {_f(hi)})"
+    lam = "pole λ" if "pole_stress_at_end" in d["measured"] else "λ_a"  # a bulge's pole, a balloon's wall
+    return f"{lam} = {_f(lp['stretch'])}, p = {_f(lp['pressure'])} MPa (between recorded {lam} {_f(lo)} and {_f(hi)})"
 
 
 def _inflation_rows(models: list[dict]) -> list[tuple[str, list[str]]]:
     """Inflation: the pressure maximum (a property of the balloon), the initial slope dp/dλ_a and
-    the pressure and inner stretch at the end."""
+    the pressure and inner stretch at the end; a bulge test's pole readings at the end instead of
+    the initial slope (a flat sheet's dp/dλ at rest is 0)."""
+    if all("pole_stress_at_end" in d["measured"] for d in models):
+        return [
+            ("pressure maximum (limit point)", [_limit_point(d) for d in models]),
+            ("pressure p at the end [MPa], pole stretch λ",
+             [f"{_f(d['measured'].get('pressure_at_end'))}, {_f(d['measured'].get('stretch_at_end'))}" for d in models]),
+            ("pole height h at the end [mm], volume ratio",
+             [f"{_f(d['measured'].get('pole_height_at_end'))}, {_f(d['measured'].get('volume_ratio_at_end'))}"
+              for d in models]),
+            ("pole stress at the end [MPa]: lab p R_c / (2t), FE",
+             [f"{_f(d['measured'].get('pole_stress_at_end'))}, {_f(d['measured'].get('pole_stress_fe_at_end'))}"
+              for d in models]),
+        ]
     return [
         ("pressure maximum (limit point)", [_limit_point(d) for d in models]),
         ("initial slope dp/dλ_a [MPa]", [_f(d["measured"].get("initial_slope")) for d in models]),

@@ -88,7 +88,7 @@ def result_to_dict(result: RunResult) -> dict:
         "converged": result.converged,
         "measured": _measured(result),
         "input": material_input(scene.material),
-        "curve": curve_columns(result) | {"units": dict(_kind(result).units)},
+        "curve": (columns := curve_columns(result)) | {"units": _kind(result).units_of(columns)},
         "specimen": _instrument_geometry(result),
         "reference": result.reference,
         "homogeneity": d.homogeneity,

@@ -33,6 +33,7 @@ NARROW_WIDTH = {
     "double-lap": lambda spec: spec.gap,
     "cylinder": lambda spec: spec.radius,
     "sphere-shell": lambda spec: spec.thickness,
+    "membrane": lambda spec: spec.radius / 4,  # in-plane: the clamped disc, a quarter of its rim radius
 }
 
 

@@ -81,7 +81,7 @@ def _parse(data: Mapping[str, Any]) -> Scene:
     check_formulation(mesh, material.model)
     parse_compare(data.get("compare", {}))  # every [compare.<label>] card, validated now
     _check_network(material.model, mesh, specimen)
-    test = parse_test(data["test"], specimen.shape)
+    test = parse_test(data["test"], specimen.shape, specimen)
     _check_test(test, specimen, data.get("effects", {}))
     if continuum(material.model):  # a locking limit on the test's path (Gent)
         check_path(material, kind_of(test), [test.targets])

@@ -55,11 +55,14 @@ class TestSpec:
         return self.shear or self.twist or self.stretch
 
 
-def parse_test(raw: Any, shape: str = "block") -> TestSpec:
-    """[test]: the kind (vlab.loading.kinds) parses its own load key; grips per specimen shape."""
+def parse_test(raw: Any, shape: str = "block", specimen=None) -> TestSpec:
+    """[test]: the kind (vlab.loading.kinds) parses its own load key; grips per specimen shape;
+    ``specimen`` (the parsed spec) converts a load given by an alternative key (a torsion angle)."""
     from vlab.loading.kinds import KINDS
 
-    load_keys = tuple(dict.fromkeys(k.load_key for k in KINDS.values()))
+    load_keys = tuple(dict.fromkeys([k.load_key for k in KINDS.values()]
+                                    + [key for k in KINDS.values() for key in k.extra_load_keys]
+                                    + [key for k in KINDS.values() for key in k.alternative_load_keys]))
     option_keys = tuple(dict.fromkeys(key for k in KINDS.values() for key in k.option_keys))
     t = fields.Table("test", raw, ("kind", "grips") + load_keys + option_keys + OTHER_KEYS + PROTOCOL_KEYS)
     tests = SHAPES[shape].tests  # the registry now: a shape registered by a script counts
@@ -72,21 +75,35 @@ def parse_test(raw: Any, shape: str = "block") -> TestSpec:
     if grips not in grip_kinds:
         raise SceneError(f"{t.field('grips')} must be one of {', '.join(grip_kinds)} for specimen.shape = "
                          f"{shape!r} with test.kind = {kind.name!r}, got {grips!r}")
-    for key in load_keys:
-        if key != kind.load_key and key in t.raw:
-            owners = " or ".join(repr(k.name) for k in KINDS.values() if k.load_key == key)
-            raise SceneError(f"{t.field(key)} applies to test.kind = {owners}, not {kind.name!r}; "
-                             f"give test.{kind.load_key}")
     options = _options(t, kind, option_keys)
+    load_key = kind.load_key_for(shape, dict(options))
+    given = [key for key in (load_key, *(a for a, b in kind.alternative_load_keys.items() if b == load_key))
+             if key in t.raw]
+    if len(given) > 1:
+        raise SceneError(f"give one of {' or '.join(f'test.{k}' for k in given)} for test.kind = {kind.name!r}, "
+                         f"not both")
+    load_key = given[0] if given else load_key
+    for key in load_keys:
+        if key != load_key and key in t.raw and key not in kind.own_number_keys:
+            if key in (kind.load_key, *kind.extra_load_keys):  # this kind's, on another shape or control
+                given = "".join(f", test.{k} = {v!r}" for k, v in options)
+                raise SceneError(f"{t.field(key)} is not the load of test.kind = {kind.name!r} on specimen.shape = "
+                                 f"{shape!r}{given}: give test.{load_key}")
+            owners = " or ".join(repr(k.name) for k in KINDS.values()
+                                 if key in (k.load_key, *k.extra_load_keys, *k.alternative_load_keys))
+            raise SceneError(f"{t.field(key)} applies to test.kind = {owners}, not {kind.name!r}; "
+                             f"give test.{load_key}")
     protocol_name = t.choice("protocol", PROTOCOLS, default="monotonic")
     if protocol_name == "cyclic" and not kind.cyclic:
         raise SceneError(f"test.protocol = 'cyclic' needs test.kind = "
                          f"{' or '.join(repr(k.name) for k in KINDS.values() if k.cyclic)}, got {kind.name!r}")
-    targets = _targets(t, kind, protocol_name)
-    if kind.load_key == "stretch" and all(s == 1.0 for s in targets):
+    targets = _targets(t, kind, protocol_name, load_key)
+    if load_key in kind.alternative_load_keys:
+        targets = kind.converted_load(load_key, targets, specimen)
+    if load_key == "stretch" and all(s == 1.0 for s in targets):
         raise SceneError(f"{t.field('stretch')} must not be 1 everywhere (a stretch of 1 applies no load), "
                          f"got {fields.show(t.raw['stretch'])}")
-    stretch = targets if kind.load_key == "stretch" else ()
+    stretch = targets if kind.load_key == "stretch" else kind.parse_own_numbers(t, dict(options))
     return TestSpec(kind=kind.name, grips=grips, stretch=stretch,
                     steps=t.integer("steps", 1, 10000, default=10),
                     protocol=_parse_protocol(t, protocol_name, targets, kind),
@@ -108,13 +125,14 @@ def _options(t: fields.Table, kind, option_keys: tuple[str, ...]) -> tuple[tuple
     return tuple((key, t.choice(key, allowed, default=allowed[0])) for key, allowed in kind.option_keys.items())
 
 
-def _targets(t: fields.Table, kind, protocol_name: str) -> tuple[float, ...]:
-    """The kind's load at t = 1; a stretch-driven cyclic test peaks at its largest amplitude."""
+def _targets(t: fields.Table, kind, protocol_name: str, load_key: str) -> tuple[float, ...]:
+    """The kind's load at t = 1 (given as ``load_key``, the shape's); a stretch-driven cyclic test
+    peaks at its largest amplitude."""
     if protocol_name != "cyclic" or kind.load_key != "stretch":
         if "amplitudes" in t.raw and protocol_name == "cyclic":
             raise SceneError(f"{t.field('amplitudes')} is for stretch-driven cycles; with test.kind = "
                              f"{kind.name!r} give the amplitudes as test.{kind.load_key} = [..]")
-        t.get(kind.load_key)  # a missing key is an error naming it
+        t.get(load_key)  # a missing key is an error naming it
         return kind.parse_load(t, protocol_name)
     amplitudes = _amplitudes(t)
     if "stretch" in t.raw:

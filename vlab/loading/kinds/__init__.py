@@ -57,8 +57,11 @@ def register(kind: TestKind) -> TestKind:
 
 
 def kind_of(test) -> TestKind:
-    """The kind of a TestSpec (or of a kind name)."""
-    return KINDS[test if isinstance(test, str) else test.kind]
+    """The kind of a TestSpec (its variant for the test's options: ``TestKind.for_test``), or of a
+    kind name."""
+    if isinstance(test, str):
+        return KINDS[test]
+    return KINDS[test.kind].for_test(test)
 
 
 def peak_grip_strain(test) -> float:

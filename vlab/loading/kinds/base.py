@@ -13,7 +13,7 @@ from typing import Any
 from vlab import fields
 from vlab.fields import SceneError
 
-__all__ = ["MIN_STRAIN", "TestKind", "stretch_value", "strain_bound", "PlotSpec", "relative_error"]
+__all__ = ["MIN_STRAIN", "TestKind", "LoadFromZero", "stretch_value", "strain_bound", "PlotSpec", "relative_error"]
 
 STRETCH_RANGE = (0.2, 10.0)  # grip stretches a scene may ask for
 # The smallest deformation a load may ask for, |λ − 1|, |γ| or the surface shear of a twist: the
@@ -87,6 +87,9 @@ class TestKind:
     proportional = True  # u_p(t) = t · û_p (False: the loading's own path, e.g. a rotating grip)
     homogeneous = True  # ``state`` exists (False: torsion, whose shear grows with the radius)
     option_keys: dict[str, tuple[str, ...]] = {}  # the kind's own [test] choice keys: allowed values, default first
+    extra_load_keys: tuple[str, ...] = ()  # load keys besides ``load_key`` that ``load_key_for`` may choose
+    alternative_load_keys: dict[str, str] = {}  # a key the load may be given as instead -> the key it replaces
+    own_number_keys: tuple[str, ...] = ()  # [test] numbers besides the load (torsion: "stretch", its pre-stretch)
     doc = ""
 
     # --- grammar -------------------------------------------------------------------------------
@@ -107,6 +110,25 @@ class TestKind:
     def check_specimen(self, test, specimen) -> None:
         """Refuse a load the specimen's dimensions make too large (SceneError naming the field);
         most kinds' loads are dimensionless and need nothing here."""
+
+    def load_key_for(self, shape: str, options: dict[str, str]) -> str:
+        """The [test] key of the load on specimen ``shape`` with the kind's ``options`` (its
+        option_keys as given): ``load_key`` unless the kind says otherwise."""
+        return self.load_key
+
+    def parse_own_numbers(self, t: fields.Table, options: dict[str, str]) -> tuple[float, ...]:
+        """The kind's ``own_number_keys`` as TestSpec.stretch (a stretch kind's is its load: ())."""
+        return ()
+
+    def converted_load(self, key: str, values: tuple[float, ...], specimen) -> tuple[float, ...]:
+        """The targets of a load given as the alternative ``key`` (``alternative_load_keys``), in the
+        units of ``load_key``, for the parsed ``specimen`` spec (its dimensions)."""
+        return values
+
+    def for_test(self, test) -> "TestKind":
+        """The kind that runs ``test``: this one, or its variant for the test's options (a
+        pressure-controlled inflation's control value is the pressure, not a stretch)."""
+        return self
 
     # --- grips ---------------------------------------------------------------------------------
     def at(self, targets: tuple[float, ...], t: float) -> list[float]:
@@ -190,6 +212,24 @@ class TestKind:
              "stress": "MPa (engineering)", "force": "N", "true_stress": "MPa",
              "crosshead_strain": "1 (grip separation change / initial grip separation)", "time": "s"}
 
+    def units_of(self, columns: dict) -> dict[str, str]:
+        """results.json → curve.units of a record with ``columns`` (a kind whose columns depend on
+        the specimen says which units go with which)."""
+        return dict(self.units)
+
     def areas(self, specimen) -> dict[int, float]:
         """Reference area (mm²) each load cell's force is divided by."""
         return {a: specimen.area0[a] for a in self.axes}
+
+
+class LoadFromZero:
+    """A kind mixin for a load that starts at 0 (a shear γ, a twist ψ, a pressure p): the control
+    value at load parameter t is t × its target, and the schedule counts the target itself."""
+
+    rest = 0.0
+
+    def at(self, targets, t: float) -> list[float]:
+        return [t * targets[0]]
+
+    def grip_strain(self, targets) -> tuple[float, ...]:
+        return (targets[0],)

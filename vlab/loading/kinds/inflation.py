@@ -16,6 +16,15 @@ p = 2μ [(1/λ_b + 1/(4λ_b⁴)) − (1/λ_a + 1/(4λ_a⁴))]. A compressible FE
 K/μ → ∞. The pressure maximum, where there is one, is a property of the specimen: results.json →
 measured.limit_point (its pressure and stretch), never a solver failure (the thin-shell
 Neo-Hookean balloon has it at λ = 7^(1/6)).
+
+The bulge test runs the same kind on a clamped ``membrane`` (vlab.geometry.membrane, grips
+``clamped``): its load is ``volume_ratio`` v = (V₀ + V) / V₀, the liquid pumped into the chamber of
+volume V₀ under the sheet (vlab.loading.bulge). Records per level: ``stretch`` (the pole's in-plane
+stretch), ``pressure``, ``volume_ratio``, ``pole_height`` (mm), ``pole_stress`` (the lab's
+p R_c / (2t)) and ``pole_stress_fe`` (the FE's), ``cap_force`` (N, z, the quarter's rim). Oracle: the
+pole is in equibiaxial stretch, σ_eq(λ) = λ Ŵ'(λ) / 2 at the recorded pole stretch
+(vlab.loading.thick_sphere.equibiaxial_stress), which both pole stresses approach as t/a → 0 and
+the mesh is refined (tests/test_bulge.py states the study).
 """
 
 from __future__ import annotations
@@ -24,33 +33,60 @@ import numpy as np
 
 from vlab import fields
 from vlab.fields import SceneError
-from vlab.loading.kinds.base import PlotSpec, TestKind, relative_error, stretch_value
+from vlab.loading.kinds.base import LoadFromZero, PlotSpec, TestKind, relative_error, stretch_value
 
 
 class Inflation(TestKind):
     name = "inflation"
     control_name = "inner hoop stretch"
     axes = (0,)
-    oracle_setups = {"sphere-shell": "cavity"}
+    oracle_setups = {"sphere-shell": "cavity", "membrane": "clamped"}
     symmetric = False  # the octant is built reduced already
+    cyclic = True  # volume control: up and back down the same (elastic) curve
     measures_E = False
     force_column, control_column = "cap_force", "stretch"
     plot = PlotSpec("stretch", "pressure", "inner hoop stretch λ_a [–]", "pressure p [MPa]",
                     (("stretch", "pressure", "pressure"),))
     measured_units = {"limit_point": "pressure MPa, stretch 1", "initial_slope": "MPa (dp/dλ_a at λ_a = 1)"}
-    doc = "inflation of a spherical shell under volume control (through the pressure maximum)"
+    doc = ("inflation of a spherical shell (a balloon) or of a clamped membrane (the bulge test) under volume "
+           "control (through the pressure maximum)")
+    extra_load_keys = ("volume_ratio", "pressure")
     readers = ("cavity-pressure",)  # vlab/measure/kinds.py
     fit = "inflation"
-    option_keys = {"control": ("volume",)}
+    option_keys = {"control": ("volume", "pressure")}
     units = {"stretch": "1 (inner surface, hoop)", "pressure": "MPa", "volume_ratio": "1 (cavity V / V0)",
              "outer_stretch": "1 (outer surface, hoop)", "cap_force": "N (octant cavity wall, x resultant)",
              "time": "s"}
+    bulge_units = {"stretch": "1 (pole, in-plane, FE)", "pressure": "MPa (the liquid's)",
+                   "volume_ratio": "1 ((V0 + V) / V0, V0 the chamber's liquid, V the bulge's)",
+                   "pole_height": "mm (mid-surface)", "pole_stress": "MPa (lab: p R_c / (2 t))",
+                   "pole_stress_fe": "MPa (FE: (s_xx + s_yy)/2 - s_zz at the pole)",
+                   "cap_force": "N (the quarter's rim, z resultant)", "time": "s"}
+
+    def units_of(self, columns: dict) -> dict[str, str]:
+        return dict(self.bulge_units if "pole_height" in columns else self.units)
+
+    def load_key_for(self, shape: str, options: dict[str, str]) -> str:
+        """``pressure`` (MPa) under control = "pressure"; else a membrane's ``volume_ratio``, a
+        sphere's ``stretch``."""
+        if options.get("control") == "pressure":
+            return "pressure"
+        return "volume_ratio" if shape == "membrane" else "stretch"
+
+    def for_test(self, test) -> TestKind:
+        return PRESSURE_INFLATION if test.option("control") == "pressure" else self
 
     def parse_load(self, t: fields.Table, protocol: str) -> tuple[float, ...]:
-        field, v = t.field("stretch"), t.get("stretch")
+        if "pressure" in t.raw:
+            p = fields.number(t.field("pressure"), t.get("pressure"), note=" (MPa, > 0)")
+            if not p > 0.0:
+                raise SceneError(f"{t.field('pressure')} must be > 0 (MPa, the final pressure), got {p:g}")
+            return (p,)
+        key = "volume_ratio" if "volume_ratio" in t.raw else "stretch"  # the shape's (test.py checks which)
+        what = "the pumped volume ratio" if key == "volume_ratio" else "the inner hoop stretch"
+        field, v = t.field(key), t.get(key)
         if isinstance(v, list):
-            raise SceneError(f"{field} must be a single number (the inner hoop stretch) for kind = 'inflation', "
-                             f"got {fields.show(v)}")
+            raise SceneError(f"{field} must be a single number ({what}) for kind = 'inflation', got {fields.show(v)}")
         lam = stretch_value(field, v)
         if lam <= 1.0:
             raise SceneError(f"{field} must be > 1 for kind = 'inflation' (allowed 1..10), got {lam:g}")
@@ -58,12 +94,25 @@ class Inflation(TestKind):
 
     def check(self, test, effects: dict) -> None:
         super().check(test, effects)
-        if test.grips != "cavity":
-            raise SceneError(f"test.grips must be 'cavity' for test.kind = 'inflation', got {test.grips!r}")
+        if test.protocol.name == "cyclic" and test.option("control") == "pressure":
+            raise SceneError("test.protocol = 'cyclic' needs test.control = 'volume' for test.kind = 'inflation' "
+                             "(a pressure cycle cannot pass the pressure maximum), got test.control = 'pressure'")
+        if test.grips not in ("cavity", "clamped"):
+            raise SceneError(f"test.grips must be 'cavity' (a sphere-shell) or 'clamped' (a membrane) for "
+                             f"test.kind = 'inflation', got {test.grips!r}")
+
+    def describe(self, values) -> str:
+        return f"inflation control (stretch or volume ratio) {values[0]:.4g}"
 
     def loading(self, specimen, X, test):
-        from vlab.loading.inflation import inflation_loading
+        if specimen.shape == "membrane":
+            from vlab.loading.bulge import bulge_loading
 
+            return bulge_loading(specimen, X, test.option("control"), test.targets[0])
+        from vlab.loading.inflation import inflation_loading, pressure_loading
+
+        if test.option("control") == "pressure":
+            return pressure_loading(specimen, X, test.targets[0])
         return inflation_loading(specimen, X, test.targets[0])
 
     def isochoric(self, values):
@@ -83,19 +132,65 @@ class Inflation(TestKind):
         P.setflags(write=False)
         return HomogeneousState(F=F, P=P, lateral_stretch=float(values[0]) ** -2)
 
+    @staticmethod
+    def stretch(curve) -> list[float]:
+        """The recorded stretch: a bulge's pole, a balloon's inner wall measured (pressure control)
+        or prescribed (volume control)."""
+        return list(curve.extra.get("pole_stretch") or curve.extra.get("inner_stretch") or curve.stretch[0])
+
     def reference(self, material, curve) -> dict:
+        if "pole_stretch" in curve.extra:
+            return self._membrane_reference(material, curve)
         from vlab.loading.thick_sphere import thick_sphere_pressure
 
         ratio = curve.extra["wall_ratio"][0] if curve.extra.get("wall_ratio") else None
-        out = {"pressure": [thick_sphere_pressure(material, lam, ratio) for lam in curve.stretch[0]],
+        out = {"pressure": [thick_sphere_pressure(material, lam, ratio) for lam in self.stretch(curve)],
                "note": "incompressible thick sphere; the FE model is compressible (K/mu finite)"}
         out["max_relative_error_pressure"] = relative_error(curve.extra.get("pressure", []), out["pressure"])
         return out
 
+    def _membrane_reference(self, material, curve) -> dict:
+        """σ_eq at the recorded pole stretch (module docstring), and the largest relative
+        deviation of the lab's and the FE's pole stress from it over the rows past the first
+        tenth of the final pole strain (a flat sheet's pole is in bending, not in membrane action)."""
+        from vlab.loading.thick_sphere import equibiaxial_stress
+
+        lam = np.asarray(curve.extra["pole_stretch"], float)
+        ref = np.array([equibiaxial_stress(material, x) for x in lam])
+        out: dict = {"pole_stress": ref.tolist(), "note": "equibiaxial membrane stress at the FE pole stretch "
+                     "(incompressible; the FE model is compressible, K/mu finite)"}
+        rows = lam - 1.0 >= 0.1 * (lam[-1] - 1.0) if len(lam) else lam > 0
+        for key in ("pole_stress", "pole_stress_fe"):
+            if curve.extra.get(key) and np.any(rows):
+                got = np.asarray(curve.extra[key], float)[rows]
+                out[f"max_relative_error_{key}"] = float(np.max(np.abs(got / ref[rows] - 1.0)))
+        return out
+
     def columns(self, curve) -> dict[str, list[float]]:
-        return {"stretch": list(curve.stretch[0]), "pressure": list(curve.extra.get("pressure", [])),
-                "volume_ratio": [lam**3 for lam in curve.stretch[0]],
+        if "pole_stretch" in curve.extra:
+            return {"stretch": list(curve.extra["pole_stretch"])} | {
+                key: list(curve.extra[key]) for key in ("pressure", "volume_ratio", "pole_height", "pole_stress",
+                                                        "pole_stress_fe") if key in curve.extra} | {
+                "cap_force": list(curve.force[0])}
+        volume = curve.extra.get("volume_ratio") or [lam**3 for lam in curve.stretch[0]]
+        return {"stretch": self.stretch(curve), "pressure": list(curve.extra.get("pressure", [])),
+                "volume_ratio": list(volume),
                 "outer_stretch": [1.0 + e for e in curve.strain[0]], "cap_force": list(curve.force[0])}
 
 
 INFLATION = Inflation()
+
+
+class PressureInflation(LoadFromZero, Inflation):
+    """Inflation under ``control = "pressure"``: the control value is the pressure p(t) = t p*
+    (MPa); the stretch is measured. There is no equilibrium past a pressure maximum: the test
+    stops there, and the stop says so (vlab.measure.inflation.pressure_maximum_reason)."""
+
+    def describe(self, values) -> str:
+        return f"pressure {values[0]:.4g} MPa"
+
+    def isochoric(self, values):
+        return np.eye(3)  # the stretch a pressure reaches is not known before the solve
+
+
+PRESSURE_INFLATION = PressureInflation()

@@ -26,12 +26,12 @@ import numpy as np
 
 from vlab import fields
 from vlab.fields import SceneError
-from vlab.loading.kinds.base import MIN_STRAIN, PlotSpec, TestKind, relative_error, strain_bound
+from vlab.loading.kinds.base import MIN_STRAIN, LoadFromZero, PlotSpec, TestKind, relative_error, strain_bound
 
 SHEAR_LIMIT = 5.0  # largest |γ| a scene may ask for
 
 
-class SimpleShear(TestKind):
+class SimpleShear(LoadFromZero, TestKind):
     name = "simple-shear"
     load_key = "shear"
     rest = 0.0
@@ -92,12 +92,6 @@ class SimpleShear(TestKind):
             raise SceneError("test.protocol = 'creep' is not available with test.kind = 'simple-shear' in this "
                              "build (a creep test holds a tensile force and records the extensometer strain); "
                              "a held shear is test.protocol = 'relaxation'")
-
-    def at(self, targets, t: float) -> list[float]:
-        return [t * targets[0]]
-
-    def grip_strain(self, targets) -> tuple[float, ...]:
-        return (targets[0],)
 
     def describe(self, values) -> str:
         return f"shear {values[0]:.4g}"

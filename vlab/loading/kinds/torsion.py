@@ -25,12 +25,12 @@ import math
 
 from vlab import fields
 from vlab.fields import SceneError
-from vlab.loading.kinds.base import MIN_STRAIN, PlotSpec, TestKind, strain_bound
+from vlab.loading.kinds.base import MIN_STRAIN, LoadFromZero, PlotSpec, TestKind, strain_bound, stretch_value
 
 SHEAR_LIMIT = 5.0  # the largest surface shear ψ a a scene may ask for
 
 
-class Torsion(TestKind):
+class Torsion(LoadFromZero, TestKind):
     name = "torsion"
     load_key = "twist"
     rest = 0.0
@@ -48,19 +48,39 @@ class Torsion(TestKind):
     doc = "torsion of a cylinder: one end clamped, the other turned; length held (fixed) or free"
     readers = ("torque",)  # vlab/measure/kinds.py
     option_keys = {"axial": ("fixed", "free")}
+    alternative_load_keys = {"angle": "twist"}
+    own_number_keys = ("stretch",)
     fit = "torsion"
     units = {"twist": "rad/mm (end rotation / length)", "torque": "N·mm", "axial_force": "N (tension > 0)",
              "axial_stretch": "1 (turning end: 1 + mean u_x / L)", "surface_shear": "1 (twist x radius)",
              "time": "s"}
 
     def parse_load(self, t: fields.Table, protocol: str) -> tuple[float, ...]:
-        field, v = t.field("twist"), t.get("twist")
+        """(ψ,) from ``twist`` (rad/mm), or (the end rotation in degrees,) from ``angle``
+        (``converted_load`` makes it ψ)."""
+        key, unit = ("angle", "degrees") if "angle" in t.raw else ("twist", "rad/mm")
+        field, v = t.field(key), t.get(key)
         if isinstance(v, list):
-            raise SceneError(f"{field} must be a single number (rad/mm) for kind = 'torsion', got {fields.show(v)}")
-        psi = fields.number(field, v, note=" (rad/mm, not 0)")
-        if psi == 0.0:
-            raise SceneError(f"{field} must not be 0 (no twist applies no load), in rad/mm")
-        return (psi,)
+            raise SceneError(f"{field} must be a single number ({unit}) for kind = 'torsion', got {fields.show(v)}")
+        value = fields.number(field, v, note=f" ({unit}, not 0)")
+        if value == 0.0:
+            raise SceneError(f"{field} must not be 0 (no twist applies no load), in {unit}")
+        return (value,)
+
+    def parse_own_numbers(self, t: fields.Table, options: dict[str, str]) -> tuple[float, ...]:
+        """(λ₀,): the axial stretch applied with the twist, ``stretch`` (0.2..10, default 1: none);
+        with the length held only (a free end carries no axial load to stretch it)."""
+        if "stretch" not in t.raw:
+            return ()
+        lam = stretch_value(t.field("stretch"), t.get("stretch"))
+        if options.get("axial") == "free":
+            raise SceneError(f"{t.field('stretch')} (the axial stretch of tension–torsion) needs test.axial = "
+                             f"'fixed' (a free end carries no axial load), got test.axial = 'free'")
+        return (lam,) if lam != 1.0 else ()
+
+    def converted_load(self, key: str, values, specimen) -> tuple[float, ...]:
+        """ψ = angle π / (180 L) (rad/mm) of the end rotation ``angle`` (degrees) over the length L."""
+        return (math.radians(values[0]) / specimen.length,)
 
     def check(self, test, effects: dict) -> None:
         super().check(test, effects)
@@ -76,15 +96,11 @@ class Torsion(TestKind):
                              f"(|test.twist| >= {MIN_STRAIN / specimen.radius:.3g} rad/mm for specimen.radius = "
                              f"{specimen.radius:g} mm), got {test.targets[0]!r}")
         if gamma > SHEAR_LIMIT:
-            raise SceneError(f"test.twist must be <= {SHEAR_LIMIT / specimen.radius:.4g} rad/mm in magnitude "
-                             f"for specimen.radius = {specimen.radius:g} mm (surface shear twist x radius "
-                             f"<= {SHEAR_LIMIT:g}), got {test.targets[0]:g}")
-
-    def at(self, targets, t: float) -> list[float]:
-        return [t * targets[0]]
-
-    def grip_strain(self, targets) -> tuple[float, ...]:
-        return (targets[0],)
+            raise SceneError(f"test.twist (or test.angle / specimen.length) must be <= "
+                             f"{SHEAR_LIMIT / specimen.radius:.4g} rad/mm in magnitude for specimen.radius = "
+                             f"{specimen.radius:g} mm (surface shear twist x radius <= {SHEAR_LIMIT:g}; an angle "
+                             f"<= {math.degrees(SHEAR_LIMIT * specimen.length / specimen.radius):.4g} degrees), "
+                             f"got {test.targets[0]:g} rad/mm")
 
     def describe(self, values) -> str:
         return f"twist {values[0]:.4g} rad/mm"
@@ -92,7 +108,8 @@ class Torsion(TestKind):
     def loading(self, specimen, X, test):
         from vlab.loading.torsion import torsion_loading
 
-        return torsion_loading(specimen, X, test.targets[0], test.option("axial"))
+        return torsion_loading(specimen, X, test.targets[0], test.option("axial"),
+                               test.stretch[0] if test.stretch else 1.0)
 
     def isochoric(self, values):
         import numpy as np
