@@ -30,7 +30,7 @@ def coarse_values(path: Path) -> dict:
 
 def show_images(paths: list[Path], title: str):
     """The PNGs one above the other, each at the figure's full width, in one matplotlib figure
-    (which the gallery keeps)."""
+    (which the gallery keeps; nothing returned, so a script's last line prints no Figure repr)."""
     import matplotlib.pyplot as plt
     from matplotlib.image import imread
 
@@ -43,7 +43,6 @@ def show_images(paths: list[Path], title: str):
         ax.set_axis_off()
     fig.suptitle(title, fontsize=10)
     fig.tight_layout()
-    return fig
 
 
 def show(name: str, values: dict | None = None):
