@@ -1,6 +1,6 @@
 """
-Torsion, inflation and confined compression
-===========================================
+Torsion, inflation, bulge and confined compression
+==================================================
 
 The test kinds beyond pulling and shearing, each with its own curve: a cylinder twisted with its
 length held (torque and the Poynting axial force against the twist per unit length ψ), a thick
