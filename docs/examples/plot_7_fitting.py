@@ -11,7 +11,6 @@ own finite-element test (FE in the loop) recovers the constants of a clamped blo
 load-cell force.
 """
 
-from pathlib import Path
 
 import numpy as np
 from gallery_helpers import ROOT, SCRATCH, show_images
