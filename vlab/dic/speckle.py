@@ -23,7 +23,7 @@ from typing import Callable
 import numpy as np
 
 KAPPA = 1.5  # absorption per unit speckle coverage
-CUTOFF = 3.5  # speckles are evaluated within 3.5 r: exp(−12.25) ≈ 5e-6 of their depth is dropped
+CUTOFF = 3.5  # speckles count within 3.5 r only: exp(−12.25) ≈ 5e-6 of their depth is dropped
 
 
 @dataclass(frozen=True)
@@ -49,8 +49,9 @@ def make_pattern(shape: tuple[int, int], size: float = 4.0, density: float = 0.5
 
 
 def intensity(pattern: Pattern, X: np.ndarray, Y: np.ndarray) -> np.ndarray:
-    """I(X, Y) at arbitrary reference points (any shape), via a cell table of the speckles: each
-    point sums the speckles of the 3 × 3 cells of side CUTOFF · r around it."""
+    """I(X, Y) at arbitrary reference points (any shape), the sum over the speckles within
+    CUTOFF · r of each point (so I does not depend on the units or origin of X), found in a cell
+    table of the speckles: the 3 × 3 cells of side CUTOFF · r around the point."""
     cell = CUTOFF * pattern.radius
     c = pattern.centres
     origin = c.min(axis=0) - cell
@@ -76,7 +77,8 @@ def intensity(pattern: Pattern, X: np.ndarray, Y: np.ndarray) -> np.ndarray:
             kx, ky = np.clip(cx + dx, 0, ncx - 1), np.clip(cy + dy, 0, ncy - 1)
             cells = table[ky * ncx + kx]  # (n, slots, 2)
             d2 = (cells[..., 0] - x[:, None]) ** 2 + (cells[..., 1] - y[:, None]) ** 2
-            total += np.exp(-d2 * inv_r2).sum(axis=1)
+            q = d2 * inv_r2
+            total += np.where(q <= CUTOFF ** 2, np.exp(-q), 0.0).sum(axis=1)
     b, d = pattern.background, pattern.dark
     return (d + (b - d) * np.exp(-KAPPA * total)).reshape(X.shape)
 
