@@ -30,6 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from vlab.dic import speckle
+from vlab.dic.camera_kernel import compiled_kernels
 from vlab.dic.face import Face
 from vlab.dic.inverse_map import reference_points
 
@@ -149,17 +150,37 @@ def paint(face: Face, camera: Camera, pattern: Speckle) -> speckle.Pattern:
     return speckle.Pattern(lo + px.centres * p, px.radius * p, px.background, px.dark)
 
 
-def irradiance(camera: Camera, face: Face, pattern: speckle.Pattern, u: np.ndarray) -> np.ndarray:
+def irradiance(camera: Camera, face: Face, pattern: speckle.Pattern, u: np.ndarray,
+               compiled: bool | None = None) -> np.ndarray:
     """The sharp noiseless image (H, W) in grey levels (float) of the face displaced by ``u`` (the
     mesh's nodal displacement (n_vertices, 3), mm): each pixel the mean over its s × s
-    sub-samples of I(φ⁻¹(x)), I the speckle on the face and the background off it."""
+    sub-samples of I(φ⁻¹(x)), I the speckle on the face and the background off it.
+    ``compiled``: None uses the numba kernels when available, False their numpy twins."""
     (W, H), s = camera.pixels, camera.supersample
     x1, x2 = camera.axes(face)
     x = face.X + face.in_plane(u)
-    PX, PY, hit = reference_points(face.X, x, face.cells, x1, x2)
-    grey = np.full(PX.shape, camera.background * camera.levels)
+    PX, PY, hit = reference_points(face.X, x, face.cells, x1, x2, compiled)
+    background = camera.background * camera.levels
+    kernels = compiled_kernels() if compiled is not False else None
+    if kernels is None:
+        return _pixel_means_numpy(pattern, PX, PY, hit, background, s)
+    from vlab import jit
+
+    t = speckle.cell_table(pattern)
+    out = np.empty((H, W))
+    jit.call(kernels.pixel_means, t.table, t.origin[0], t.origin[1], t.cell, t.ncx, t.ncy,
+             1.0 / pattern.radius ** 2, speckle.CUTOFF ** 2, pattern.background, pattern.dark, speckle.KAPPA,
+             PX, PY, hit, background, s, out)
+    return out
+
+
+def _pixel_means_numpy(pattern: speckle.Pattern, PX: np.ndarray, PY: np.ndarray, hit: np.ndarray,
+                       background: float, s: int) -> np.ndarray:
+    """The mean over each pixel's s × s sub-samples of I(PX, PY) on the face, the background off it."""
+    grey = np.full(PX.shape, background)
     grey[hit] = speckle.intensity(pattern, PX[hit], PY[hit])
-    return grey.reshape(H, s, W, s).mean(axis=(1, 3))
+    rows, cols = PX.shape
+    return grey.reshape(rows // s, s, cols // s, s).mean(axis=(1, 3))
 
 
 def expose(camera: Camera, image: np.ndarray, frame: int = 0) -> np.ndarray:

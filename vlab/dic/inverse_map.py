@@ -14,7 +14,8 @@ is the inverse of the FE interpolation of u, which is what the FE solution defin
 
 The points are the sub-samples of a camera's pixels: a regular grid, given by its axes (``xs``
 ascending along e₁, ``ys`` along e₂ in either order), so each cell visits only the grid points of
-its bounding box (a cell costs one vectorised Newton solve over those points).
+its bounding box (a cell costs one vectorised Newton solve over those points). The compiled twin
+(vlab.dic.camera_kernel.invert_grid) runs the same loop point by point.
 """
 
 from __future__ import annotations
@@ -64,13 +65,21 @@ def invert_cell(x_cell: np.ndarray, px: np.ndarray, py: np.ndarray) -> tuple[np.
 
 
 def reference_points(X: np.ndarray, x: np.ndarray, cells: np.ndarray, xs: np.ndarray,
-                     ys: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+                     ys: np.ndarray, compiled: bool | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Reference coordinates (PX, PY), each (len(ys), len(xs)) mm, of the grid points
     (xs[j], ys[i]) of the current face, and ``hit`` (same shape): the point lies on the face.
-    X, x: (n, 2) reference and current node coordinates; cells: (m, 3 | 4) counter-clockwise."""
+    X, x: (n, 2) reference and current node coordinates; cells: (m, 3 | 4) counter-clockwise.
+    ``compiled``: None uses the numba kernel when available, False the numpy loop, True insists."""
+    from vlab.dic.camera_kernel import compiled_kernels
+
+    kernels = compiled_kernels() if compiled is not False else None
+    if compiled and kernels is None:
+        raise RuntimeError("the compiled camera needs numba (VLAB_KERNEL=numpy or numba missing)")
     PX = np.full((len(ys), len(xs)), np.nan)
     PY = np.full_like(PX, np.nan)
     hit = np.zeros(PX.shape, bool)
+    if kernels is not None:
+        return _compiled(kernels, X, x, cells, xs, ys, PX, PY, hit)
     descending = len(ys) > 1 and ys[0] > ys[-1]
     ys_up = ys[::-1] if descending else ys
     for cell in cells:
@@ -90,3 +99,15 @@ def reference_points(X: np.ndarray, x: np.ndarray, cells: np.ndarray, xs: np.nda
         block_x.flat[idx], block_y.flat[idx] = X[cell, 0] @ N, X[cell, 1] @ N
         block_hit.flat[idx] = True
     return PX, PY, hit
+
+
+def _compiled(kernels, X, x, cells, xs, ys, PX, PY, hit):
+    """reference_points by the kernel, which takes the rows' ys descending (as a camera's are)."""
+    from vlab import jit
+
+    ascending = len(ys) > 1 and ys[0] < ys[-1]
+    rows = slice(None, None, -1) if ascending else slice(None)
+    f64 = lambda a: np.ascontiguousarray(a, dtype=np.float64)  # noqa: E731
+    jit.call(kernels.invert_grid, f64(X), f64(x), np.ascontiguousarray(cells, dtype=np.int64), f64(xs),
+             f64(-np.asarray(ys)[rows]), PX, PY, hit)
+    return PX[rows], PY[rows], hit[rows]
