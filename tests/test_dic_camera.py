@@ -201,3 +201,29 @@ def test_compiled_camera_matches_its_numpy_twin():
         pattern = paint(face, camera, Speckle(seed=2))
         assert np.allclose(irradiance(camera, face, pattern, u, compiled=True),
                            irradiance(camera, face, pattern, u, compiled=False), rtol=0, atol=1e-8)
+
+
+def test_dogbone_face_sub_samples_are_those_inside_its_cells_and_the_rest_is_background():
+    """An ASTM D412 C dogbone's top face (fillets as straight-sided quads), at rest: the sub-samples
+    found on the face are exactly those matplotlib's point-in-polygon test puts inside one of its
+    cells, and every pixel wholly off it is the background grey exactly."""
+    from matplotlib.path import Path
+
+    from vlab.geometry.dogbone import DogboneDimensions, dogbone_mesh
+    from vlab.geometry.standards import standard_dimensions
+
+    mesh = dogbone_mesh(DogboneDimensions(**standard_dimensions("ASTM D412 C")), 2.0, "hex")
+    face = face_of(mesh)
+    camera = Camera(pixels=(480, 120), mm_per_px=0.25, supersample=2)
+    x1, x2 = camera.axes(face)
+    _, _, hit = reference_points(face.X, face.X, face.cells, x1, x2)
+    gx, gy = np.meshgrid(x1, x2)
+    points = np.stack([gx.ravel(), gy.ravel()], axis=1)
+    inside = np.zeros(len(points), bool)
+    for cell in face.cells:
+        inside |= Path(face.X[cell]).contains_points(points)
+    assert np.array_equal(hit.ravel(), inside) and 0.3 < inside.mean() < 0.7
+    image = irradiance(camera, face, paint(face, camera, Speckle()), np.zeros((mesh.nvertices, 3)))
+    off = ~hit.reshape(120, 2, 480, 2).any(axis=(1, 3))
+    assert off.sum() > 0.3 * off.size
+    assert np.all(image[off] == camera.background * camera.levels)
