@@ -166,7 +166,9 @@ def test_camera_that_cannot_see_the_face_is_refused(block):
 @pytest.mark.parametrize("change, name", [
     (dict(bit_depth=12), "bit_depth"), (dict(pixels=(0, 10)), "pixels"),
     (dict(field_of_view=10.0), "mm_per_px"), (dict(mm_per_px=-1.0), "mm_per_px"),
-    (dict(noise=-0.1), "noise"), (dict(supersample=0), "supersample")])
+    (dict(noise=-0.1), "noise"), (dict(supersample=0), "supersample"), (dict(pixels=512), "pixels"),
+    (dict(noise="1%"), "noise"), (dict(blur=float("nan")), "blur"), (dict(centre=(1.0,)), "centre"),
+    (dict(mm_per_px=None, field_of_view=0.0), "field_of_view")])
 def test_bad_camera_settings_named(change, name):
     with pytest.raises(CameraError) as err:
         Camera(**{"mm_per_px": 0.1, **change}).check()
@@ -177,6 +179,8 @@ def test_bad_speckle_and_face_named(block):
     mesh, _ = block
     with pytest.raises(CameraError, match="speckle.density"):
         Speckle(density=0.0).check()
+    with pytest.raises(CameraError, match="speckle.size"):
+        Speckle(size="4").check()
     with pytest.raises(FaceError, match="axis must be"):
         face_of(mesh, axis=3)
 

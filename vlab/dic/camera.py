@@ -44,6 +44,16 @@ class CameraError(ValueError):
         self.field = field
 
 
+def _integer(value) -> bool:
+    return isinstance(value, (int, np.integer)) and not isinstance(value, bool)
+
+
+def _within(value, lo: float, hi: float) -> bool:
+    """A finite real number in [lo, hi] (bools and strings are not numbers here)."""
+    return (isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)
+            and math.isfinite(value) and lo <= value <= hi)
+
+
 @dataclass(frozen=True)
 class Camera:
     """pixels: (W, H); mm_per_px or field_of_view (the width W p, mm): exactly one; bit_depth 8 or
@@ -78,19 +88,24 @@ class Camera:
             if not ok:
                 raise CameraError(f"camera.{name} = {getattr(self, name)!r}: {allowed}", name)
 
-        need(len(self.pixels) == 2 and all(isinstance(n, int) and 16 <= n <= 16384 for n in self.pixels),
+        need(isinstance(self.pixels, (tuple, list)) and len(self.pixels) == 2
+             and all(_integer(n) and 16 <= n <= 16384 for n in self.pixels),
              "pixels", "must be (width, height), integers in [16, 16384]")
         need((self.mm_per_px is None) != (self.field_of_view is None), "mm_per_px",
              "give exactly one of mm_per_px and field_of_view")
-        scale = self.mm_per_px if self.mm_per_px is not None else self.field_of_view
-        need(math.isfinite(scale) and scale > 0, "mm_per_px" if self.mm_per_px is not None else "field_of_view",
+        scale = "mm_per_px" if self.mm_per_px is not None else "field_of_view"
+        need(_within(getattr(self, scale), 0, math.inf) and getattr(self, scale) > 0, scale,
              "must be a positive length (mm)")
         need(self.bit_depth in (8, 16), "bit_depth", "must be 8 or 16")
-        need(0 <= self.noise <= 0.5, "noise", "must be in [0, 0.5] (share of full scale)")
-        need(0 <= self.blur <= 50, "blur", "must be in [0, 50] px")
-        need(isinstance(self.supersample, int) and 1 <= self.supersample <= 8, "supersample",
+        need(_within(self.noise, 0, 0.5), "noise", "must be in [0, 0.5] (share of full scale)")
+        need(_within(self.blur, 0, 50), "blur", "must be in [0, 50] px")
+        need(_integer(self.supersample) and 1 <= self.supersample <= 8, "supersample",
              "must be an integer in [1, 8]")
-        need(0 <= self.background <= 1, "background", "must be in [0, 1] (share of full scale)")
+        need(_within(self.background, 0, 1), "background", "must be in [0, 1] (share of full scale)")
+        need(_integer(self.seed), "seed", "must be an integer")
+        need(self.centre is None or (isinstance(self.centre, (tuple, list)) and len(self.centre) == 2
+                                     and all(_within(c, -math.inf, math.inf) for c in self.centre)),
+             "centre", "must be (x₁, x₂) in mm on the face, or None (the face's centre)")
 
     def centre_on(self, face: Face) -> np.ndarray:
         lo, hi = face.bounds
@@ -117,10 +132,12 @@ class Speckle:
     seed: int = 0
 
     def check(self) -> None:
-        if not (math.isfinite(self.size) and 1.0 <= self.size <= 100.0):
+        if not _within(self.size, 1.0, 100.0):
             raise CameraError(f"speckle.size = {self.size!r}: must be in [1, 100] px", "size")
-        if not (0 < self.density <= 1):
+        if not (_within(self.density, 0, 1) and self.density > 0):
             raise CameraError(f"speckle.density = {self.density!r}: must be in (0, 1]", "density")
+        if not _integer(self.seed):
+            raise CameraError(f"speckle.seed = {self.seed!r}: must be an integer", "seed")
 
 
 def check_view(camera: Camera, face: Face) -> None:

@@ -107,7 +107,10 @@ def _compiled(kernels, X, x, cells, xs, ys, PX, PY, hit):
 
     ascending = len(ys) > 1 and ys[0] < ys[-1]
     rows = slice(None, None, -1) if ascending else slice(None)
-    f64 = lambda a: np.ascontiguousarray(a, dtype=np.float64)  # noqa: E731
-    jit.call(kernels.invert_grid, f64(X), f64(x), np.ascontiguousarray(cells, dtype=np.int64), f64(xs),
-             f64(-np.asarray(ys)[rows]), PX, PY, hit)
+    jit.call(kernels.invert_grid, _f64(X), _f64(x), np.ascontiguousarray(cells, dtype=np.int64), _f64(xs),
+             _f64(-np.asarray(ys)[rows]), PX, PY, hit)
     return PX[rows], PY[rows], hit[rows]
+
+
+def _f64(a) -> np.ndarray:
+    return np.ascontiguousarray(a, dtype=np.float64)
