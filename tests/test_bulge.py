@@ -175,3 +175,24 @@ def test_a_small_bulge_is_henckys_membrane():
     assert rows.sum() >= 2
     K = w0[rows] / A / (p[rows] * A / (E * t0)) ** (1 / 3)
     np.testing.assert_allclose(K, 0.662, rtol=0.015)
+
+
+@pytest.mark.parametrize("name, test, label", [
+    ("sphere-inflation", {}, "inner hoop stretch"),
+    ("membrane-bulge", {}, "volume ratio"),
+    ("sphere-inflation", {"control": "pressure", "pressure": 0.04}, "pressure (MPa)"),
+    ("membrane-bulge", {"control": "pressure", "pressure": 0.01}, "pressure (MPa)"),
+])
+def test_the_renders_name_the_control_of_each_inflation(name, test, label):
+    """A render's title names what its number is: the balloon's inner hoop stretch, the bulge
+    chamber's pumped volume ratio, or the pressure under pressure control (not a 'grip stretch')."""
+    import tomllib
+    from pathlib import Path
+
+    from vlab.loading.kinds import kind_of
+
+    raw = tomllib.loads((Path(__file__).resolve().parents[1] / "specimens" / f"{name}.toml").read_text())
+    if test:
+        raw["test"] = {k: v for k, v in raw["test"].items() if k not in ("stretch", "volume_ratio")} | test
+    parsed = parse_scene(raw)
+    assert kind_of(parsed.test).control_label(parsed.test, parsed.specimen.shape) == label

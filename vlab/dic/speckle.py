@@ -23,7 +23,7 @@ from typing import Callable
 import numpy as np
 
 KAPPA = 1.5  # absorption per unit speckle coverage
-CUTOFF = 3.5  # speckles are evaluated within 3.5 r: exp(−12.25) ≈ 5e-6 of their depth is dropped
+CUTOFF = 3.5  # speckles count within 3.5 r only: exp(−12.25) ≈ 5e-6 of their depth is dropped
 
 
 @dataclass(frozen=True)
@@ -48,9 +48,20 @@ def make_pattern(shape: tuple[int, int], size: float = 4.0, density: float = 0.5
     return Pattern(centres, r, 0.9 * levels, 0.05 * levels)
 
 
-def intensity(pattern: Pattern, X: np.ndarray, Y: np.ndarray) -> np.ndarray:
-    """I(X, Y) at arbitrary reference points (any shape), via a cell table of the speckles: each
-    point sums the speckles of the 3 × 3 cells of side CUTOFF · r around it."""
+@dataclass(frozen=True)
+class CellTable:
+    """The speckles binned in square cells of side CUTOFF · r: cell (kx, ky) is row ky · ncx + kx
+    of ``table`` (ncx · ncy, slots, 2), its centres first, then +inf; a border of empty cells
+    around the pattern."""
+
+    origin: np.ndarray
+    cell: float
+    ncx: int
+    ncy: int
+    table: np.ndarray
+
+
+def cell_table(pattern: Pattern) -> CellTable:
     cell = CUTOFF * pattern.radius
     c = pattern.centres
     origin = c.min(axis=0) - cell
@@ -65,7 +76,15 @@ def intensity(pattern: Pattern, X: np.ndarray, Y: np.ndarray) -> np.ndarray:
     rank = np.arange(len(key_sorted)) - start[key_sorted]
     table = np.full((ncx * ncy, max(slots, 1), 2), np.inf)
     table[key_sorted, rank] = c[order]
+    return CellTable(origin, float(cell), int(ncx), int(ncy), table)
 
+
+def intensity(pattern: Pattern, X: np.ndarray, Y: np.ndarray) -> np.ndarray:
+    """I(X, Y) at arbitrary reference points (any shape), the sum over the speckles within
+    CUTOFF · r of each point (so I does not depend on the units or origin of X), found in the
+    cell table: the 3 × 3 cells around the point. (vlab.dic.camera_kernel compiles the same sum.)"""
+    t = cell_table(pattern)
+    origin, cell, ncx, ncy = t.origin, t.cell, t.ncx, t.ncy
     x, y = X.ravel(), Y.ravel()
     cx = np.floor((x - origin[0]) / cell).astype(np.int64)
     cy = np.floor((y - origin[1]) / cell).astype(np.int64)
@@ -74,9 +93,10 @@ def intensity(pattern: Pattern, X: np.ndarray, Y: np.ndarray) -> np.ndarray:
     for dy in (-1, 0, 1):
         for dx in (-1, 0, 1):
             kx, ky = np.clip(cx + dx, 0, ncx - 1), np.clip(cy + dy, 0, ncy - 1)
-            cells = table[ky * ncx + kx]  # (n, slots, 2)
+            cells = t.table[ky * ncx + kx]  # (n, slots, 2)
             d2 = (cells[..., 0] - x[:, None]) ** 2 + (cells[..., 1] - y[:, None]) ** 2
-            total += np.exp(-d2 * inv_r2).sum(axis=1)
+            q = d2 * inv_r2
+            total += np.where(q <= CUTOFF ** 2, np.exp(-q), 0.0).sum(axis=1)
     b, d = pattern.background, pattern.dark
     return (d + (b - d) * np.exp(-KAPPA * total)).reshape(X.shape)
 

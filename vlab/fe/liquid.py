@@ -32,7 +32,7 @@ body's with the wetted DOFs' clique added (a few hundred DOFs on a quarter membr
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from types import SimpleNamespace
 
 import numpy as np
@@ -40,26 +40,9 @@ import scipy.sparse as sp
 
 from vlab.fe.body import LoadWrapper
 from vlab.fe.problem import Evaluation
+from vlab.loading.liquid import Liquid
 
 __all__ = ["Liquid", "LiquidBody", "enclosed_volume"]
-
-
-@dataclass(frozen=True)
-class Liquid:
-    """The chamber under a wetted face: ``triangles`` (n, 3) node indices, counter-clockwise seen
-    from the liquid; ``control`` "volume" (``target`` = V_p(1), mm³, ``stiffness`` k = K_f / V₀,
-    MPa/mm³) or "pressure" (``target`` = p*, MPa)."""
-
-    triangles: np.ndarray
-    control: str
-    target: float
-    stiffness: float = 0.0
-
-    def pressure(self, t: float, volume: float) -> float:
-        """p (MPa) at load parameter t with the enclosed volume ``volume`` (module docstring)."""
-        if self.control == "pressure":
-            return t * self.target
-        return self.stiffness * (t * self.target - volume)
 
 
 def _prisms(corners: np.ndarray):

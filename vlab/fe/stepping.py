@@ -338,6 +338,16 @@ def _finish(history: SolveHistory, start: float, cache: TangentCache, newton_fac
     return history
 
 
+def _tangent_step(system: System, current: Evaluation, tangent: Tangent, du_p: np.ndarray, dt: float):
+    """Δu_f = −K_ff⁻¹ (K_fp Δû_p + Δt ∂f/∂t): the grips' move, and the rate of a load the body
+    carries itself (the bulge tester's pumped liquid: vlab.fe.liquid), on the current tangent."""
+    predicted = -tangent.factor.solve(tangent.Kfp @ du_p)
+    load_rate = getattr(system.body, "load_rate", None)
+    if load_rate is not None:
+        predicted -= dt * tangent.factor.solve(load_rate(current)[system.free])
+    return predicted
+
+
 def _substep(system: System, current: Evaluation, tangent: Tangent, t0, t1, stepping: Stepping,
              converged_tangent: Tangent | None = None, previous: PathPoint | None = None,
              hierarchy=None) -> _Step:
@@ -364,10 +374,7 @@ def _substep(system: System, current: Evaluation, tangent: Tangent, t0, t1, step
     prescribed, free = system.prescribed, system.free
     dt = t1 - t0
     du_p = system.grip_increment(t0, t1)
-    predicted = -tangent.factor.solve(tangent.Kfp @ du_p)
-    load_rate = getattr(system.body, "load_rate", None)
-    if load_rate is not None:  # a load the body carries itself: K v = −∂f/∂t as well
-        predicted -= dt * tangent.factor.solve(load_rate(current)[free])
+    predicted = _tangent_step(system, current, tangent, du_p, dt)
     here = PathPoint(t0, current.u, predicted / dt if converged_tangent is not None and dt else None)
     predicted = _extrapolated(predicted, here, previous, free, dt)
     for scale in (1.0, 0.5, 0.25, 0.0):

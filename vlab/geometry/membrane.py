@@ -32,7 +32,7 @@ from vlab.fields import SceneError
 from vlab.geometry.counts import MeshCount, div
 from vlab.geometry.lattice import Lattice
 from vlab.geometry.shape import Shape
-from vlab.geometry.specimen import GaugeMarks, Specimen
+from vlab.geometry.specimen import GaugeMarks, Specimen, View
 
 __all__ = ["MembraneSpecimen", "membrane_divisions", "membrane_mesh", "membrane_specimen", "chamber_volume",
            "SHAPE"]
@@ -127,6 +127,9 @@ def membrane_specimen(spec: MembraneSpecimen, element_size: float, cell: str) ->
         regions={"rim": lambda X: np.hypot(X[:, 0], X[:, 1]) >= a - 1e-9 * a,
                  "bottom": lambda X: np.abs(X[:, 2]) <= tol,
                  "pole": lambda X: np.hypot(X[:, 0], X[:, 1]) <= tol},
+        # from the side, a little above the sheet: the dome's profile on the cut plane y = 0, as a
+        # bulge tester's side camera sees the pole height
+        view=View(direction=(0.3, -1.0, 0.45), up=(0.0, 0.0, 1.0)),
     )
 
 

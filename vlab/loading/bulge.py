@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from vlab.fe.liquid import Liquid
+from vlab.loading.liquid import Liquid
 from vlab.geometry.specimen import Specimen
 from vlab.loading.grips import GripLoading
 

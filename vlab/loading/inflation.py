@@ -44,7 +44,7 @@ def _symmetry_dofs(X: np.ndarray, tol: float) -> list[np.ndarray]:
 
 def pressure_loading(specimen: Specimen, X: np.ndarray, pressure: float) -> GripLoading:
     """The symmetry planes and a pressure p(t) = t ``pressure`` (MPa) in the cavity (module docstring)."""
-    from vlab.fe.liquid import Liquid
+    from vlab.loading.liquid import Liquid
     from vlab.loading.bulge import face_triangles
 
     A = specimen.grip_separation[0]

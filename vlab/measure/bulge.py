@@ -37,6 +37,16 @@ def lab_pole_stress(p, h, radius: float, thickness: float, stretch):
         return np.where(h > 0, p * (radius**2 + h * h) / (2.0 * h) / (2.0 * thickness / lam**2), 0.0)
 
 
+def _membrane_stress(material, F: np.ndarray, w: np.ndarray) -> float:
+    """The FE's pole stress (MPa): (σ₁₁ + σ₂₂)/2 − σ₃₃ with σ = P Fᵀ / J, averaged over the pole's
+    quadrature points with weights ``w``: the difference is free of the hydrostatic part, and equals
+    the in-plane stress of the equibiaxial membrane state (σ₃₃ = 0) it is compared with."""
+    P = material.stress(F)
+    sigma = np.einsum("ij...,kj...->ik...", P, F) / np.linalg.det(np.moveaxis(F, (0, 1), (-2, -1)))
+    membrane = (sigma[0, 0] + sigma[1, 1]) / 2.0 - sigma[2, 2]
+    return float(np.sum(membrane * w) / np.sum(w))
+
+
 def bulge_readers(space, specimen, loading, material) -> dict:
     """Readers of the module docstring (``material`` None: no FE pole stress)."""
     liquid = loading.liquid
@@ -61,10 +71,7 @@ def bulge_readers(space, specimen, loading, material) -> dict:
             out = {"volume": volume, "pressure": liquid.pressure(level.t, volume), "stretch": lam,
                    "height": float(np.mean(u[3 * pole + 2]))}
             if material is not None:
-                P = material.stress(F)
-                sigma = np.einsum("ij...,kj...->ik...", P, F) / np.linalg.det(np.moveaxis(F, (0, 1), (-2, -1)))
-                membrane = (sigma[0, 0] + sigma[1, 1]) / 2.0 - sigma[2, 2]
-                out["stress_fe"] = float(np.sum(membrane * w) / np.sum(w))
+                out["stress_fe"] = _membrane_stress(material, F, w)
             cache["level"], cache["state"] = level, out
         return cache["state"]
 

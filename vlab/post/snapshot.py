@@ -112,8 +112,9 @@ def take_snapshot(result) -> Snapshot:
                for name in ("cauchy", "green_lagrange")}
     nodal = np.stack([_in_3d(ev.u.reshape(-1, d)) for ev in states])
     view = result.specimen.view
+    control = kind.control_label(result.scene.test, result.scene.specimen.shape)
     return Snapshot(result.scene.material.model, mesh, t, stretch, u, fields, marks, vtk_cells(space),
-                    nodal, tensors, time, grip, kind.control_name, result.converged, kind.rest,
+                    nodal, tensors, time, grip, control, result.converged, kind.rest,
                     None if view is None else (np.asarray(view.direction, float), np.asarray(view.up, float)),
                     _plates(result.specimen, u))
 

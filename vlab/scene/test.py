@@ -70,29 +70,9 @@ def parse_test(raw: Any, shape: str = "block", specimen=None) -> TestSpec:
     if kind.name not in tests:
         raise SceneError(f"{t.field('kind')} must be one of {', '.join(tests)} for specimen.shape = "
                          f"{shape!r}, got {kind.name!r}")
-    grip_kinds = tests[kind.name]
-    grips = t.choice("grips", GRIP_KINDS, default=grip_kinds[0])
-    if grips not in grip_kinds:
-        raise SceneError(f"{t.field('grips')} must be one of {', '.join(grip_kinds)} for specimen.shape = "
-                         f"{shape!r} with test.kind = {kind.name!r}, got {grips!r}")
+    grips = _grips(t, tests[kind.name], shape, kind.name)
     options = _options(t, kind, option_keys)
-    load_key = kind.load_key_for(shape, dict(options))
-    given = [key for key in (load_key, *(a for a, b in kind.alternative_load_keys.items() if b == load_key))
-             if key in t.raw]
-    if len(given) > 1:
-        raise SceneError(f"give one of {' or '.join(f'test.{k}' for k in given)} for test.kind = {kind.name!r}, "
-                         f"not both")
-    load_key = given[0] if given else load_key
-    for key in load_keys:
-        if key != load_key and key in t.raw and key not in kind.own_number_keys:
-            if key in (kind.load_key, *kind.extra_load_keys):  # this kind's, on another shape or control
-                given = "".join(f", test.{k} = {v!r}" for k, v in options)
-                raise SceneError(f"{t.field(key)} is not the load of test.kind = {kind.name!r} on specimen.shape = "
-                                 f"{shape!r}{given}: give test.{load_key}")
-            owners = " or ".join(repr(k.name) for k in KINDS.values()
-                                 if key in (k.load_key, *k.extra_load_keys, *k.alternative_load_keys))
-            raise SceneError(f"{t.field(key)} applies to test.kind = {owners}, not {kind.name!r}; "
-                             f"give test.{load_key}")
+    load_key = _load_key(t, kind, shape, options, load_keys)
     protocol_name = t.choice("protocol", PROTOCOLS, default="monotonic")
     if protocol_name == "cyclic" and not kind.cyclic:
         raise SceneError(f"test.protocol = 'cyclic' needs test.kind = "
@@ -111,6 +91,40 @@ def parse_test(raw: Any, shape: str = "block", specimen=None) -> TestSpec:
                     shear=targets if kind.load_key == "shear" else (),
                     twist=targets if kind.load_key == "twist" else (), options=options,
                     misalignment=_misalignment(t, kind.name, grips, shape), grip_slip=_grip_slip(t, kind.name))
+
+
+def _grips(t: fields.Table, grip_kinds: tuple[str, ...], shape: str, kind: str) -> str:
+    """test.grips: one of the shape's grips for this kind (the first is the default)."""
+    grips = t.choice("grips", GRIP_KINDS, default=grip_kinds[0])
+    if grips not in grip_kinds:
+        raise SceneError(f"{t.field('grips')} must be one of {', '.join(grip_kinds)} for specimen.shape = "
+                         f"{shape!r} with test.kind = {kind!r}, got {grips!r}")
+    return grips
+
+
+def _load_key(t: fields.Table, kind, shape: str, options, load_keys: tuple[str, ...]) -> str:
+    """The key the scene gives its load in: the kind's for this shape and options, or one
+    alternative of it (not both); any other kind's load key is refused naming its kinds."""
+    from vlab.loading.kinds import KINDS
+
+    load_key = kind.load_key_for(shape, dict(options))
+    given = [key for key in (load_key, *(a for a, b in kind.alternative_load_keys.items() if b == load_key))
+             if key in t.raw]
+    if len(given) > 1:
+        raise SceneError(f"give one of {' or '.join(f'test.{k}' for k in given)} for test.kind = {kind.name!r}, "
+                         f"not both")
+    load_key = given[0] if given else load_key
+    for key in load_keys:
+        if key != load_key and key in t.raw and key not in kind.own_number_keys:
+            if key in (kind.load_key, *kind.extra_load_keys):  # this kind's, on another shape or control
+                given = "".join(f", test.{k} = {v!r}" for k, v in options)
+                raise SceneError(f"{t.field(key)} is not the load of test.kind = {kind.name!r} on specimen.shape = "
+                                 f"{shape!r}{given}: give test.{load_key}")
+            owners = " or ".join(repr(k.name) for k in KINDS.values()
+                                 if key in (k.load_key, *k.extra_load_keys, *k.alternative_load_keys))
+            raise SceneError(f"{t.field(key)} applies to test.kind = {owners}, not {kind.name!r}; "
+                             f"give test.{load_key}")
+    return load_key
 
 
 def _options(t: fields.Table, kind, option_keys: tuple[str, ...]) -> tuple[tuple[str, str], ...]:

@@ -116,6 +116,11 @@ class TestKind:
         option_keys as given): ``load_key`` unless the kind says otherwise."""
         return self.load_key
 
+    def control_label(self, test, shape: str) -> str:
+        """What the renders' titles call the control value of ``test`` on ``shape``:
+        ``control_name`` unless the kind's load key depends on the shape or a control option."""
+        return self.control_name
+
     def parse_own_numbers(self, t: fields.Table, options: dict[str, str]) -> tuple[float, ...]:
         """The kind's ``own_number_keys`` as TestSpec.stretch (a stretch kind's is its load: ())."""
         return ()

@@ -73,6 +73,12 @@ class Inflation(TestKind):
             return "pressure"
         return "volume_ratio" if shape == "membrane" else "stretch"
 
+    def control_label(self, test, shape: str) -> str:
+        """The inner hoop stretch of a sphere, the pumped volume ratio of a membrane's chamber, or
+        the pressure (MPa) under control = "pressure" (load_key_for)."""
+        return {"pressure": "pressure (MPa)", "volume_ratio": "volume ratio"}.get(
+            self.load_key_for(shape, dict(test.options)), self.control_name)
+
     def for_test(self, test) -> TestKind:
         return PRESSURE_INFLATION if test.option("control") == "pressure" else self
 
