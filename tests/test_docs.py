@@ -2,6 +2,7 @@
 docs page has one title and is reached by the site's toctrees, every specimen file is described.
 The build itself (warnings as errors) is a step of .ci/run, the command the README gives."""
 
+import ast
 import re
 from pathlib import Path
 
@@ -67,6 +68,43 @@ def test_every_specimen_file_is_described():
     page = (DOCS / "reference" / "specimens.md").read_text(encoding="utf-8")
     for path in sorted((ROOT / "specimens").glob("*.toml")):
         assert f"`{path.name}`" in page, f"{path.name} is not described in docs/reference/specimens.md"
+
+
+def _gallery_scripts() -> list[Path]:
+    """The scripts sphinx-gallery runs: docs/conf.py's filename_pattern in its examples_dirs."""
+    conf = (DOCS / "conf.py").read_text(encoding="utf-8")
+    pattern = re.search(r'"filename_pattern":\s*r"([^"]+)"', conf).group(1)
+    examples = DOCS / re.search(r'"examples_dirs":\s*"([^"]+)"', conf).group(1)
+    return [p for p in sorted(examples.glob("*.py")) if re.search(pattern, "/" + p.name)]
+
+
+def _top_level_calls(script: Path) -> list[ast.Call]:
+    """The calls a script makes in its module-level statements (not in a function, a branch or a
+    comment: what runs whenever the gallery builds)."""
+    tree = ast.parse(script.read_text(encoding="utf-8"), filename=str(script))
+    return [node for stmt in tree.body if isinstance(stmt, (ast.Expr, ast.Assign))
+            for node in ast.walk(stmt) if isinstance(node, ast.Call)]
+
+
+def test_every_specimen_file_is_run_by_a_gallery_script():
+    """Each specimens/*.toml is shown (gallery_helpers.show('<name>'), which runs it and draws its
+    render and curve) by a script the docs build runs, and every name shown is a file there."""
+    shown = {}
+    for script in _gallery_scripts():
+        for call in _top_level_calls(script):
+            if isinstance(call.func, ast.Name) and call.func.id == "show" and call.args \
+                    and isinstance(call.args[0], ast.Constant) and isinstance(call.args[0].value, str):
+                shown.setdefault(call.args[0].value, script.name)
+    files = {path.stem for path in (ROOT / "specimens").glob("*.toml")}
+    missing = sorted(files - set(shown))
+    assert not missing, f"specimen files in no gallery script (add show('<name>') to docs/examples/plot_*.py): {missing}"
+    assert not set(shown) - files, f"gallery scripts show files specimens/ does not hold: {sorted(set(shown) - files)}"
+
+
+def test_the_gallery_runs_the_fitting_examples_and_the_cost_study():
+    called = {f"{call.func.value.id}.{call.func.attr}" for script in _gallery_scripts() for call in _top_level_calls(script)
+              if isinstance(call.func, ast.Attribute) and isinstance(call.func.value, ast.Name)}
+    assert {"vlab.fit", "vlab.export", "vlab.cost"} <= called
 
 
 def test_the_readmes_relative_links_exist():

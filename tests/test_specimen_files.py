@@ -13,27 +13,15 @@ from vlab.report.explain import viscoelastic_apparent
 from vlab.report.writer import write_run
 from vlab.run import run_scene
 from vlab.scene import apply_overrides, parse_scene
+from vlab.scene.coarse import coarse_overrides
 
 FILES = sorted((Path(__file__).resolve().parents[1] / "specimens").glob("*.toml"))
 
 
 def coarse(raw: dict) -> dict:
     """Up to twice the element size (keeping two elements across the narrowest width), at most
-    four regular steps."""
-    spec = parse_scene(raw, base_dir=FILES[0].parent).specimen
-    overrides = {"test.steps": min(raw["test"].get("steps", 10), 4)}
-    if spec.shape in ("mesh", "cad"):  # meshed already, or meshed by Gmsh at the file's own mesh.size
-        return apply_overrides(raw, overrides)
-    narrow = {"dogbone": lambda: spec.dimensions.width, "block": lambda: min(spec.size[1:]),
-              "sheet": lambda: spec.size[1],
-              "cruciform": lambda: spec.dimensions.gauge_region / 2,
-              "planar-tension": lambda: spec.thickness, "shear": lambda: spec.gap,
-              "double-lap": lambda: spec.gap, "cylinder": lambda: spec.radius,
-              "sphere-shell": lambda: spec.thickness, "membrane": lambda: spec.radius / 4}[spec.shape]()
-    size = raw["mesh"]["size"]
-    if "gauge_size" not in raw["mesh"]:
-        overrides["mesh.size"] = max(size, min(2 * size, narrow / 2))
-    return apply_overrides(raw, overrides)
+    four regular steps: vlab.scene.coarse, the budget the docs gallery runs with too."""
+    return apply_overrides(raw, coarse_overrides(raw, FILES[0].parent))
 
 
 def skip_without_gmsh(path: Path) -> None:

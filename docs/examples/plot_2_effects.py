@@ -2,7 +2,7 @@
 Effects and protocols
 =====================
 
-One file per effect of the ``[effects]`` registry and per protocol: rate dependence, gravity, plasticity, Mullins softening, noisy instruments. A test with a protocol shows its protocol's plot (hysteresis, relaxation, creep).
+One file per effect of the ``[effects]`` registry and per protocol: rate dependence, gravity, plasticity, Mullins softening (alone and with rate dependence), noisy instruments. A test with a protocol shows its protocol's plot (hysteresis, relaxation, creep).
 """
 
 from gallery_helpers import show
@@ -46,6 +46,17 @@ show('block-plasticity-load-unload')
 # Cycles of rising amplitude with Ogden–Roxburgh (Mullins) softening.
 
 show('block-mullins-cyclic')
+
+# %%
+# ``block-viscoelastic-mullins-cyclic.toml``
+# ------------------------------------------
+#
+# Both together: a two-term Prony series on the Maxwell branches and Ogden–Roxburgh softening of the
+# long-term response, cycled to stretch 1.5, 2.0 and 2.5 at 0.1 /s. Each loop is rate-dependent
+# hysteresis on top of the softened reloading path. The gallery runs 8 steps per ramp (the budget's
+# 4 would draw each loop as a triangle).
+
+show('block-viscoelastic-mullins-cyclic', {"test.steps": 8})
 
 # %%
 # ``block-noise.toml``
