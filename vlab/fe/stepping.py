@@ -301,7 +301,7 @@ def _attempt(system: System, stepping: Stepping, cache: TangentCache, walk: _Wal
              q_target: float | None) -> _Step:
     """One substep to ``t_try`` (under force control: to the held force ``q_target``), vetted by
     ``stepping.accept``; on success ``walk`` moves to it. NewtonFailure if it fails or is rejected."""
-    set_load = getattr(system.body, "set_load", None)
+    set_load = system.body.set_load
     if set_load is not None:  # a load the body carries itself (vlab.fe.liquid)
         set_load(t_try)
     if q_target is not None:  # from the new increment
@@ -342,7 +342,7 @@ def _tangent_step(system: System, current: Evaluation, tangent: Tangent, du_p: n
     """Δu_f = −K_ff⁻¹ (K_fp Δû_p + Δt ∂f/∂t): the grips' move, and the rate of a load the body
     carries itself (the bulge tester's pumped liquid: vlab.fe.liquid), on the current tangent."""
     predicted = -tangent.factor.solve(tangent.Kfp @ du_p)
-    load_rate = getattr(system.body, "load_rate", None)
+    load_rate = system.body.load_rate
     if load_rate is not None:
         predicted -= dt * tangent.factor.solve(load_rate(current)[system.free])
     return predicted
