@@ -41,7 +41,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from run import RTOL, _child, _machine, _peak_mb, felupe_hex_mesh  # noqa: E402
+from run import RTOL, _machine, _peak_mb, felupe_hex_mesh, interleaved_runs  # noqa: E402
 
 import numpy as np  # noqa: E402
 
@@ -61,26 +61,18 @@ def scene(problem: str):
     from vlab.scene import parse_scene
 
     kind, h = PROBLEMS[problem]
-    material = {"model": "neo-hookean", "mu": MU, "K": K}
-    solver = {"rtol": RTOL}
     if kind == "torsion":
-        return parse_scene({
-            "name": f"bench-{problem}",
-            "specimen": {"shape": "cylinder", "radius": 5.0, "length": 10.0},
-            "mesh": {"size": h, "cell": "hex", "formulation": "displacement"},
-            "material": material,
-            "test": {"kind": "torsion", "grips": "clamped", "axial": "fixed", "twist": TWIST,
-                     "steps": TORSION_STEPS},
-            "solver": solver,
-        })
+        specimen = {"shape": "cylinder", "radius": 5.0, "length": 10.0}
+        test = {"kind": "torsion", "grips": "clamped", "axial": "fixed", "twist": TWIST,
+                "steps": TORSION_STEPS}
+    else:
+        specimen = {"shape": "sphere-shell", "inner_radius": 10.0, "thickness": 1.0}
+        test = {"kind": "inflation", "grips": "cavity", "control": "volume", "stretch": STRETCH,
+                "steps": INFLATION_STEPS}
     return parse_scene({
-        "name": f"bench-{problem}",
-        "specimen": {"shape": "sphere-shell", "inner_radius": 10.0, "thickness": 1.0},
+        "name": f"bench-{problem}", "specimen": specimen,
         "mesh": {"size": h, "cell": "hex", "formulation": "displacement"},
-        "material": material,
-        "test": {"kind": "inflation", "grips": "cavity", "control": "volume", "stretch": STRETCH,
-                 "steps": INFLATION_STEPS},
-        "solver": solver,
+        "material": {"model": "neo-hookean", "mu": MU, "K": K}, "test": test, "solver": {"rtol": RTOL},
     })
 
 
@@ -222,10 +214,7 @@ def main() -> None:
     machine = _machine()
     rows = []
     for problem in args.problems.split(","):
-        runs = {"vlab": [], "felupe": []}
-        for _ in range(args.repeat):
-            for code in runs:
-                runs[code].append(_child(code, problem, __file__))
+        runs = interleaved_runs(problem, args.repeat, __file__)
         best = {code: min((r for r in rs if "error" not in r), key=lambda r: r["wall"], default=rs[-1])
                 for code, rs in runs.items()}
         rows.append((problem, best["vlab"], best["felupe"]))

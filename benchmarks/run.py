@@ -300,6 +300,16 @@ def _child(code: str, problem: str, script: str = __file__) -> dict:
     return {"error": (proc.stderr.strip().splitlines() or ["no output"])[-1]}
 
 
+def interleaved_runs(problem: str, repeat: int, script: str = __file__) -> dict[str, list[dict]]:
+    """``repeat`` runs of each code on the problem, alternating vlab and FElupe (so a change in the
+    machine's load falls on both), each in its own process."""
+    runs = {"vlab": [], "felupe": []}
+    for _ in range(repeat):
+        for code in runs:
+            runs[code].append(_child(code, problem, script))
+    return runs
+
+
 def _best(runs: list[dict]) -> dict:
     """The fastest run; for vlab its floor is the lowest measured in any run (the harsher one:
     on a shared machine a floor taken in a slow moment would flatter the ratio)."""
@@ -372,10 +382,7 @@ def main() -> None:
     machine = _machine()
     rows = []
     for problem in args.problems.split(","):
-        runs = {"vlab": [], "felupe": []}
-        for _ in range(args.repeat):
-            for code in runs:
-                runs[code].append(_child(code, problem))
+        runs = interleaved_runs(problem, args.repeat)
         v, f = _best(runs["vlab"]), _best(runs["felupe"])
         rows.append((problem, v, f))
         print(f"{problem}: vlab {v.get('total', float('nan')):.2f} s ({v.get('solver', '?')}), "
