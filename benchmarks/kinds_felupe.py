@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 import time
 from pathlib import Path
@@ -52,7 +53,7 @@ PROBLEMS = {  # name: (kind, element size mm)
     "torsion-small": ("torsion", 1.25),  # 3,915 DOFs (the shipped scene's size)
     "torsion-50k": ("torsion", 0.47),  # 54,717 DOFs
     "inflation-small": ("inflation", 0.75),  # 4,221 DOFs
-    "inflation-50k": ("inflation", 0.25),  # 56,700 DOFs
+    "inflation-50k": ("inflation", 0.25),  # 56,715 DOFs
 }
 
 
@@ -219,8 +220,6 @@ def main() -> None:
                 for code, rs in runs.items()}
         rows.append((problem, best["vlab"], best["felupe"]))
         print(f"{problem}: vlab {best['vlab']}\n  FElupe {best['felupe']}", flush=True)
-    import os
-
     table = _table(rows)
     print(f"\nMachine: {machine}; load average {os.getloadavg()[0]:.1f} at the end\n\n{table}")
     if args.out:
