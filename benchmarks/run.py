@@ -187,13 +187,10 @@ def _felupe_mesh(problem: str):
     from vlab.geometry.block import block_mesh
 
     cell, order, n, h = PROBLEMS[problem]
-    if n is None:  # the dogbone: scikit-fem's own VTK conversion of the hexahedra
-        from skfem.io.meshio import to_meshio
-
+    if n is None:  # the dogbone
         from vlab.run import build_specimen
 
-        m = to_meshio(build_specimen(_scene(problem)).mesh)
-        return fem.Mesh(m.points.copy(), m.cells_dict["hexahedron"].copy(), "hexahedron")
+        return felupe_hex_mesh(build_specimen(_scene(problem)).mesh)
     mesh = block_mesh((n, n, n), h, cell)
     points, cells = mesh.p.T.copy(), mesh.t.T.copy()
     if cell == "hex":
@@ -209,6 +206,16 @@ def _felupe_mesh(problem: str):
     cells[volume < 0] = cells[volume < 0][:, [0, 2, 1, 3]]
     tets = fem.Mesh(points, cells, "tetra")
     return tets if order == 1 else fem.mesh.add_midpoints_edges(tets)
+
+
+def felupe_hex_mesh(mesh):
+    """A scikit-fem Q1 hexahedral mesh as a FElupe mesh: the same nodes in the same order (so a
+    DOF 3 i + c is the same in both codes), the cells in VTK order by scikit-fem's own conversion."""
+    import felupe as fem
+    from skfem.io.meshio import to_meshio
+
+    m = to_meshio(mesh)
+    return fem.Mesh(m.points.copy(), m.cells_dict["hexahedron"].copy(), "hexahedron")
 
 
 def run_felupe(problem: str) -> dict:
@@ -283,13 +290,24 @@ def _one(code: str, problem: str) -> None:
     print("RESULT " + json.dumps(out))
 
 
-def _child(code: str, problem: str) -> dict:
-    proc = subprocess.run([sys.executable, __file__, "--one", code, problem], capture_output=True,
+def _child(code: str, problem: str, script: str = __file__) -> dict:
+    """Run ``script --one CODE PROBLEM`` in a fresh process; its RESULT line, or its last error."""
+    proc = subprocess.run([sys.executable, script, "--one", code, problem], capture_output=True,
                           text=True, cwd=ROOT, env=os.environ | {"VLAB_BENCH_NEWTON": NEWTON})
     for line in proc.stdout.splitlines():
         if line.startswith("RESULT "):
             return json.loads(line[7:])
     return {"error": (proc.stderr.strip().splitlines() or ["no output"])[-1]}
+
+
+def interleaved_runs(problem: str, repeat: int, script: str = __file__) -> dict[str, list[dict]]:
+    """``repeat`` runs of each code on the problem, alternating vlab and FElupe (so a change in the
+    machine's load falls on both), each in its own process."""
+    runs = {"vlab": [], "felupe": []}
+    for _ in range(repeat):
+        for code in runs:
+            runs[code].append(_child(code, problem, script))
+    return runs
 
 
 def _best(runs: list[dict]) -> dict:
@@ -364,10 +382,7 @@ def main() -> None:
     machine = _machine()
     rows = []
     for problem in args.problems.split(","):
-        runs = {"vlab": [], "felupe": []}
-        for _ in range(args.repeat):
-            for code in runs:
-                runs[code].append(_child(code, problem))
+        runs = interleaved_runs(problem, args.repeat)
         v, f = _best(runs["vlab"]), _best(runs["felupe"])
         rows.append((problem, v, f))
         print(f"{problem}: vlab {v.get('total', float('nan')):.2f} s ({v.get('solver', '?')}), "
