@@ -2,6 +2,8 @@ import copy
 import dataclasses
 import math
 
+from pathlib import Path
+
 import pytest
 
 from vlab.moduli import from_pair
@@ -260,3 +262,39 @@ def test_modulus_points_reach_the_schedule():
     levels = monotonic_schedule(scene.test.stretch, scene.test.steps, scene.measure.modulus_window,
                                 scene.measure.modulus_points)
     assert len(levels) == scene.test.steps
+
+
+@pytest.mark.parametrize("name, names", [
+    ("dogbone-iso527-2-1a", "specimen.gauge_length"), ("mesh-import-bar", "specimen.gauge_marks"),
+    ("shear-plates-neo-hookean", "the layer's shear"), ("double-lap-neo-hookean", "the layer's shear"),
+    ("sphere-inflation", "the shell's hoop"), ("membrane-bulge", "the pole"),
+])
+def test_measure_gauge_length_is_refused_where_the_shape_is_built_without_it(name, names):
+    """A shape whose build ignores measure.gauge_length (a standard dumb-bell's marks, a file's
+    gauge_marks, no extensometer) refuses the key naming where its gauge comes from, instead of
+    measuring over another length than the scene says."""
+    import tomllib
+
+    folder = Path(__file__).resolve().parents[1] / "specimens"
+    raw = tomllib.loads((folder / f"{name}.toml").read_text(encoding="utf-8"))
+    raw.setdefault("measure", {})["gauge_length"] = 4.0
+    with pytest.raises(SceneError, match=rf"measure.gauge_length does not apply to specimen.shape = .*{names}"):
+        parse_scene(raw, base_dir=folder)
+
+
+@pytest.mark.parametrize("name", ["block-neo-hookean", "sheet-strip-clamped", "planar-tension-neo-hookean",
+                                  "cylinder-torsion", "cruciform-slotted"])
+def test_measure_gauge_length_moves_the_marks_where_the_shape_takes_it(name):
+    import tomllib
+
+    import numpy as np
+
+    from vlab.geometry.shapes import SHAPES, build_specimen
+
+    folder = Path(__file__).resolve().parents[1] / "specimens"
+    raw = tomllib.loads((folder / f"{name}.toml").read_text(encoding="utf-8"))
+    raw.setdefault("measure", {})["gauge_length"] = 4.0
+    scene = parse_scene(raw, base_dir=folder)
+    assert SHAPES[scene.specimen.shape].gauge_from is None
+    marks = build_specimen(scene.specimen, scene.mesh, scene.measure.gauge_length).extensometers[0]
+    assert np.linalg.norm(np.subtract(marks.b, marks.a)) == pytest.approx(4.0, rel=1e-12)

@@ -112,4 +112,5 @@ def _count(spec, mesh):
 
 
 SHAPE = Shape("cad", CAD_KEYS, _parse, _build, tests={"uniaxial": ("clamped",)}, count=_count,
-              doc="a specimen drawn in CAD (Gmsh .geo, STEP, BREP), meshed by Gmsh (the cad extra)")
+              doc="a specimen drawn in CAD (Gmsh .geo, STEP, BREP), meshed by Gmsh (the cad extra)",
+              gauge_from="specimen.gauge_marks (two points in the file's coordinates)")

@@ -286,4 +286,5 @@ SHAPE = Shape(
                                                       mesh.mesher),
     tests={"uniaxial": ("clamped",)}, symmetric=True, gauge_size=True,
     thickness=lambda spec: float(min(spec.dimensions.thickness, spec.dimensions.width)), count=count_dogbone,
-    doc="standard or custom dumb-bell between clamped grips")
+    doc="standard or custom dumb-bell between clamped grips",
+    gauge_from="specimen.gauge_length (the standard's or the custom dumb-bell's gauge marks)")

@@ -82,4 +82,5 @@ SHAPE = Shape(
     lambda spec, mesh, gauge: double_lap_specimen(spec, mesh.size, mesh.cell),
     tests={"simple-shear": ("plates",)},
     count=lambda spec, mesh: count_layers(spec, mesh, layers=2),  # two layers, as one of twice the gap
-    doc="double-lap shear sandwich: two layers, outer plates held, the central plate moved")
+    doc="double-lap shear sandwich: two layers, outer plates held, the central plate moved",
+    gauge_from="the layer's shear (its marks span the middle half of the layer)")

@@ -300,4 +300,5 @@ def count_imported(spec, mesh) -> MeshCount:
 
 SHAPE = Shape("mesh", MESH_FILE_KEYS, _parse_mesh_file, lambda spec, mesh, gauge: imported_specimen(spec.spec, spec.data),
               tests={"uniaxial": ("clamped",)}, count=count_imported,
-              doc="a user's mesh file (Gmsh .msh or .vtu) with named grips")
+              doc="a user's mesh file (Gmsh .msh or .vtu) with named grips",
+              gauge_from="specimen.gauge_marks (two points in the file's coordinates)")

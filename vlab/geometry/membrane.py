@@ -146,4 +146,5 @@ SHAPE = Shape(
     "membrane", ("radius", "thickness"), parse_membrane,
     lambda spec, mesh, gauge: membrane_specimen(spec, mesh.size, mesh.cell),
     tests={"inflation": ("clamped",)}, thickness=lambda spec: spec.thickness, count=count_membrane,
-    doc="circular sheet clamped at its rim, meshed as its quarter: the bulge test (inflation under volume control)")
+    doc="circular sheet clamped at its rim, meshed as its quarter: the bulge test (inflation under volume control)",
+    gauge_from="the pole (the bulge test reads the pole stretch and height)")

@@ -20,3 +20,6 @@ class Shape:
     thickness: Callable[[Any], float] | None = None
     count: Callable[[Any, Any], Any] | None = None  # (spec, mesh) -> counts.MeshCount, for the size budget
     doc: str = ""
+    # None: ``build`` places the extensometer over measure.gauge_length; else where the shape's gauge
+    # marks come from instead, named in the error that refuses measure.gauge_length
+    gauge_from: str | None = None

@@ -15,6 +15,9 @@ about the shape, next to its geometry (the module that meshes it):
 - ``tests``: {test kind: grips it can run with}, the first grips the default (vlab.loading.kinds);
 - ``symmetric``: its mesh is built mirror-symmetric, so [mesh] symmetry may reduce it;
   ``gauge_size``: it takes a finer [mesh] gauge_size over its gauge section;
+- ``gauge_from``: None when ``build`` places the extensometer over ``gauge_length`` (the scene's
+  measure.gauge_length); else where its gauge marks come from (a standard's marks, the file's
+  ``gauge_marks``, no extensometer), and measure.gauge_length is refused naming it;
 - ``thickness(spec) -> mm``: the smallest cross-section dimension, the scale of a buckling
   imperfection (None: test.imperfection does not apply);
 - ``count(spec, mesh) -> MeshCount``: elements, nodes and dimension of the mesh ``build`` would

@@ -98,4 +98,5 @@ SHAPE = Shape(
     "shear", ("length", "gap", "depth"), parse_shear,
     lambda spec, mesh, gauge: shear_specimen(spec, mesh.size, mesh.cell),
     tests={"simple-shear": ("plates",)}, count=count_layers,
-    doc="rubber layer bonded between rigid shear plates, one held, one moved tangentially")
+    doc="rubber layer bonded between rigid shear plates, one held, one moved tangentially",
+    gauge_from="the layer's shear (its marks span the middle half of the layer)")

@@ -159,4 +159,5 @@ SHAPE = Shape(
     "sphere-shell", ("inner_radius", "thickness"), parse_shell,
     lambda spec, mesh, gauge: shell_specimen(spec, mesh.size, mesh.cell),
     tests={"inflation": ("cavity",)}, thickness=lambda spec: spec.thickness, count=count_shell,
-    doc="spherical shell (a balloon), meshed as its octant: inflation under volume control")
+    doc="spherical shell (a balloon), meshed as its octant: inflation under volume control",
+    gauge_from="the shell's hoop (the inflation test reads the inner hoop stretch)")

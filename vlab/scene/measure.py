@@ -9,6 +9,7 @@ from typing import Any
 
 from vlab import fields
 from vlab.fields import SceneError
+from vlab.geometry.shapes import SHAPES
 from vlab.scene.specimen import Specimen
 
 __all__ = ["MeasureSpec", "parse_measure"]
@@ -30,6 +31,10 @@ def parse_measure(raw: Any, specimen: Specimen) -> MeasureSpec:
         window = fields.vector(field, t.raw["modulus_window"], 2, "[a, b]", ge=0, le=0.05)
         if not window[0] < window[1]:
             raise SceneError(f"{field} must satisfy 0 <= a < b <= 0.05, got {list(window)}")
+    gauge_from = SHAPES[specimen.shape].gauge_from
+    if "gauge_length" in t.raw and gauge_from is not None:  # built without it: never silently ignored
+        raise SceneError(f"{t.field('gauge_length')} does not apply to specimen.shape = {specimen.shape!r}: its gauge "
+                         f"is {gauge_from}")
     gauge = t.number("gauge_length", default=None, gt=0, lt=specimen.length,
                      note=" (the specimen length)")
     if gauge is not None and specimen.shape == "cruciform" and gauge > specimen.dimensions.gauge_region:
