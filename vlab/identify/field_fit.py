@@ -26,7 +26,7 @@ from vlab.identify import uncertainty as unc
 from vlab.identify.card import card_of
 from vlab.identify.drucker import kind_stability
 from vlab.identify.fe_loop import _card_space, _identifiability, _lm, _model_entry, _one_start, closed_form
-from vlab.identify.field_model import face_points, interpolation, levelled, usable
+from vlab.identify.field_model import face_points, interpolation, levelled, subset_interpolation, usable
 from vlab.identify.field_sim import simulate_field
 
 __all__ = ["fit_field", "field_residuals", "field_section"]
@@ -41,7 +41,7 @@ class _Geometry:
         f = d.extra["field"]
         self.shape = (f.ys.size, f.xs.size)
         X1, X2 = face_points(f.camera, f.xs, f.ys)
-        self.P, found = interpolation(face, X1, X2)
+        self.P, found = subset_interpolation(face, X1, X2, f.subset, f.camera["mm_per_px"])
         self.on_face = found.reshape(self.shape)
         _check_on_face(d, face, self.on_face, X1, X2)
 
@@ -220,25 +220,26 @@ def field_section(d: dict) -> str:
 
 
 def _plot(d, summary, path) -> None:
+    """Three maps of the last level (DIC E_xx, FE levelled E_xx, FE − DIC) beside force–displacement."""
     import matplotlib.pyplot as plt
 
     f = d.extra["field"]
     (E, use), lv = summary["maps"][-1], f.levels[-1]
-    dic = np.where(use, lv.exx, np.nan)
-    fe = np.where(use, E[0], np.nan)
+    dic, fe = np.where(use, lv.exx, np.nan), np.where(use, E[0], np.nan)
     extent = (f.xs[0], f.xs[-1], f.ys[-1], f.ys[0])
-    fig, axes = plt.subplots(2, 2, figsize=(10, 7), constrained_layout=True)
+    fig = plt.figure(figsize=(11, 7), constrained_layout=True)
+    grid = fig.add_gridspec(3, 2, width_ratios=(1.6, 1))
     lo, hi = np.nanmin([dic, fe]), np.nanmax([dic, fe])
-    for ax, data, title in ((axes[0, 0], dic, f"DIC E_xx ({lv.image})"), (axes[0, 1], fe, "FE levelled E_xx")):
-        fig.colorbar(ax.imshow(data, extent=extent, vmin=lo, vmax=hi, interpolation="nearest"), ax=ax, shrink=0.8)
-        ax.set_title(title)
-    diff = fe - dic
-    fig.colorbar(axes[1, 0].imshow(diff, extent=extent, cmap="RdBu_r", interpolation="nearest"), ax=axes[1, 0], shrink=0.8)
-    axes[1, 0].set_title("FE − DIC, E_xx")
-    for ax in axes.ravel()[:3]:
-        ax.set_xlabel("x (px)")
+    panels = ((dic, f"DIC E_xx ({lv.image})", "viridis", (lo, hi)), (fe, "FE levelled E_xx", "viridis", (lo, hi)),
+              (fe - dic, "FE − DIC, E_xx", "RdBu_r", (None, None)))
+    for row, (data, title, cmap, (vmin, vmax)) in enumerate(panels):
+        ax = fig.add_subplot(grid[row, 0])
+        im = ax.imshow(data, extent=extent, cmap=cmap, vmin=vmin, vmax=vmax, interpolation="nearest")
+        fig.colorbar(im, ax=ax, shrink=0.9)
+        ax.set_title(title, fontsize=10)
         ax.set_ylabel("y (px)")
-    ax = axes[1, 1]
+    ax.set_xlabel("x (px)")
+    ax = fig.add_subplot(grid[:, 1])
     ax.plot(d.a, d.y, "o", label="load cell")
     ax.plot(np.r_[0, d.a], np.r_[0, summary["force"]], "k-", label="FE at the fitted constants")
     ax.set_xlabel("grip displacement (mm)")

@@ -1,11 +1,12 @@
-"""The FE's strain maps as the DIC sees them: the FE displacement at the subset centres, passed
+"""The FE's strain maps as the DIC sees them: the FE displacement averaged over each subset, passed
 through the DIC's own strain window (vlab.dic.strain) — the FE field "levelled".
 
 Subset centre (x, y) px → face point X = (c₁ + (x − (W − 1)/2) p, c₂ − (y − (H − 1)/2) p) mm
 (vlab.dic.camera's pixel centres), located in the reference face cell holding it (isoparametric
 coordinates ξ by Newton's method, vlab.dic.inverse_map), so the FE displacement there is the
-interpolation u(X) = Σ_a N_a(ξ) u_a over the cell's vertices: a fixed sparse matrix P (points ×
-face vertices). In image pixels (y down) U = P u₁ / p, V = −P u₂ / p. The strain window fits planes
+interpolation u(X) = Σ_a N_a(ξ) u_a over the cell's vertices; a subset's is the mean of u over
+its pixel centres on the face (the subset's affine fit, to first order): a fixed sparse matrix P
+(subsets × face vertices). In image pixels (y down) U = P u₁ / p, V = −P u₂ / p. The strain window fits planes
 to U, V over the same valid subsets as the DIC (a linear operator G on (U, V) for a fixed mask) and
 forms the Green–Lagrange strain of its gradients:
 
@@ -25,7 +26,7 @@ from scipy import ndimage, sparse
 from vlab.dic.inverse_map import invert_cell, shape_functions
 from vlab.dic.strain import gradient_window
 
-__all__ = ["face_points", "interpolation", "levelled", "usable"]
+__all__ = ["face_points", "interpolation", "subset_interpolation", "levelled", "usable"]
 
 
 def face_points(camera: dict, xs: np.ndarray, ys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -57,6 +58,26 @@ def interpolation(face, X1: np.ndarray, X2: np.ndarray) -> tuple[sparse.csr_matr
     cols = face.cells[owner[found]].ravel()
     P = sparse.csr_matrix((weights[found].ravel(), (rows, cols)), shape=(x1.size, len(face.nodes)))
     return P, found
+
+
+def subset_interpolation(face, X1: np.ndarray, X2: np.ndarray, subset: int, pitch: float):
+    """(P, found) of the subsets centred at (X₁, X₂): row i the mean of the interpolation over the
+    subset's subset × subset pixel centres on the face (the translation of the least-squares affine
+    fit of u over a square subset is that mean, which is what IC-GN's affine subset measures to
+    first order); found where the centre is on the face. subset 0: the centres alone."""
+    P0, found = interpolation(face, X1, X2)
+    if subset <= 1:
+        return P0, found
+    o = (np.arange(subset) - (subset - 1) / 2) * pitch
+    dx, dy = (a.ravel() for a in np.meshgrid(o, -o))
+    x1 = (np.ravel(X1)[:, None] + dx).ravel()
+    x2 = (np.ravel(X2)[:, None] + dy).ravel()
+    Ps, on = interpolation(face, x1, x2)
+    count = on.reshape(-1, dx.size).sum(axis=1)
+    owner = np.repeat(np.arange(found.size), dx.size)
+    mean = sparse.csr_matrix((1.0 / np.maximum(count[owner], 1), (owner, np.arange(owner.size))),
+                             shape=(found.size, owner.size))
+    return (mean @ Ps).tocsr(), found
 
 
 def usable(valid: np.ndarray, on_face: np.ndarray, window: int) -> np.ndarray:
