@@ -64,7 +64,8 @@ def _fit(path: Path):
 def test_mu_from_noise_free_images_within_1_percent_from_a_30_percent_high_start(clean):
     d = _fit(_fit_file(clean, 1.3 * MU))
     mu = d["parameters"]["mu"]
-    print(f"noise-free: mu = {mu:.6g}, error {mu / MU - 1:+.3%}, solves {d['fe']['solves']}")
+    print(f"noise-free: mu = {mu:.6g} ± {d['uncertainty']['mu']['standard_error']:.2g}, error {mu / MU - 1:+.3%}, "
+          f"solves {d['fe']['solves']}, fit {d['timing']['fit_s']:.3g} s")
     assert d["converged"] and abs(mu / MU - 1) < 0.01
     u = d["uncertainty"]["mu"]
     assert u["interval"] is not None and u["standard_error"] > 0 and np.isfinite(u["standard_error"])
@@ -79,7 +80,8 @@ def test_mu_from_images_with_1_percent_grey_noise_through_the_cli(tmp_path):
     assert r.returncode == 0, r.stdout + r.stderr
     d = json.loads((tmp_path / "out" / "fit.json").read_text())
     mu = d["parameters"]["mu"]
-    print(f"1 % grey noise: mu = {mu:.6g}, error {mu / MU - 1:+.3%}, strain rms {d['datasets'][0]['strain_rms']:.3g}")
+    print(f"1 % grey noise: mu = {mu:.6g} ± {d['uncertainty']['mu']['standard_error']:.2g}, error {mu / MU - 1:+.3%}, "
+          f"strain rms {d['datasets'][0]['strain_rms']:.3g}, solves {d['fe']['solves']}")
     assert abs(mu / MU - 1) < 0.01
     lo, hi = d["uncertainty"]["mu"]["interval"]
     assert lo < mu < hi

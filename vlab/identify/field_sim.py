@@ -11,7 +11,6 @@ displacement is prescribed, so it does not move with p): exact at a recorded lev
 
 from __future__ import annotations
 
-import logging
 from dataclasses import dataclass
 
 import numpy as np
@@ -75,8 +74,7 @@ class _FieldObserver(LevelSensitivities):
 def simulate_field(fe: dict, values: dict, face_side: tuple[int, int]) -> FieldSimulation:
     """Run fe's scene at ``values``; RuntimeError if the test fails, SceneError if the face is not there."""
     from vlab.dic.face import FaceError, face_of
-    from vlab.identify.fe_sensitivity import _Quiet, material_table, scene_with
-    from vlab.run import run_scene
+    from vlab.identify.fe_sensitivity import run_quietly, scene_with
 
     made: list[_FieldObserver] = []
 
@@ -88,15 +86,7 @@ def simulate_field(fe: dict, values: dict, face_side: tuple[int, int]) -> FieldS
         made.append(_FieldObserver(prepared, tangents, fe, values, face))
         return made[-1]
 
-    run_log, quiet = logging.getLogger("vlab.run"), _Quiet()
-    run_log.addFilter(quiet)  # the run's caveats go to fit.json once, not to the console per solve
-    try:
-        result = run_scene(scene_with(fe, values), observe=observe)
-    finally:
-        run_log.removeFilter(quiet)
-    if not result.converged:
-        raise RuntimeError(f"the test at {material_table(fe, values)} did not complete: "
-                           f"{result.history.failure.reason}")
+    result = run_quietly(fe, scene_with(fe, values), values, observe)
     obs, curve = made[0], result.curve
     if len(curve.force[0]) != len(obs.rows):
         raise SceneError("fe.scene: the recorded levels and the solver's levels differ")
