@@ -179,6 +179,9 @@ def design_fe(spec, kinds, ranges, points: int, max_size: int | None, noise: flo
     from vlab.identify.fe_design import data_rows, specimen_candidates, specimen_rows, specimen_runs, strain_range
     from vlab.identify.fe_loop import fit_specimen
 
+    if any(d.kind == "field" for d in spec.datasets):
+        raise SceneError("vlab design plans homogeneous and specimen (kind = \"specimen\") tests; a fit file of DIC "
+                         "fields (kind = \"field\") has no test design yet")
     fe, names, relative = spec.fe, list(spec.fe["parameters"]), spec.residual == "relative"
     if kinds and not relative:
         raise SceneError("--candidates with a specimen fit file needs options.residual = \"relative\" (its force "
