@@ -196,3 +196,28 @@ def test_the_dic_folder_holds_images_fields_levels_and_json(report):
     assert camera["face"]["axis"] == "z" and camera["face"]["side"] == 1 and "convention" in camera
     assert (dic / "maps.png").stat().st_size > 10_000
     assert "Digital image correlation" in (report / "index.html").read_text()
+
+
+def test_the_pixel_to_face_convention_is_the_renderers():
+    """View.face_mm (what dic.json states) gives the pixel centres the camera renders (its
+    sub-sample grid at supersample 1), and mesh_points puts them on the face's plane."""
+    import numpy as np
+    import skfem
+
+    from vlab.dic.instrument import build_view
+    from vlab.scene.instruments import DicSpec
+
+    mesh = skfem.MeshHex.init_tensor(np.linspace(0, 20, 11), np.linspace(-4, 4, 5), np.linspace(0, 2, 2))
+    # the centre is in face coordinates: the bottom face, seen from −z, has x₁ = −x
+    for face, (axis, side), centre in (("top", (2, 1), (9.0, 0.5)), ("bottom", (2, -1), (-9.0, 0.5))):
+        spec = DicSpec(face, axis, side, {"pixels": (64, 32), "mm_per_px": 0.25, "supersample": 1,
+                                          "centre": centre}, {}, {"subset": 11})
+        view = build_view(spec, mesh)
+        x1, x2 = view.face_mm(np.arange(64), np.arange(32))
+        c1, c2 = view.camera.axes(view.face)
+        np.testing.assert_allclose(x1, c1, atol=1e-12)
+        np.testing.assert_allclose(x2, c2, atol=1e-12)
+        P = view.mesh_points(np.array([x1[0]]), np.array([x2[0]]))
+        (a1, s1), (a2, s2) = view.face.axes
+        assert P[axis, 0] == (2.0 if side > 0 else 0.0)
+        assert P[a1, 0] == s1 * x1[0] and P[a2, 0] == s2 * x2[0]

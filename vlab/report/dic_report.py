@@ -156,8 +156,9 @@ def _g(v, digits: int = 5) -> str:
     return "—" if v is None else f"{v:.{digits}g}"
 
 
-def html_section(data: dict, prefix: str = "") -> str:
-    """The run page's DIC section from a results dict (``prefix``: the model's folder, "" for one)."""
+def html_section(data: dict, prefix: str = "", image_source=None) -> str:
+    """The run page's DIC section from a results dict (``prefix``: the model's folder, "" for one;
+    ``image_source(name)``: the img src of a file of the folder, e.g. inlined; default its name)."""
     d, m, point = data["dic"], data["measured"].get("dic") or {}, data["measured"]
     cam, noise, lev = d["camera"], d["noise_floor"], d.get("levelled_last") or {}
     rows = [("E (MPa)", point.get("E"), m.get("E"), m.get("E_difference")),
@@ -166,7 +167,7 @@ def html_section(data: dict, prefix: str = "") -> str:
                     for n, a, b, c in rows)
     levelled = "".join(f"<tr><th>{c}</th><td class=num>{_g((lev.get(c) or {}).get('rms'), 3)}</td>"
                        f"<td class=num>{_g((lev.get(c) or {}).get('max'), 3)}</td></tr>" for c in COMPONENTS + ("u_px", "v_px"))
-    maps = html.escape(f"{prefix}dic/maps.png")
+    maps = image_source(f"{prefix}dic/maps.png") if image_source else html.escape(f"{prefix}dic/maps.png")
     face = cam["face"]
     return f"""<h2>Digital image correlation (virtual camera)</h2>
 <p>Camera {cam['pixels'][0]} × {cam['pixels'][1]} px at {cam['mm_per_px']:.4g} mm/px, {cam['bit_depth']}-bit,
