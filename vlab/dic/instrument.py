@@ -9,7 +9,9 @@ the region of interest: the subsets that lie wholly on the reference face (regio
 
 The static pair gives the noise floor (DIC Challenge 2.0, vlab.dic.metrics.static_noise): the
 reference rendered twice more with fresh noise (frames NOISE_FRAMES) and correlated, so σ_u, σ_v
-(px) and σ_Exx, σ_Eyy (µε) are those of this camera, pattern and settings on this face.
+(px) and σ_Exx, σ_Eyy (µε) are those of this camera, pattern and settings on this face; the face
+rigidly shifted by half a pixel along e₁ and e₂ and correlated against the first of the pair gives
+the sub-pixel translation bias (translation_bias).
 
 Pixel ↔ face convention (vlab.dic.camera): pixel (row i, column j) of a W × H image is centred on
 the face point x₁ = c₁ + (j − (W − 1)/2) p, x₂ = c₂ − (i − (H − 1)/2) p (mm), with the face's
@@ -29,6 +31,7 @@ from vlab.dic.face import Face, FaceError, face_of
 from vlab.dic.inverse_map import reference_points
 
 NOISE_FRAMES = (1_000_001, 1_000_002)  # frame indices of the static pair (never a level's)
+TRANSLATION_PX = 0.5  # the rigid sub-pixel shift of the bias check: mid-pixel, where interpolation bias peaks
 
 
 @dataclass(frozen=True)
@@ -109,6 +112,25 @@ def region_of_interest(view: View) -> np.ndarray:
     return binary_erosion(on, structure=np.ones((n, n), bool), border_value=0)
 
 
+def translation_bias(view: View, pattern, static: Correlator, n_vertices: int, shift: float = TRANSLATION_PX) -> dict:
+    """Bias and scatter (px) of a rigid in-plane translation of the face by ``shift`` px along both
+    e₁ and e₂ (DIC Challenge 2.0): the image moves by (u, v) = (+shift, −shift) px (y runs down);
+    bias = mean measured − true over the converged subsets, std their standard deviation."""
+    from vlab.dic import icgn
+
+    u = np.zeros((n_vertices, 3))
+    for a, s in view.face.axes:
+        u[:, a] = s * shift * view.camera.pitch
+    moved = render(view.camera, view.face, pattern, u, frame=NOISE_FRAMES[-1] + 1)
+    f = static.correlate(moved.astype(float))
+    ok = f.status == icgn.OK
+    if not ok.any():
+        return {"shift_px": shift, "bias_u_px": None, "bias_v_px": None, "std_u_px": None, "std_v_px": None}
+    eu, ev = f.u[ok] - shift, f.v[ok] + shift
+    return {"shift_px": shift, "bias_u_px": float(eu.mean()), "bias_v_px": float(ev.mean()),
+            "std_u_px": float(eu.std()), "std_v_px": float(ev.std())}
+
+
 @dataclass
 class Record:
     """The camera's frames (frame 0 the reference) and the DIC field of every deformed frame."""
@@ -137,10 +159,11 @@ def record(view: View, displacements: list[np.ndarray]) -> Record:
         fields.append(previous)
     t2 = time.perf_counter()
     still = [render(view.camera, view.face, pattern, displacements[0], frame=k) for k in NOISE_FRAMES]
-    pair = Correlator(still[0].astype(float), view.settings, roi=roi).correlate(still[1].astype(float))
-    noise = static_noise(pair) | {"frames": list(NOISE_FRAMES)}
+    static = Correlator(still[0].astype(float), view.settings, roi=roi)
+    noise = static_noise(static.correlate(still[1].astype(float))) | {"frames": list(NOISE_FRAMES)}
     if noise["sigma_u_px"] is not None:
         noise["sigma_u_mm"] = 0.5 * (noise["sigma_u_px"] + noise["sigma_v_px"]) * view.camera.pitch
+    noise["translation"] = translation_bias(view, pattern, static, len(displacements[0]))
     timing = {"render_s": t1 - t0, "correlate_s": t2 - t1, "noise_floor_s": time.perf_counter() - t2,
               "levels": len(fields)}
     return Record(view, images, fields, noise, timing)

@@ -161,6 +161,7 @@ def html_section(data: dict, prefix: str = "", image_source=None) -> str:
     ``image_source(name)``: the img src of a file of the folder, e.g. inlined; default its name)."""
     d, m, point = data["dic"], data["measured"].get("dic") or {}, data["measured"]
     cam, noise, lev = d["camera"], d["noise_floor"], d.get("levelled_last") or {}
+    shift = noise.get("translation") or {}
     rows = [("E (MPa)", point.get("E"), m.get("E"), m.get("E_difference")),
             ("ν", point.get("nu"), m.get("nu"), m.get("nu_difference"))]
     table = "".join(f"<tr><th>{n}</th><td class=num>{_g(a)}</td><td class=num>{_g(b)}</td><td class=num>{_pct(c)}</td></tr>"
@@ -179,7 +180,9 @@ strain window {d['settings']['strain_window']} points; {d['levels']} levels corr
 <p><small>{html.escape(str(m.get('strain') or m.get('note') or ''))}; same modulus window and fit as the point extensometers.</small></p>
 <p>Noise floor (static pair, DIC Challenge 2.0): σ<sub>u</sub> = {_g(noise.get('sigma_u_px'), 3)} px,
 σ<sub>v</sub> = {_g(noise.get('sigma_v_px'), 3)} px, σ<sub>Exx</sub> = {_g(noise.get('sigma_exx_microstrain'), 3)} µε,
-σ<sub>Eyy</sub> = {_g(noise.get('sigma_eyy_microstrain'), 3)} µε.</p>
+σ<sub>Eyy</sub> = {_g(noise.get('sigma_eyy_microstrain'), 3)} µε; a rigid shift of {_g(shift.get('shift_px'), 2)} px
+is read with a bias of {_g(shift.get('bias_u_px'), 2)} px (u), {_g(shift.get('bias_v_px'), 2)} px (v) and a scatter of
+{_g(shift.get('std_u_px'), 2)} px, {_g(shift.get('std_v_px'), 2)} px.</p>
 <table><tr><th>DIC − levelled FE, last level</th><th>rms</th><th>max</th></tr>{levelled}</table>
 <figure><img src="{maps}" alt="DIC maps"><figcaption>Last level: DIC, the FE field levelled through the same
 subset grid and strain window, and their difference (measurement error, not filtering).</figcaption></figure>"""
