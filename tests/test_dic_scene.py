@@ -170,6 +170,7 @@ def test_dic_agrees_with_the_levelled_fe_field_within_its_noise(report):
     assert last["exx"]["rms"] < 3 * noise["sigma_exx_microstrain"] * 1e-6 + 1e-5
     assert last["eyy"]["rms"] < 3 * noise["sigma_eyy_microstrain"] * 1e-6 + 1e-5
     assert last["exx"]["points"] > 100
+    assert d["converged_last"] > 0.95  # of the subsets in the region of interest
     shift = noise["translation"]  # the target for a rigid sub-pixel translation: |bias| ≤ 0.01 px
     assert abs(shift["bias_u_px"]) < 0.01 and abs(shift["bias_v_px"]) < 0.01 and shift["std_u_px"] < 0.01
 

@@ -75,8 +75,10 @@ class Field:
 
     @property
     def converged(self) -> float:
-        """The share of subsets that converged to an accepted correlation."""
-        return float((self.status == icgn.OK).mean()) if self.status.size else 0.0
+        """The share of the subsets in the region of interest (all, without one) that converged to
+        an accepted correlation."""
+        asked = self.status != icgn.OUTSIDE
+        return float((self.status[asked] == icgn.OK).mean()) if asked.any() else 0.0
 
     def counts(self) -> dict[str, int]:
         return {name: int((self.status == code).sum()) for code, name in icgn.STATUS.items()}
