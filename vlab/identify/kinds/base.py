@@ -7,6 +7,8 @@ A kind is a ``FitKind``:
 - ``name``: the ``[[data]] kind``; ``columns``: (required, optional) column keys; ``control``: the
   column the curve runs along (strictly monotonic);
 - ``geometry``: {key: meaning} of the required ``[data.geometry]`` lengths (mm, > 0);
+  ``geometry_limits``: {key: (unit, lo, hi)} for a geometry entry that is not a length (the
+  pre-stretch of tension–torsion: dimensionless, lo ≤ value ≤ hi);
 - ``units`` ({name: factor to the kind's unit}) and ``default_unit``; ``measures``: the
   ``stress_measure`` values that apply (empty: the key is refused);
 - ``compressible``: the kind is meaningless for an incompressible card (it fixes K);
@@ -18,7 +20,7 @@ A kind is a ``FitKind``:
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
@@ -42,6 +44,7 @@ class FitKind:
     predict: Callable
     max_I1: Callable
     labels: tuple
+    geometry_limits: dict = field(default_factory=dict)
 
 
 def gauss(n: int) -> tuple[np.ndarray, np.ndarray]:
@@ -66,7 +69,11 @@ def parse_geometry(t: Table, kind: FitKind) -> dict:
     for key, meaning in kind.geometry.items():
         if key not in g.raw:
             raise SceneError(f"{g.field(key)} is required for kind = {kind.name!r}: {meaning}")
-        out[key] = g.number(key, gt=0, note=f" (mm, {meaning})")
+        if key in kind.geometry_limits:
+            unit, lo, hi = kind.geometry_limits[key]
+            out[key] = g.number(key, ge=lo, le=hi, note=f" ({unit}, {meaning})")
+        else:
+            out[key] = g.number(key, gt=0, note=f" (mm, {meaning})")
     return out
 
 

@@ -28,7 +28,7 @@ from vlab.fields import SceneError
 from vlab.identify.datasets import STRESS_RANGE, check_monotonic
 from vlab.identify.kinds.base import FitKind, gauss
 
-__all__ = ["KIND", "shear_functions", "torque_and_force"]
+__all__ = ["KIND", "check_torque", "shear_functions", "torque_and_force"]
 
 NODES = 32
 WRONG_SIGN = 0.02
@@ -64,7 +64,7 @@ def predict(model, X, d):
     return np.concatenate([M, N], axis=-1) if "axial_force" in d.extra["outputs"] else M
 
 
-def _check_torque(path, wanted, psi, torque, lines, radius: float) -> None:
+def check_torque(path, wanted, psi, torque, lines, radius: float) -> None:
     """The torque's size (as the surface shear stress 2M/(πa³), MPa) within STRESS_RANGE, and its
     sign that of the twist."""
     tau = 2.0 * np.abs(torque) / (np.pi * radius**3)
@@ -85,7 +85,7 @@ def _check_torque(path, wanted, psi, torque, lines, radius: float) -> None:
 def build(path, cols, wanted, lines, factor, geometry):
     psi, torque = cols["twist"], cols["torque"] * factor
     check_monotonic(path, wanted["twist"], psi, lines)
-    _check_torque(path, wanted, psi, torque, lines, geometry["radius"])
+    check_torque(path, wanted, psi, torque, lines, geometry["radius"])
     outputs = ("torque", "axial_force") if "axial_force" in cols else ("torque",)
     y = np.r_[torque, cols["axial_force"]] if "axial_force" in cols else torque
     return psi, None, y, {"geometry": geometry, "outputs": outputs}

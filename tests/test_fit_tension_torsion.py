@@ -1,0 +1,199 @@
+"""`vlab fit` data kinds tension-torsion and free-end-torsion (vlab.identify.kinds.tension_torsion,
+.free_torsion): against the torsion kind at λ = 1, Mooney–Rivlin closed forms of the stretched
+cylinder, an independent integration of the Cauchy stress written here (scipy quad), vlab's FE
+scene, noisy fits back to the card, and bad data sets refused naming the field (exit 2).
+
+The stretched cylinder (the scene's convention, ψ per undeformed length): r = R/√λ, θ = Θ + ψZ,
+z = λZ. For Mooney–Rivlin, σ = 2 C10 B − 2 C01 B⁻¹ − p 1 with B_θz = ψ r λ, B_θθ = 1/λ + ψ²r²,
+B_zz = λ², B_rr = 1/λ, so σ_θz = 2 ψ r (C10 λ + C01), σ_θθ − σ_rr = 2 C10 ψ² r² and
+σ_zz − σ_rr = 2 C10 (λ² − 1/λ) + 2 C01 (λ − λ⁻²) − 2 C01 ψ² r²/λ; over 0 ≤ r ≤ a/√λ:
+
+    M = π ψ a⁴ (C10/λ + C01/λ²),
+    N = 2π a² (λ − λ⁻²)(C10 + C01/λ) − (π/2) ψ² a⁴ (C10 + 2 C01/λ)/λ²,
+
+and with N = 0 for Neo-Hookean (2 C10 = μ, C01 = 0): λ³ = 1 + (ψ a)²/4 (the free end lengthens).
+"""
+
+import math
+import subprocess
+import sys
+from functools import cache
+
+import numpy as np
+import pytest
+from scipy.integrate import quad
+
+from vlab.fields import SceneError
+from vlab.identify.card import card_of
+from vlab.identify.datasets import Dataset
+from vlab.identify.fitfile import FitSpec, load_fit
+from vlab.identify.fitting import fit_homogeneous
+from vlab.identify.jacobian import value_and_jacobian
+from vlab.identify.kinds.free_torsion import free_stretch
+from vlab.identify.kinds.tension_torsion import cylinder_loads
+from vlab.identify.kinds.torsion import torque_and_force
+from vlab.identify.laws import law_for
+from vlab.identify.solve import predict
+from vlab.identify.states import Constitutive
+from vlab.materials.card import build_material, parse_material
+
+C10, C01, A = 0.3, 0.08, 5.0
+PSI = np.linspace(0.01, 0.2, 20)
+OGDEN = [0.4, 0.02, 1.5, 5.0]
+
+
+def _x(model, card):
+    return np.linalg.solve(model.transform, np.asarray(card, float))
+
+
+def _mr_closed(psi, a, lam, c10=C10, c01=C01):
+    M = np.pi * psi * a**4 * (c10 / lam + c01 / lam**2)
+    N = 2 * np.pi * a**2 * (lam - lam**-2) * (c10 + c01 / lam) - 0.5 * np.pi * psi**2 * a**4 * (c10 + 2 * c01 / lam) / lam**2
+    return M, N
+
+
+@pytest.mark.parametrize("name,terms,card", [("mooney-rivlin", 1, [C10, C01]), ("ogden", 2, OGDEN),
+                                             ("gent", 1, [0.4, 30.0]), ("yeoh", 1, [0.2, -0.01, 0.001])])
+def test_at_stretch_one_it_is_the_torsion_kind(name, terms, card):
+    model = Constitutive(law_for(name, terms))
+    X = _x(model, card)[None]
+    psi = np.array([1e-4, 0.05, 0.2, 0.5])
+    M, N = cylinder_loads(model, X, psi, A, 1.0)
+    M1, N1 = torque_and_force(model, X, psi, A)
+    assert np.allclose(M, M1, rtol=1e-12) and np.allclose(N, N1, rtol=1e-10)
+
+
+@pytest.mark.parametrize("lam", [0.7, 0.9, 1.25, 2.0])
+def test_mooney_rivlin_stretched_cylinder_is_its_closed_form(lam):
+    mr = Constitutive(law_for("mooney-rivlin"))
+    psi = np.array([0.0, 1e-3, 0.05, 0.2, 0.6])
+    M, N = cylinder_loads(mr, _x(mr, [C10, C01])[None], psi, A, lam)
+    M_ref, N_ref = _mr_closed(psi, A, lam)
+    assert np.allclose(M[0], M_ref, rtol=1e-12, atol=1e-12) and np.allclose(N[0], N_ref, rtol=1e-11)
+
+
+def _cauchy_mr(F):
+    B = F @ F.T
+    return 2 * C10 * B - 2 * C01 * np.linalg.inv(B)
+
+
+def _library_cauchy(card):
+    og = Constitutive(law_for("ogden", 2))
+    material = build_material(parse_material(dict(card_of(og, np.r_[card, 50.0])["material"]) | {"K": 50.0}))
+    return lambda F: np.asarray(material.stress(F), float) @ F.T  # σ = P Fᵀ at J = 1
+
+
+def _integrated(cauchy, psi, a, lam):
+    """(M, N) by quad over the deformed section, σ_rr from radial equilibrium (any pressure of the
+    law cancels: only differences of σ enter). Point (r, 0, z): e_r, e_θ, e_z = e1, e2, e3."""
+    ad = a / math.sqrt(lam)
+
+    def diffs(r):
+        F = np.array([[lam**-0.5, 0, 0], [0, lam**-0.5, psi * r], [0, 0, lam]])
+        s = cauchy(F)
+        return s[1, 1] - s[0, 0], s[2, 2] - s[0, 0], s[1, 2]
+
+    def srr(r):
+        return -quad(lambda q: diffs(q)[0] / q, r, ad, epsabs=0, epsrel=1e-12)[0]
+
+    M = 2 * np.pi * quad(lambda r: diffs(r)[2] * r * r, 0, ad, epsabs=0, epsrel=1e-12)[0]
+    N = 2 * np.pi * quad(lambda r: (srr(r) + diffs(r)[1]) * r, 0, ad, epsabs=0, epsrel=1e-10)[0]
+    return M, N
+
+
+@pytest.mark.parametrize("lam,psi", [(1.3, 0.15), (0.8, 0.3)])
+def test_an_independent_integration_of_the_cauchy_stress_agrees(lam, psi):
+    mr = Constitutive(law_for("mooney-rivlin"))
+    M, N = cylinder_loads(mr, _x(mr, [C10, C01])[None], np.array([psi]), A, lam)
+    assert (M[0, 0], N[0, 0]) == pytest.approx(_integrated(_cauchy_mr, psi, A, lam), rel=1e-9)
+    assert (M[0, 0], N[0, 0]) == pytest.approx(_mr_closed(psi, A, lam), rel=1e-11)
+    og = Constitutive(law_for("ogden", 2))
+    M, N = cylinder_loads(og, np.array([OGDEN]), np.array([psi]), A, lam)
+    assert (M[0, 0], N[0, 0]) == pytest.approx(_integrated(_library_cauchy(OGDEN), psi, A, lam), rel=1e-8)
+
+
+def test_free_end_neo_hookean_lengthens_by_the_cube_root_law():
+    nh = Constitutive(law_for("neo-hookean"))
+    psi = np.array([1e-3, 0.05, 0.2, 0.6])
+    for mu in (0.4, 3.0):  # independent of the modulus
+        lam = free_stretch(nh, np.array([[mu]]), psi, A)[0]
+        assert np.allclose(lam, (1 + (psi * A) ** 2 / 4) ** (1 / 3), rtol=1e-13)
+    mr = Constitutive(law_for("mooney-rivlin"))
+    x = _x(mr, [C10, C01])[None]
+    lam = free_stretch(mr, x, psi, A)
+    assert np.all(lam > 1) and np.all(np.diff(lam[0]) > 0)  # Poynting: lengthens, more with the twist
+    assert np.allclose(_mr_closed(psi, A, lam[0])[1], 0, atol=1e-12 * np.pi * A**2 * C10)
+
+
+def _data(kind, a, y, extra):
+    return Dataset(kind, f"{kind}.csv", kind, "fit", 1.0, "nominal", a, None, y, extra)
+
+
+EXTRA = {"tension-torsion": {"geometry": {"radius": A, "stretch": 1.3}, "outputs": ("torque", "axial_force")},
+         "free-end-torsion": {"geometry": {"radius": A}, "outputs": ("axial_strain", "torque")}}
+
+
+@pytest.mark.parametrize("kind", list(EXTRA))
+@pytest.mark.parametrize("name,terms,card", [("mooney-rivlin", 1, [C10, C01]), ("ogden", 2, OGDEN)])
+def test_jacobians_are_exact(kind, name, terms, card):
+    """Complex step (through the free end's complex Newton root: the implicit function theorem)
+    against central differences."""
+    model = Constitutive(law_for(name, terms))
+    x = _x(model, card)
+    d = _data(kind, PSI[::4], np.zeros(10), EXTRA[kind])
+    _, J = value_and_jacobian(lambda X: predict(model, X, d), x)
+    h = 1e-6 * np.maximum(1.0, np.abs(x))
+    fd = np.array([(np.real(predict(model, (x + h[j] * e)[None], d))[0] -
+                    np.real(predict(model, (x - h[j] * e)[None], d))[0]) / (2 * h[j])
+                   for j, e in enumerate(np.eye(len(x)))]).T
+    assert np.allclose(J, fd, rtol=1e-5, atol=1e-7 * np.max(np.abs(J)))
+
+
+def _noisy(kind, model, card, seed, noise=0.005, extra=None):
+    d = _data(kind, PSI, np.zeros(40), extra or EXTRA[kind])
+    y = np.real(predict(model, _x(model, card)[None], d))[0]
+    return _data(kind, PSI, y * (1 + noise * np.random.default_rng(seed).standard_normal(40)), d.extra)
+
+
+def _inside(out, truth: dict):
+    for k, v in truth.items():
+        lo, hi = out.data["uncertainty"][k]["interval"]
+        assert lo <= v <= hi, (k, v, lo, hi)
+
+
+def _at_stretch(lam):
+    return {"geometry": {"radius": A, "stretch": lam}, "outputs": ("torque", "axial_force")}
+
+
+def test_tension_torsion_at_two_stretches_is_fitted_back_within_its_intervals():
+    """At one stretch the torque and the tension part of N both carry C10 + C01/λ, and only the
+    (small) Poynting part separates C10 from C01: corr ≈ −0.997 at λ = 1.3, ψ a ≤ 1. Two stretches
+    give two combinations: identifiable."""
+    mr = Constitutive(law_for("mooney-rivlin"))
+    one = fit_homogeneous(FitSpec("t", mr, (_noisy("tension-torsion", mr, [C10, C01], 4),), starts=4))
+    assert one.converged and not one.data["identifiability"]["identifiable"]
+    _inside(one, {"C10": C10, "C01": C01})
+    sets = tuple(_noisy("tension-torsion", mr, [C10, C01], 7 + i, extra=_at_stretch(lam))
+                 for i, lam in enumerate((1.1, 1.6)))
+    out = fit_homogeneous(FitSpec("t", mr, sets, starts=4))
+    assert out.converged and out.data["identifiability"]["identifiable"]
+    _inside(out, {"C10": C10, "C01": C01})
+
+
+def test_noisy_free_end_torsion_is_fitted_back_within_its_intervals():
+    mr = Constitutive(law_for("mooney-rivlin"))
+    out = fit_homogeneous(FitSpec("t", mr, (_noisy("free-end-torsion", mr, [C10, C01], 5),), starts=4))
+    assert out.converged and out.data["identifiability"]["identifiable"]
+    _inside(out, {"C10": C10, "C01": C01})
+
+
+def test_the_free_end_length_alone_separates_c10_from_c01():
+    """Without the torque: the axial strain depends on C01/C10 only (N = 0 is homogeneous in the
+    card), so it fixes the ratio and not the scale."""
+    mr = Constitutive(law_for("mooney-rivlin"))
+    d = _noisy("free-end-torsion", mr, [C10, C01], 6)
+    alone = _data("free-end-torsion", PSI, d.y[:20], {"geometry": {"radius": A}, "outputs": ("axial_strain",)})
+    out = fit_homogeneous(FitSpec("t", mr, (alone,), starts=4))
+    c10, c01 = mr.card_vector(out.x)
+    assert c01 / c10 == pytest.approx(C01 / C10, rel=0.1)
+    assert not out.data["identifiability"]["identifiable"]
