@@ -275,3 +275,70 @@ def test_the_fe_free_end_lengthens_as_the_kind_predicts():
     assert abs(c["axial_force"][-1]) < 1e-6
     M = cylinder_loads(mr, x, psi[-1:], _meshed_radius(0.5), kind[-1:])[0][0, 0]
     assert c["torque"][-1] == pytest.approx(M, rel=0.02)
+
+
+ROOT = __import__("pathlib").Path(__file__).resolve().parents[1]
+
+
+def test_the_shipped_tension_torsion_example_fits_its_card():
+    spec = load_fit(ROOT / "specimens" / "tension-torsion-fit" / "tension-torsion-fit.toml")
+    assert [d.extra["geometry"] for d in spec.datasets] == [{"radius": 5.0, "stretch": 1.1},
+                                                            {"radius": 5.0, "stretch": 1.5}, {"radius": 5.0}]
+    assert spec.datasets[2].extra["outputs"] == ("axial_strain", "torque")
+    out = fit_homogeneous(spec)
+    assert out.data["identifiability"]["identifiable"]
+    _inside(out, {"C10": C10, "C01": C01})
+
+
+TT_CSV = "psi,M,N\n0.01,6.67,15.9\n0.05,33.1,15.2\n0.1,66.3,13.0\n0.2,133,1.6\n"
+FREE_CSV = "psi,lam,M\n0.01,1.00025,7.39\n0.05,1.0062,37.2\n0.1,1.0245,74.0\n"
+FIT = '''[model]
+name = "mooney-rivlin"
+[[data]]
+file = "{file}"
+kind = "{kind}"
+columns = {columns}
+{extra}
+'''
+TT_COLUMNS = '{ twist = "psi", torque = "M", axial_force = "N" }'
+FREE_COLUMNS = '{ twist = "psi", axial_stretch = "lam", torque = "M" }'
+
+
+@pytest.mark.parametrize("kind,columns,csv,extra,needle", [
+    ("tension-torsion", TT_COLUMNS, TT_CSV, "", "data[0].geometry is required for kind = 'tension-torsion': "
+     "[data.geometry] with radius (the cylinder's undeformed radius a), stretch"),
+    ("tension-torsion", TT_COLUMNS, TT_CSV, "geometry = { radius = 5.0 }",
+     "data[0].geometry.stretch is required for kind = 'tension-torsion': the axial stretch λ held during the twist"),
+    ("tension-torsion", TT_COLUMNS, TT_CSV, "geometry = { radius = 5.0, stretch = 0.1 }",
+     "data[0].geometry.stretch must be >= 0.2 and <= 10 (a ratio: deformed / undeformed length"),
+    ("tension-torsion", TT_COLUMNS, TT_CSV, 'units = "MPa"\ngeometry = { radius = 5.0, stretch = 1.1 }',
+     "data[0].units must be one of N*mm, N*m"),
+    ("tension-torsion", TT_COLUMNS, TT_CSV.replace("0.1,", "0.04,"), "geometry = { radius = 5.0, stretch = 1.1 }",
+     "t.csv row 4 column 'psi': 0.04 after 0.05"),
+    ("tension-torsion", TT_COLUMNS, TT_CSV.replace("33.1", "-33.1"), "geometry = { radius = 5.0, stretch = 1.1 }",
+     "t.csv row 3 column 'M': torque -33.1 at twist 0.05 has the sign opposite to the twist"),
+    ("free-end-torsion", FREE_COLUMNS, FREE_CSV, "", "data[0].geometry is required for kind = 'free-end-torsion'"),
+    ("free-end-torsion", FREE_COLUMNS, FREE_CSV.replace("1.0062", "0.99"), "geometry = { radius = 5.0 }",
+     "t.csv row 3 column 'lam': axial stretch 0.99 is not a free end's"),
+    ("free-end-torsion", FREE_COLUMNS, FREE_CSV.replace("0.1,", "0.01,"), "geometry = { radius = 5.0 }",
+     "t.csv row 4 column 'psi': 0.01 after 0.05"),
+    ("free-end-torsion", '{ twist = "psi", torque = "M" }', FREE_CSV, "geometry = { radius = 5.0 }",
+     "t.csv: missing column 'axial_stretch' (columns.axial_stretch)"),
+])
+def test_a_bad_data_set_names_the_field(tmp_path, kind, columns, csv, extra, needle):
+    (tmp_path / "t.csv").write_text(csv)
+    f = tmp_path / "fit.toml"
+    f.write_text(FIT.format(file="t.csv", kind=kind, columns=columns, extra=extra))
+    with pytest.raises(SceneError) as err:
+        load_fit(f)
+    assert needle in str(err.value), str(err.value)
+
+
+def test_the_cli_refuses_a_tension_torsion_set_without_its_stretch_with_exit_2(tmp_path):
+    (tmp_path / "t.csv").write_text(TT_CSV)
+    (tmp_path / "fit.toml").write_text(FIT.format(file="t.csv", kind="tension-torsion", columns=TT_COLUMNS,
+                                                  extra="geometry = { radius = 5.0 }"))
+    r = subprocess.run([sys.executable, "-m", "vlab", "fit", "fit.toml", "-o", "out"], capture_output=True,
+                       text=True, cwd=tmp_path, timeout=300)
+    assert r.returncode == 2 and "data[0].geometry.stretch is required" in r.stderr + r.stdout
+    assert "Traceback" not in r.stderr and not (tmp_path / "out").exists()

@@ -77,8 +77,8 @@ def build(path, cols, wanted, lines, factor, geometry):
     if len(bad):
         j = int(bad[0])
         raise SceneError(f"{path.name} row {int(lines[j])} column {wanted['axial_stretch']!r}: axial stretch "
-                         f"{lam[j]:g} is not a free end's (a twisted free cylinder lengthens: 1 <= stretch <= "
-                         f"{STRETCH_RANGE[1]:g}; a strain column goes in as 1 + strain)")
+                         f"{lam[j]:g} is not a free end's (a twisted free cylinder lengthens: {1 - WRONG_SIGN:g} <= "
+                         f"stretch <= {STRETCH_RANGE[1]:g}; a strain column goes in as 1 + strain)")
     if "torque" not in cols:
         return psi, None, lam - 1.0, {"geometry": geometry, "outputs": ("axial_strain",)}
     torque = cols["torque"] * factor

@@ -99,4 +99,4 @@ KIND = FitKind(
     units={"N*mm": 1.0, "N*m": 1e3}, default_unit="N*mm", measures=(), compressible=False, build=torsion.build,
     predict=predict, max_I1=max_I1,
     labels=("twist ψ (rad/mm, per undeformed length)", {"torque": "torque (N·mm)", "axial_force": "axial force (N)"}),
-    geometry_limits={"stretch": ("1, deformed / undeformed length", *STRETCH_RANGE)})
+    geometry_limits={"stretch": ("a ratio: deformed / undeformed length", *STRETCH_RANGE)})
