@@ -342,3 +342,39 @@ def test_the_cli_refuses_a_tension_torsion_set_without_its_stretch_with_exit_2(t
                        text=True, cwd=tmp_path, timeout=300)
     assert r.returncode == 2 and "data[0].geometry.stretch is required" in r.stderr + r.stdout
     assert "Traceback" not in r.stderr and not (tmp_path / "out").exists()
+
+
+def test_drucker_rows_of_the_torsion_kinds_agree_with_the_simple_shear_scan():
+    """The torsion kind's states (simple shears ψ r) are judged stable exactly when the largest
+    shear ψ a lies below the simple-shear scan's first unstable shear (vlab.identify.drucker): a
+    Yeoh card with C20 < 0 softens past I1 − 3 = C10 / (2 |C20|)."""
+    from vlab.identify.drucker import kind_stability, states_stability
+    from vlab.identify.kinds import FIT_KINDS
+
+    yeoh = Constitutive(law_for("yeoh"))
+    x = _x(yeoh, [0.2, -0.02, 0.0])
+    gamma = kind_stability(yeoh, x, "simple-shear", None)["tension"]["unstable_from_shear"]
+    assert gamma is not None and 1.0 < gamma < 3.0
+    for factor, stable in ((0.97, True), (1.03, False)):
+        psi = np.linspace(0.01, factor * gamma / A, 10)
+        d = _data("torsion", psi, np.zeros(10), {"geometry": {"radius": A}, "outputs": ("torque",)})
+        assert states_stability(yeoh, x, FIT_KINDS["torsion"].states(d))["stable"] is stable
+    # a stretched cylinder reaches further states than its twist alone: judged at its own
+    d = _data("tension-torsion", np.linspace(0.01, 0.9 * gamma / A, 10), np.zeros(10),
+              {"geometry": {"radius": A, "stretch": 2.5}, "outputs": ("torque",)})
+    assert not states_stability(yeoh, x, FIT_KINDS["tension-torsion"].states(d))["stable"]
+
+
+def test_the_fit_reports_the_data_states_and_an_unstable_one_fails_the_stability_verdict():
+    from vlab.identify.fitting import _stability
+
+    mr = Constitutive(law_for("mooney-rivlin"))
+    out = fit_homogeneous(FitSpec("t", mr, (_noisy("free-end-torsion", mr, [C10, C01], 5),), starts=2))
+    row = out.data["stability"]["data_states"]["free-end-torsion (free-end-torsion)"]
+    assert row["stable"] and row["states"] == 160 and row["min_eigenvalue"] > 0
+    assert out.data["stability"]["stable_over_all_fitted_ranges"]
+    yeoh = Constitutive(law_for("yeoh"))
+    d = _data("torsion", np.linspace(0.01, 0.8, 10), np.zeros(10), {"geometry": {"radius": A}, "outputs": ("torque",)})
+    verdict = _stability(yeoh, _x(yeoh, [0.2, -0.02, 0.0]), FitSpec("y", yeoh, (d,)))
+    assert not verdict["data_states"]["torsion (torsion)"]["stable"]
+    assert not verdict["stable_over_all_fitted_ranges"]  # → trust_of: "not Drucker-stable over the fitted ranges"

@@ -15,7 +15,9 @@ A kind is a ``FitKind``:
 - ``build(path, cols, wanted, lines, factor, geometry)`` → (a, b, y, extra), every check done;
 - ``predict(model, X, d)`` → (m, len(d.y)) at internal coordinates X (m, n_x), analytic in X;
 - ``max_I1(d)``: the largest I1 the data reach (the starts' bounds, e.g. Gent's Jm);
-- ``labels``: (x label, y label of each output, in the order of ``d.extra["outputs"]``).
+- ``labels``: (x label, y label of each output, in the order of ``d.extra["outputs"]``);
+- ``states(d)``: principal stretches (3, k) of material points the data reach (at the data's own
+  twists, stretches, ...), where vlab.identify.drucker.states_stability judges the fitted card.
 """
 
 from __future__ import annotations
@@ -45,6 +47,7 @@ class FitKind:
     max_I1: Callable
     labels: tuple
     geometry_limits: dict = field(default_factory=dict)
+    states: Callable | None = None
 
 
 def gauss(n: int) -> tuple[np.ndarray, np.ndarray]:

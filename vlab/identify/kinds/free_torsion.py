@@ -29,7 +29,7 @@ from vlab.fields import SceneError
 from vlab.identify.datasets import check_monotonic
 from vlab.identify.kinds import torsion
 from vlab.identify.kinds.base import FitKind
-from vlab.identify.kinds.tension_torsion import STRETCH_RANGE, cylinder_loads, surface_I1
+from vlab.identify.kinds.tension_torsion import STRETCH_RANGE, cylinder_loads, section_states, surface_I1
 
 __all__ = ["KIND", "free_stretch"]
 
@@ -92,9 +92,14 @@ def max_I1(d) -> float:
     return float(np.max(surface_I1(d.a, radius, 1.0 + d.y[:len(d.a)])))
 
 
+def states(d):
+    """Along the radius at the data's own twists and measured stretches."""
+    return section_states(d.a, d.extra["geometry"]["radius"], 1.0 + d.y[:len(d.a)])
+
+
 KIND = FitKind(
     name="free-end-torsion", columns=(("twist", "axial_stretch"), ("torque",)), control="twist",
     geometry={"radius": "the cylinder's undeformed radius a"}, units={"N*mm": 1.0, "N*m": 1e3},
     default_unit="N*mm", measures=(), compressible=False, build=build, predict=predict, max_I1=max_I1,
     labels=("twist ψ (rad/mm, per undeformed length)", {"axial_strain": "axial strain λ − 1 (free end)",
-                                                         "torque": "torque (N·mm)"}))
+                                                         "torque": "torque (N·mm)"}), states=states)

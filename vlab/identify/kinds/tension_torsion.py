@@ -40,20 +40,30 @@ import numpy as np
 from vlab.identify.kinds import torsion
 from vlab.identify.kinds.base import FitKind, gauss
 
-__all__ = ["KIND", "STRETCH_RANGE", "cylinder_loads", "stretched_shear"]
+__all__ = ["KIND", "STRETCH_RANGE", "cylinder_loads", "principal_stretches", "section_states", "stretched_shear"]
 
 NODES = 32
 STRETCH_RANGE = (0.2, 10.0)  # the scene's test.stretch range
 
 
+def _block(k, lam):
+    """(b_θθ, b_zz, b_θz) of B and D = √((b_θθ − b_zz)² + 4 b_θz²)."""
+    btt, bzz, btz = 1.0 / lam + k * k, lam * lam, k * lam
+    return btt, bzz, btz, np.sqrt((btt - bzz) ** 2 + 4.0 * btz * btz)
+
+
+def principal_stretches(k, lam):
+    """(λ+, λ_r, λ−) at shear k = ψ r and axial stretch λ: λ± = √((b_θθ + b_zz ± D)/2), λ_r = λ^(−1/2)."""
+    btt, bzz, _, root = _block(k, lam)
+    half = 0.5 * (btt + bzz)
+    return np.sqrt(half + 0.5 * root), lam**-0.5 + 0.0 * k, np.sqrt(half - 0.5 * root)
+
+
 def stretched_shear(model, c, k, lam):
     """(σ_θz, σ_θθ − σ_rr, σ_zz − σ_rr), MPa, at shear k = ψ r and axial stretch λ (broadcast)."""
-    btt, bzz, btz = 1.0 / lam + k * k, lam * lam, k * lam
-    root = np.sqrt((btt - bzz) ** 2 + 4.0 * btz * btz)
-    half = 0.5 * (btt + bzz)
-    lp, lm = np.sqrt(half + 0.5 * root), np.sqrt(half - 0.5 * root)
+    btt, bzz, btz, root = _block(k, lam)
+    wp, wr, wm = model.law.w(c, *principal_stretches(k, lam))
     root = np.where(np.abs(root) < 1e-300, 1.0, root)  # B = 1 (ψ r = 0, λ = 1): w+ = w− = w_r, all 0
-    wp, wr, wm = model.law.w(c, lp, lam**-0.5 + 0.0 * k, lm)
     cos2 = 0.5 * (1.0 + (btt - bzz) / root)
     sin2 = 1.0 - cos2
     return (wp - wm) * btz / root, wp * cos2 + wm * sin2 - wr, wp * sin2 + wm * cos2 - wr
@@ -88,6 +98,21 @@ def surface_I1(psi, radius: float, lam):
     return 2.0 / lam + lam * lam + (np.asarray(psi) * radius) ** 2 / lam
 
 
+SAMPLES = np.linspace(0.0, 1.0, 9)[1:]  # r / a' of the material points judged for stability
+
+
+def section_states(psi, radius: float, lam):
+    """Principal stretches (3, n·8) along the deformed radius at twists ψ (n,), stretches λ."""
+    lam = np.broadcast_to(np.asarray(lam, float), np.shape(psi))[:, None]
+    k = np.asarray(psi, float)[:, None] * radius / np.sqrt(lam) * SAMPLES
+    return np.array([v.ravel() for v in principal_stretches(k, lam)])
+
+
+def states(d):
+    g = d.extra["geometry"]
+    return section_states(d.a, g["radius"], g["stretch"])
+
+
 def max_I1(d) -> float:
     g = d.extra["geometry"]
     return float(np.max(surface_I1(d.a, g["radius"], g["stretch"])))
@@ -99,4 +124,4 @@ KIND = FitKind(
     units={"N*mm": 1.0, "N*m": 1e3}, default_unit="N*mm", measures=(), compressible=False, build=torsion.build,
     predict=predict, max_I1=max_I1,
     labels=("twist ψ (rad/mm, per undeformed length)", {"torque": "torque (N·mm)", "axial_force": "axial force (N)"}),
-    geometry_limits={"stretch": ("a ratio: deformed / undeformed length", *STRETCH_RANGE)})
+    geometry_limits={"stretch": ("a ratio: deformed / undeformed length", *STRETCH_RANGE)}, states=states)

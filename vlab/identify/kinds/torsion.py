@@ -96,8 +96,14 @@ def max_I1(d) -> float:
     return 3.0 + float(np.max(np.abs(d.a))) ** 2 * d.extra["geometry"]["radius"] ** 2
 
 
+def states(d):
+    """Simple shears ψ r along the radius (λ = 1 of the stretched cylinder's states)."""
+    from vlab.identify.kinds.tension_torsion import section_states  # (it builds on this module)
+    return section_states(d.a, d.extra["geometry"]["radius"], 1.0)
+
+
 KIND = FitKind(
     name="torsion", columns=(("twist", "torque"), ("axial_force",)), control="twist",
     geometry={"radius": "the cylinder's radius a"}, units={"N*mm": 1.0, "N*m": 1e3}, default_unit="N*mm",
     measures=(), compressible=False, build=build, predict=predict, max_I1=max_I1,
-    labels=("twist ψ (rad/mm)", {"torque": "torque (N·mm)", "axial_force": "axial force (N)"}))
+    labels=("twist ψ (rad/mm)", {"torque": "torque (N·mm)", "axial_force": "axial force (N)"}), states=states)
