@@ -21,6 +21,7 @@ from functools import cache
 
 import numpy as np
 import pytest
+from fit_helpers import assert_inside, assert_jacobian_exact
 from scipy.integrate import quad
 
 from vlab.fields import SceneError
@@ -28,7 +29,6 @@ from vlab.identify.card import card_of
 from vlab.identify.datasets import Dataset
 from vlab.identify.fitfile import FitSpec, load_fit
 from vlab.identify.fitting import fit_homogeneous
-from vlab.identify.jacobian import value_and_jacobian
 from vlab.identify.kinds.free_torsion import free_stretch
 from vlab.identify.kinds.tension_torsion import cylinder_loads
 from vlab.identify.kinds.torsion import torque_and_force
@@ -141,24 +141,13 @@ def test_jacobians_are_exact(kind, name, terms, card):
     model = Constitutive(law_for(name, terms))
     x = _x(model, card)
     d = _data(kind, PSI[::4], np.zeros(10), EXTRA[kind])
-    _, J = value_and_jacobian(lambda X: predict(model, X, d), x)
-    h = 1e-6 * np.maximum(1.0, np.abs(x))
-    fd = np.array([(np.real(predict(model, (x + h[j] * e)[None], d))[0] -
-                    np.real(predict(model, (x - h[j] * e)[None], d))[0]) / (2 * h[j])
-                   for j, e in enumerate(np.eye(len(x)))]).T
-    assert np.allclose(J, fd, rtol=1e-5, atol=1e-7 * np.max(np.abs(J)))
+    assert_jacobian_exact(model, x, d)
 
 
 def _noisy(kind, model, card, seed, noise=0.005, extra=None):
     d = _data(kind, PSI, np.zeros(40), extra or EXTRA[kind])
     y = np.real(predict(model, _x(model, card)[None], d))[0]
     return _data(kind, PSI, y * (1 + noise * np.random.default_rng(seed).standard_normal(40)), d.extra)
-
-
-def _inside(out, truth: dict):
-    for k, v in truth.items():
-        lo, hi = out.data["uncertainty"][k]["interval"]
-        assert lo <= v <= hi, (k, v, lo, hi)
 
 
 def _at_stretch(lam):
@@ -172,19 +161,19 @@ def test_tension_torsion_at_two_stretches_is_fitted_back_within_its_intervals():
     mr = Constitutive(law_for("mooney-rivlin"))
     one = fit_homogeneous(FitSpec("t", mr, (_noisy("tension-torsion", mr, [C10, C01], 4),), starts=4))
     assert one.converged and not one.data["identifiability"]["identifiable"]
-    _inside(one, {"C10": C10, "C01": C01})
+    assert_inside(one, {"C10": C10, "C01": C01})
     sets = tuple(_noisy("tension-torsion", mr, [C10, C01], 7 + i, extra=_at_stretch(lam))
                  for i, lam in enumerate((1.1, 1.6)))
     out = fit_homogeneous(FitSpec("t", mr, sets, starts=4))
     assert out.converged and out.data["identifiability"]["identifiable"]
-    _inside(out, {"C10": C10, "C01": C01})
+    assert_inside(out, {"C10": C10, "C01": C01})
 
 
 def test_noisy_free_end_torsion_is_fitted_back_within_its_intervals():
     mr = Constitutive(law_for("mooney-rivlin"))
     out = fit_homogeneous(FitSpec("t", mr, (_noisy("free-end-torsion", mr, [C10, C01], 5),), starts=4))
     assert out.converged and out.data["identifiability"]["identifiable"]
-    _inside(out, {"C10": C10, "C01": C01})
+    assert_inside(out, {"C10": C10, "C01": C01})
 
 
 def test_the_free_end_length_alone_separates_c10_from_c01():
@@ -287,7 +276,7 @@ def test_the_shipped_tension_torsion_example_fits_its_card():
     assert spec.datasets[2].extra["outputs"] == ("axial_strain", "torque")
     out = fit_homogeneous(spec)
     assert out.data["identifiability"]["identifiable"]
-    _inside(out, {"C10": C10, "C01": C01})
+    assert_inside(out, {"C10": C10, "C01": C01})
 
 
 TT_CSV = "psi,M,N\n0.01,6.67,15.9\n0.05,33.1,15.2\n0.1,66.3,13.0\n0.2,133,1.6\n"
