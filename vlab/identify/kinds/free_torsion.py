@@ -50,7 +50,7 @@ def free_stretch(model, X, twist, radius: float):
     for _ in range(ITERATIONS):
         g = force(lam)
         real = np.real(lam)
-        slope = np.real(force(real * (1.0 + 1e-7)) - force(real)) / (real * 1e-7)
+        slope = (np.real(force(real * (1.0 + 1e-7))) - np.real(g)) / (real * 1e-7)  # Re g = N(Re λ) to O(h²)
         step = g / np.where(slope > 0, slope, np.nan)  # N falling with λ: no free length to find
         new = lam - step
         inside = (np.real(new) > lo) & (np.real(new) < hi)
