@@ -71,18 +71,54 @@ def test_mu_from_noise_free_images_within_1_percent_from_a_30_percent_high_start
     assert u["interval"] is not None and u["standard_error"] > 0 and np.isfinite(u["standard_error"])
 
 
-def test_mu_from_images_with_1_percent_grey_noise_through_the_cli(tmp_path):
-    gen = _generator()
-    gen.write_folder(tmp_path / "field", EXAMPLE / "block-clamped.toml", dict(gen.CAMERA, noise=0.01), seed=5)
-    fit = _fit_file(tmp_path, 0.7 * MU)
+DIC_TABLE = """
+[instruments.dic]
+face = "top"
+subset = 25
+step = 8
+strain_window = 5
+[instruments.dic.camera]
+pixels = [400, 136]
+mm_per_px = 0.025
+noise = 0.01
+seed = 5
+[instruments.dic.speckle]
+size = 4.0
+"""
+
+
+def test_mu_from_vlab_runs_own_dic_folder_at_1_percent_grey_noise(tmp_path):
+    """vlab run of the scene with [instruments.dic] writes <report>/dic (its camera, noise floor,
+    fields and levels); vlab fit reads that folder as it is."""
+    scene = tmp_path / "scene.toml"
+    scene.write_text((EXAMPLE / "block-clamped.toml").read_text() + DIC_TABLE)
+    run = subprocess.run([sys.executable, "-m", "vlab", "run", str(scene), "--out", str(tmp_path / "run"), "--no-estimate"],
+                         capture_output=True, text=True, timeout=600, cwd=tmp_path)
+    assert run.returncode == 0, run.stdout + run.stderr
+    fit = tmp_path / "fit.toml"
+    fit.write_text(f'''name = "from-run"
+[model]
+name = "neo-hookean"
+[[data]]
+kind = "field"
+fields = "run/dic"
+[fe]
+scene = "scene.toml"
+parameters = ["mu"]
+start = {{ mu = {0.7 * MU} }}
+cache = false
+''')
     r = subprocess.run([sys.executable, "-m", "vlab", "fit", str(fit), "--out", str(tmp_path / "out")],
                        capture_output=True, text=True, timeout=600, cwd=tmp_path)
     assert r.returncode == 0, r.stdout + r.stderr
     d = json.loads((tmp_path / "out" / "fit.json").read_text())
-    mu = d["parameters"]["mu"]
-    print(f"1 % grey noise: mu = {mu:.6g} ± {d['uncertainty']['mu']['standard_error']:.2g}, error {mu / MU - 1:+.3%}, "
-          f"strain rms {d['datasets'][0]['strain_rms']:.3g}, solves {d['fe']['solves']}")
+    mu, row = d["parameters"]["mu"], d["datasets"][0]
+    floor = json.loads((tmp_path / "run" / "dic" / "dic.json").read_text())["noise_floor"]
+    print(f"1 % grey noise (vlab run's dic/): mu = {mu:.6g} ± {d['uncertainty']['mu']['standard_error']:.2g}, "
+          f"error {mu / MU - 1:+.3%}, strain rms {row['strain_rms']:.3g}, sigma_E {row['strain_noise']:.3g}, "
+          f"solves {d['fe']['solves']}, fit {d['timing']['fit_s']:.3g} s")
     assert abs(mu / MU - 1) < 0.01
+    assert row["strain_noise"] == pytest.approx(1e-6 * max(floor["sigma_exx_microstrain"], floor["sigma_eyy_microstrain"]))
     lo, hi = d["uncertainty"]["mu"]["interval"]
     assert lo < mu < hi
     assert (tmp_path / "out" / "field.png").is_file() and "full fields" in (tmp_path / "out" / "index.html").read_text()
@@ -132,7 +168,7 @@ def test_bad_folders_name_the_file_row_and_column(clean, tmp_path):
 def test_a_camera_that_puts_subsets_off_the_face_is_refused_with_exit_2(clean, tmp_path):
     field = _copy(clean, tmp_path)
     d = json.loads((field / "dic.json").read_text())
-    d["camera"]["centre"][1] += 1.5  # across the 4 mm face: the top rows map 0.8 mm beyond its edge
+    d["camera"]["centre_mm"][1] += 1.5  # across the 4 mm face: the top rows map 0.8 mm beyond its edge
     (field / "dic.json").write_text(json.dumps(d))
     fit = _fit_file(tmp_path, MU)
     r = subprocess.run([sys.executable, "-m", "vlab", "fit", str(fit), "--out", str(tmp_path / "out")],

@@ -8,7 +8,7 @@ and the folder gets what `vlab run` writes for a scene with [instruments.dic]:
 
     field/fields/level-<k>.csv   vlab dic's CSV of level k
     field/levels.csv             image, displacement (grip travel (λ − 1) L_grip, mm), force (N)
-    field/dic.json               the DIC settings and the camera (pixels, mm_per_px, centre, face)
+    field/dic.json               the DIC settings and the camera (pixels, mm_per_px, centre_mm, face)
 
 `vlab fit specimens/dic-field-fit/field-fit.toml` then identifies mu back from a 30 % wrong start.
 ``write_folder`` is what tests/test_fit_field.py calls with its own scene, camera and noise.
@@ -75,8 +75,8 @@ def write_folder(folder: Path, scene_path: Path, camera: dict = CAMERA, dic: dic
         converged[f"level-{k}"] = previous.converged
     (folder / "levels.csv").write_text("\n".join(rows) + "\n")
     data = {"settings": settings_dict(settings), "converged_share": converged,
-            "camera": {"pixels": list(camera["pixels"]), "mm_per_px": camera["mm_per_px"], "centre": list(centre),
-                       "face": {"axis": camera["face"][0], "side": camera["face"][1]},
+            "camera": {"pixels": list(camera["pixels"]), "mm_per_px": camera["mm_per_px"], "centre_mm": list(centre),
+                       "face": {"axis": "xyz"[camera["face"][0]], "side": camera["face"][1]},
                        "noise": camera["noise"], "bit_depth": 16, "supersample": 3, "speckle_px": 4.0}}
     (folder / "dic.json").write_text(json.dumps(data, indent=1))
     return data

@@ -3,7 +3,8 @@
     [[data]]
     kind = "field"
     fields = "dic"                 # folder: fields/<stem>.csv, levels.csv, maybe dic.json
-    strain_noise = 1e-4            # σ_E, the DIC strain noise (1 = strain); weights the strain residuals
+    strain_noise = 1e-4            # σ_E (strain); default dic.json's noise floor (the larger of σ_Exx,
+                                   #   σ_Eyy of vlab run's static pair), else 1e-4
     force_resolution = 0.01        # σ_F (N); default 1e-3 × the largest |force| in levels.csv
     strain_window = 5              # only without dic.json's settings: the DIC's strain window (grid points)
     subset = 31                    # only without dic.json's settings: the subset size (px; default 0)
@@ -11,7 +12,7 @@
     pixels = [1024, 1024]          # W, H
     mm_per_px = 0.05               # p, mm on the specimen per pixel
     centre = [0.0, 0.0]            # c (mm): the face point at the image centre
-    face = { axis = 2, side = 1 }  # as vlab.dic.face.face_of takes them
+    face = { axis = 2, side = 1 }  # as vlab.dic.face.face_of takes them (axis also "x", "y", "z")
 
 ``levels.csv`` has the columns image, displacement, force: the image stem (its field is
 fields/<stem>.csv), the grip displacement Δ = (λ_grip − 1) L_grip in mm (the crosshead travel) and
@@ -101,8 +102,8 @@ def field_dataset(raw: dict, i: int, base: Path):
     subset = _setting(t, settings, folder, "subset", 0, 1001, default=0)
     fmax = max(abs(lv.force) for lv in levels)
     sigma_f = t.number("force_resolution", max(FORCE_SHARE * fmax, 1e-12), gt=0, note=" (N)")
-    data = FieldData(str(folder), xs, ys, step, window, camera, levels,
-                     t.number("strain_noise", STRAIN_NOISE, gt=0, le=1.0, note=" (strain)"), sigma_f, subset)
+    sigma_e = t.number("strain_noise", _noise_floor(settings), gt=0, le=1.0, note=" (strain)")
+    data = FieldData(str(folder), xs, ys, step, window, camera, levels, sigma_e, sigma_f, subset)
     disp = np.array([lv.displacement for lv in levels])
     force = np.array([lv.force for lv in levels])
     return Dataset(str(t.get("name", folder.name)), str(folder), "field", "fit",
@@ -122,9 +123,23 @@ def _dic_json(folder: Path) -> dict:
     return d
 
 
+def _noise_floor(settings: dict) -> float:
+    """The default σ_E: the larger of the static pair's σ_Exx, σ_Eyy (dic.json's noise_floor, µε,
+    written by vlab run) when there is one above zero, else STRAIN_NOISE."""
+    floor = settings.get("noise_floor")
+    if not isinstance(floor, dict):
+        return STRAIN_NOISE
+    sig = [floor.get(k) for k in ("sigma_exx_microstrain", "sigma_eyy_microstrain")]
+    sig = [float(v) for v in sig if isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)]
+    return max(sig) * 1e-6 if sig and max(sig) > 0 else STRAIN_NOISE
+
+
 def _camera(t: Table, from_json, folder: Path) -> dict:
-    """pixels, mm_per_px, centre, face: [data.camera] over dic.json's "camera"."""
+    """pixels, mm_per_px, centre, face: [data.camera] over dic.json's "camera" (there the centre is
+    "centre_mm", as vlab run writes it; "centre" is read too)."""
     raw = dict(from_json) if isinstance(from_json, dict) else {}
+    if "centre_mm" in raw:
+        raw["centre"] = raw.pop("centre_mm")
     where = {k: f"{folder / 'dic.json'} camera.{k}" for k in raw}
     own = Table(t.field("camera"), t.get("camera", {}), ("pixels", "mm_per_px", "centre", "face"))
     raw |= own.raw
@@ -136,17 +151,26 @@ def _camera(t: Table, from_json, folder: Path) -> dict:
     pix = raw["pixels"]
     if not (isinstance(pix, list) and len(pix) == 2 and all(isinstance(n, int) and 16 <= n <= 16384 for n in pix)):
         raise SceneError(f"{where['pixels']} must be [W, H], integers in [16, 16384], got {fields.show(pix)}")
-    face = Table(where["face"], raw["face"], ("axis", "side"))
+    face = raw["face"]
+    if not isinstance(face, dict) or "axis" not in face or "side" not in face:
+        raise SceneError(f"{where['face']} must be a table {{ axis = 0..2 (or \"x\", \"y\", \"z\"), side = ±1 }}, "
+                         f"got {fields.show(face)}")
     return {"pixels": (int(pix[0]), int(pix[1])),
             "mm_per_px": fields.number(where["mm_per_px"], raw["mm_per_px"], gt=0, note=" (mm per pixel)"),
             "centre": fields.vector(where["centre"], raw["centre"], 2, "(mm, the face point at the image centre)"),
-            "face": (face.integer("axis", 0, 2), _side(face))}
+            "face": (_axis(where["face"], face["axis"]), _side(where["face"], face["side"]))}
 
 
-def _side(face: Table) -> int:
-    v = face.get("side")
+def _axis(where: str, v) -> int:
+    """A face's axis: 0, 1, 2 or its name x, y, z (vlab run's dic.json writes the name)."""
+    if isinstance(v, str) and v in ("x", "y", "z"):
+        return "xyz".index(v)
+    return fields.integer(f"{where}.axis", v, 0, 2)
+
+
+def _side(where: str, v) -> int:
     if v not in (-1, 1) or isinstance(v, bool):
-        raise SceneError(f"{face.field('side')} must be 1 or -1 (the side of the specimen the camera is on), "
+        raise SceneError(f"{where}.side must be 1 or -1 (the side of the specimen the camera is on), "
                          f"got {fields.show(v)}")
     return int(v)
 

@@ -33,7 +33,7 @@ __all__ = ["fit_field", "field_residuals", "field_section"]
 
 OPTIMISTIC = ("field fit: the standard errors treat every DIC strain value as independent; neighbouring subsets "
               "and strain windows overlap, so they are optimistic (docs/dic.md: the error of μ on virtual images "
-              "was 2.7 to 6 of them)")
+              "was 0.7 to 6 of them)")
 OFFSETS = 16  # directions probed around a subset centre off the face (is the subset on the face at all?)
 
 
