@@ -25,18 +25,20 @@ def _generator():
     return module
 
 
-def _fit_file(folder: Path, start: float, extra: str = "") -> Path:
-    shutil.copy(EXAMPLE / "block-clamped.toml", folder / "block-clamped.toml")
+def _fit_file(folder: Path, start: float, fields: str = "field", scene: str | None = None) -> Path:
+    """fit.toml in folder: mu of ``scene`` (default: a copy of the example's block) from ``start``."""
+    if scene is None:
+        scene = "block-clamped.toml"
+        shutil.copy(EXAMPLE / scene, folder / scene)
     path = folder / "fit.toml"
     path.write_text(f'''name = "field"
 [model]
 name = "neo-hookean"
 [[data]]
 kind = "field"
-fields = "field"
-{extra}
+fields = "{fields}"
 [fe]
-scene = "block-clamped.toml"
+scene = "{scene}"
 parameters = ["mu"]
 start = {{ mu = {start} }}
 max_solves = 12
@@ -95,19 +97,7 @@ def test_mu_from_vlab_runs_own_dic_folder_at_1_percent_grey_noise(tmp_path):
     run = subprocess.run([sys.executable, "-m", "vlab", "run", str(scene), "--out", str(tmp_path / "run"), "--no-estimate"],
                          capture_output=True, text=True, timeout=600, cwd=tmp_path)
     assert run.returncode == 0, run.stdout + run.stderr
-    fit = tmp_path / "fit.toml"
-    fit.write_text(f'''name = "from-run"
-[model]
-name = "neo-hookean"
-[[data]]
-kind = "field"
-fields = "run/dic"
-[fe]
-scene = "scene.toml"
-parameters = ["mu"]
-start = {{ mu = {0.7 * MU} }}
-cache = false
-''')
+    fit = _fit_file(tmp_path, 0.7 * MU, fields="run/dic", scene="scene.toml")
     r = subprocess.run([sys.executable, "-m", "vlab", "fit", str(fit), "--out", str(tmp_path / "out")],
                        capture_output=True, text=True, timeout=600, cwd=tmp_path)
     assert r.returncode == 0, r.stdout + r.stderr
