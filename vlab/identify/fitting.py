@@ -303,6 +303,9 @@ def fit_any(spec: FitSpec, execution=None) -> FitOutcome:
 def fit_one(spec: FitSpec, execution=None) -> FitOutcome:
     """The homogeneous fit, or the FE-in-the-loop fit when a data set is a specimen's readings
     (its whole-test solves on Dask with ``execution``, vlab.study.sweep.Execution)."""
+    if spec.fe is not None and any(d.kind == "field" for d in spec.datasets):
+        from vlab.identify.field_fit import fit_field
+        return fit_field(spec, execution)
     if spec.fe is not None:
         from vlab.identify.fe_loop import fit_specimen
         return fit_specimen(spec, execution)

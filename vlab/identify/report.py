@@ -90,6 +90,9 @@ def _fe_section(d: dict) -> str:
     fe = d.get("fe")
     if not fe:
         return ""
+    if "field" in fe:  # FE model updating on DIC fields
+        from vlab.identify.field_fit import field_section
+        return field_section(d)
     hom = fe["homogeneous_fit"]
     rows = [[html.escape(n), _f(d["parameters"][n], 6), _f(v, 6), f"{100 * hom['relative_difference'][n]:+.3g} %",
              _f(hom["difference_in_standard_errors"][n], 3)] for n, v in hom["parameters"].items()]
@@ -218,7 +221,7 @@ def write_fit_files(outcome, tmp: Path, fit_text: str | None = None) -> dict:
     from vlab.identify.plots import plot_curves, plot_stability_map
 
     d = outcome.data = strict(outcome.data)  # what the console and the page show is what fit.json holds
-    sets = [s for s in outcome.spec.datasets if s.kind != "specimen"]
+    sets = [s for s in outcome.spec.datasets if s.kind not in ("specimen", "field")]
     tmp = Path(tmp)
     images = list(outcome.extras.get("figures", []))
     if sets:
