@@ -229,6 +229,14 @@ def _options(raw) -> dict:
             "confidence": t.number("confidence", 0.95, ge=0.5, le=0.999)}
 
 
+def _fe_scene(data: dict, raw_data: list, base: Path):
+    """The [fe] scene when a data set is of kind "specimen" (its test kind says the data's columns)."""
+    if not any(isinstance(d, dict) and d.get("kind") == "specimen" for d in raw_data):
+        return None
+    from vlab.identify.fe_spec import specimen_scene
+    return specimen_scene(data.get("fe"), base)[1][2]
+
+
 def parse_fit(data: dict, base_dir: Path, default_name: str = "fit") -> FitSpec:
     """A validated FitSpec from a parsed fit file; data files are read and checked here."""
     allowed = ("name", "description", "model", "data", "options", "fe")
@@ -248,10 +256,7 @@ def parse_fit(data: dict, base_dir: Path, default_name: str = "fit") -> FitSpec:
     raw_data = data["data"]
     if not isinstance(raw_data, list) or not raw_data:
         raise SceneError("[[data]] must list at least one data set (file, kind, columns, ...)")
-    scene = None
-    if any(isinstance(d, dict) and d.get("kind") == "specimen" for d in raw_data):
-        from vlab.identify.fe_spec import specimen_scene
-        scene = specimen_scene(data.get("fe"), Path(base_dir))[1][2]  # its kind says the columns
+    scene = _fe_scene(data, raw_data, Path(base_dir))
     datasets = tuple(_dataset(d, i, Path(base_dir), scene) for i, d in enumerate(raw_data))
     needs_k = [d.kind for d in datasets
                if d.kind == "volumetric" or (d.kind in FIT_KINDS and FIT_KINDS[d.kind].compressible)]
