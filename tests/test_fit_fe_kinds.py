@@ -289,3 +289,13 @@ def test_pressure_control_is_refused_exit_2(tmp_path):
                        text=True, timeout=600, cwd=tmp_path)
     assert r.returncode == 2 and "test.control must be \"volume\"" in r.stderr + r.stdout
     assert not (tmp_path / "out").exists()
+
+
+def test_vlab_design_refuses_a_kind_it_does_not_plan_exit_2(tmp_path):
+    (tmp_path / "curve.csv").write_text("twist,torque\n0.1,1\n0.2,2\n0.3,3\n")
+    fit = _fit_file(tmp_path, "torsion", 'twist = "twist", torque = "torque"', ("C10",))
+    (tmp_path / "torsion.toml").write_text(SCENES["torsion"])
+    r = subprocess.run([sys.executable, "-m", "vlab", "design", str(fit), "--noise", "0.01", "--out", "out"],
+                       capture_output=True, text=True, timeout=600, cwd=tmp_path)
+    assert r.returncode == 2 and "test.kind = 'torsion' is fitted by vlab fit but not designed" in r.stdout + r.stderr
+    assert not (tmp_path / "out").exists()

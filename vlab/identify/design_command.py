@@ -180,6 +180,9 @@ def design_fe(spec, kinds, ranges, points: int, max_size: int | None, noise: flo
     from vlab.identify.fe_loop import fit_specimen
 
     fe, names, relative = spec.fe, list(spec.fe["parameters"]), spec.residual == "relative"
+    if fe["scene"].test.kind not in ("uniaxial", "planar", "biaxial"):  # candidates are gauge lengths and strains
+        raise SceneError(f"fe.scene: vlab design plans extension tests (gauge length, extensometer strain range); "
+                         f"test.kind = {fe['scene'].test.kind!r} is fitted by vlab fit but not designed")
     if kinds and not relative:
         raise SceneError("--candidates with a specimen fit file needs options.residual = \"relative\" (its force "
                          "scatter in N has no stress equivalent for homogeneous tests); give --specimens instead")
