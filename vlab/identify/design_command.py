@@ -167,6 +167,13 @@ VALLEY = ("the file's data do not identify the fitted card, so the design is aro
           "valley: give the expected constants with --expect")
 
 
+def _check_designable(scene) -> None:
+    """vlab design's specimen candidates are extension tests (gauge lengths, extensometer strains)."""
+    if scene.test.kind not in ("uniaxial", "planar", "biaxial"):
+        raise SceneError(f"fe.scene: vlab design plans extension tests (gauge length, extensometer strain range); "
+                         f"test.kind = {scene.test.kind!r} is fitted by vlab fit but not designed")
+
+
 def design_fe(spec, kinds, ranges, points: int, max_size: int | None, noise: float | None, expect: np.ndarray | None,
               specimens, gauges, elongation_sd: float = 0.0) -> dict:
     """design.json's dict for a fit file with specimen data (FE in the loop): candidate specimen tests
@@ -180,9 +187,7 @@ def design_fe(spec, kinds, ranges, points: int, max_size: int | None, noise: flo
     from vlab.identify.fe_loop import fit_specimen
 
     fe, names, relative = spec.fe, list(spec.fe["parameters"]), spec.residual == "relative"
-    if fe["scene"].test.kind not in ("uniaxial", "planar", "biaxial"):  # candidates are gauge lengths and strains
-        raise SceneError(f"fe.scene: vlab design plans extension tests (gauge length, extensometer strain range); "
-                         f"test.kind = {fe['scene'].test.kind!r} is fitted by vlab fit but not designed")
+    _check_designable(fe["scene"])
     if kinds and not relative:
         raise SceneError("--candidates with a specimen fit file needs options.residual = \"relative\" (its force "
                          "scatter in N has no stress equivalent for homogeneous tests); give --specimens instead")

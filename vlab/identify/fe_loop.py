@@ -153,9 +153,9 @@ def _homogeneous_comparison(spec, sim, p, se, names) -> dict:
     from vlab.identify.fe_readings import SPECIMEN_KINDS
     from vlab.identify.fitting import fit_homogeneous
 
-    bulk = "fit" if "K" in names else "fixed"
-    model = closed_form(spec.fe, bulk)
     kind = SPECIMEN_KINDS[spec.fe["scene"].test.kind]
+    incompressible = not kind.closed_form_has_K  # Rivlin's cylinder, the thick sphere: K is not in them
+    model = closed_form(spec.fe, "fit" if "K" in names and not incompressible else "fixed")
     sets = []
     for d in (d for d in spec.datasets if d.kind == "specimen" and d.role == "fit"):
         c = kind.closed_form(d, spec.fe["scene_raw"], sim.area0)
@@ -166,11 +166,13 @@ def _homogeneous_comparison(spec, sim, p, se, names) -> dict:
                             c["extra"]))
     hom = fit_homogeneous(dataclasses.replace(spec, model=model, datasets=tuple(sets), fe=None, starts=3))
     values = spec.fe["fixed"] | dict(zip(model.names, model.card_vector(hom.x)))
-    out = {"kind": sets[0].kind, "parameters": {n: float(values[n]) for n in names},
+    compared = [(n, v, s) for n, v, s in zip(names, p, se) if not (incompressible and n == "K")]
+    out = {"kind": sets[0].kind, "parameters": {n: float(values[n]) for n, _, _ in compared},
            "area0_mm2": sim.area0.tolist()}
-    out["difference_in_standard_errors"] = {n: float((values[n] - v) / s) if s > 0 else None
-                                            for n, v, s in zip(names, p, se)}
-    out["relative_difference"] = {n: float(values[n] / v - 1) for n, v in zip(names, p)}
+    out["difference_in_standard_errors"] = {n: float((values[n] - v) / s) if s > 0 else None for n, v, s in compared}
+    out["relative_difference"] = {n: float(values[n] / v - 1) for n, v, _ in compared}
+    if incompressible:
+        out["note"] = "the closed form is incompressible: K held at the scene's value and not compared"
     return out
 
 

@@ -16,7 +16,8 @@ required, the others present when the data name one of their readings. Every ``Q
 Drucker stability is judged, with the basis; ``closed_form(d, raw)`` the same readings as a data
 set of a closed-form kind (``closed_form(d, raw, area0)``: a dict of the Dataset's kind, a, b, y,
 extra; area0 the channels' load-cell sections) for the comparison fit.json shows, or None;
-``check(scene)`` refuses a scene the kind's readings cannot be differentiated on.
+``check(scene)`` refuses a scene the kind's readings cannot be differentiated on;
+``closed_form_has_K`` False where that closed form is incompressible (K is then held, not compared).
 
 A new kind is one entry here (and its probes in vlab.identify.fe_probes).
 """
@@ -63,6 +64,7 @@ class SpecimenKind:
     stability: Callable
     closed_form: Callable = lambda d, raw, area0: None
     check: Callable = lambda scene: None
+    closed_form_has_K: bool = True
 
     def quantity(self, key: str, scene=None) -> Quantity:
         """The quantity of data column ``key`` this scene records (the first whose needs pass)."""
@@ -209,12 +211,12 @@ SPECIMEN_KINDS = {
                             _extension_closed_form),
     "torsion": SpecimenKind("torsion", (Channel((TWIST,), (TORQUE,)),
                                         Channel((TWIST,), (AXIAL_FORCE, AXIAL_STRETCH), True)),
-                            _torsion_paths, _torsion_closed_form),
+                            _torsion_paths, _torsion_closed_form, closed_form_has_K=False),
     "confined-compression": SpecimenKind("confined-compression", (Channel((PLATEN,), (DIE_STRESS,)),),
                                          _die_paths, _die_closed_form),
     "inflation": SpecimenKind("inflation", (Channel((CAVITY_STRETCH, CAVITY_VOLUME, BULGE_VOLUME, POLE_HEIGHT),
                                                     (CAVITY_PRESSURE, BULGE_PRESSURE)),),
-                              _inflation_paths, _inflation_closed_form, _volume_controlled),
+                              _inflation_paths, _inflation_closed_form, _volume_controlled, closed_form_has_K=False),
 }
 
 
