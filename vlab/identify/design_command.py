@@ -167,11 +167,14 @@ VALLEY = ("the file's data do not identify the fitted card, so the design is aro
           "valley: give the expected constants with --expect")
 
 
-def _check_designable(scene) -> None:
-    """vlab design's specimen candidates are extension tests (gauge lengths, extensometer strains)."""
+def _designable(fe: dict) -> dict:
+    """fe, if its scene is an extension test: vlab design's candidates are gauge lengths and
+    extensometer strain ranges."""
+    scene = fe["scene"]
     if scene.test.kind not in ("uniaxial", "planar", "biaxial"):
         raise SceneError(f"fe.scene: vlab design plans extension tests (gauge length, extensometer strain range); "
                          f"test.kind = {scene.test.kind!r} is fitted by vlab fit but not designed")
+    return fe
 
 
 def design_fe(spec, kinds, ranges, points: int, max_size: int | None, noise: float | None, expect: np.ndarray | None,
@@ -186,8 +189,7 @@ def design_fe(spec, kinds, ranges, points: int, max_size: int | None, noise: flo
     from vlab.identify.fe_design import data_rows, specimen_candidates, specimen_rows, specimen_runs, strain_range
     from vlab.identify.fe_loop import fit_specimen
 
-    fe, names, relative = spec.fe, list(spec.fe["parameters"]), spec.residual == "relative"
-    _check_designable(fe["scene"])
+    fe, names, relative = _designable(spec.fe), list(spec.fe["parameters"]), spec.residual == "relative"
     if kinds and not relative:
         raise SceneError("--candidates with a specimen fit file needs options.residual = \"relative\" (its force "
                          "scatter in N has no stress equivalent for homogeneous tests); give --specimens instead")
