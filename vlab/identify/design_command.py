@@ -168,12 +168,10 @@ VALLEY = ("the file's data do not identify the fitted card, so the design is aro
 
 
 def _designable(fe: dict) -> dict:
-    """fe, if its scene is an extension test: vlab design's candidates are gauge lengths and
-    extensometer strain ranges."""
-    scene = fe["scene"]
-    if scene.test.kind not in ("uniaxial", "planar", "biaxial"):
-        raise SceneError(f"fe.scene: vlab design plans extension tests (gauge length, extensometer strain range); "
-                         f"test.kind = {scene.test.kind!r} is fitted by vlab fit but not designed")
+    """fe, if its scene is one vlab design plans (vlab.identify.fe_design.check_designable)."""
+    from vlab.identify.fe_design import check_designable
+
+    check_designable(fe["scene"], "fe.scene")
     return fe
 
 
