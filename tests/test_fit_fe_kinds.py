@@ -32,6 +32,23 @@ grips = "{grips}"
 {load}
 steps = 4
 '''
+INFLATION = '''name = "{name}"
+[specimen]
+{shape}
+[mesh]
+size = {size}
+cell = "hex"
+[material]
+model = "neo-hookean"
+mu = 0.4
+K = 4.0
+[test]
+kind = "inflation"
+grips = "{grips}"
+control = "volume"
+{load}
+steps = {steps}
+'''
 MR = "C10 = 0.3\nC01 = 0.08\nK = 10.0"
 NH = "mu = 0.4\nK = 4.0"
 SCENES = {
@@ -41,44 +58,10 @@ SCENES = {
                                     grips="clamped", load='axial = "free"\ntwist = 0.3'),
     "die": CYLINDER.format(name="die", size=1.0, model="neo-hookean", card=NH, kind="confined-compression",
                            grips="die", load="stretch = 0.8"),
-    "sphere": '''name = "sphere"
-[specimen]
-shape = "sphere-shell"
-inner_radius = 10.0
-thickness = 2.0
-[mesh]
-size = 2.0
-cell = "hex"
-[material]
-model = "neo-hookean"
-mu = 0.4
-K = 4.0
-[test]
-kind = "inflation"
-grips = "cavity"
-control = "volume"
-stretch = 1.8
-steps = 6
-''',
-    "bulge": '''name = "bulge"
-[specimen]
-shape = "membrane"
-radius = 10.0
-thickness = 1.0
-[mesh]
-size = 2.5
-cell = "hex"
-[material]
-model = "neo-hookean"
-mu = 0.4
-K = 4.0
-[test]
-kind = "inflation"
-grips = "clamped"
-control = "volume"
-volume_ratio = 1.3
-steps = 5
-''',
+    "sphere": INFLATION.format(name="sphere", shape='shape = "sphere-shell"\ninner_radius = 10.0\nthickness = 2.0',
+                               size=2.0, grips="cavity", load="stretch = 1.8", steps=6),
+    "bulge": INFLATION.format(name="bulge", shape='shape = "membrane"\nradius = 10.0\nthickness = 1.0',
+                              size=2.5, grips="clamped", load="volume_ratio = 1.3", steps=5),
 }
 TRUTH = {"torsion": {"C10": 0.3, "C01": 0.08, "K": 10.0}, "torsion-free": {"C10": 0.3, "C01": 0.08, "K": 10.0},
          "die": {"mu": 0.4, "K": 4.0}, "sphere": {"mu": 0.4, "K": 4.0}, "bulge": {"mu": 0.4, "K": 4.0}}
