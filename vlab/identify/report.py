@@ -97,7 +97,8 @@ def _fe_section(d: dict) -> str:
             "test's stress = force / A0 and stretch = 1 + strain; torsion by Rivlin's integrals; the thick sphere; "
             "the die's homogeneous state) for comparison: the error a specimen's inhomogeneity (and the mesh) "
             "would put into a closed-form fit.</p>"
-            + _table(["constant", "FE fit", "closed-form fit", "difference", "difference (standard errors)"], rows))
+            + _table(["constant", "FE fit", "closed-form fit", "difference", "difference (standard errors)"], rows)
+            + (f"<p>{html.escape(hom['note'])}.</p>" if hom.get("note") else ""))
 
 
 def _specimens_section(d: dict) -> str:
