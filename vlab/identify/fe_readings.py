@@ -108,8 +108,10 @@ DIE_STRESS = Quantity("stress", "axial nominal stress F/A0 (MPa)", lambda c: c.c
 
 SPHERE = _shape("sphere-shell", what="the cavity's prescribed stretch")
 MEMBRANE = _shape("membrane", what="this bulge reading")
-CAVITY_STRETCH = Quantity("stretch", "inner hoop stretch λ_a (1)", lambda c: c.stretch[0], strain_alias=True,
-                          needs=SPHERE)
+CAVITY_STRETCH = Quantity(
+    "stretch", "inner hoop stretch λ_a (1)", lambda c: c.stretch[0], strain_alias=True,
+    needs=lambda s: SPHERE(s) and f"{SPHERE(s)}; a membrane's pole stretch is not a control here: give "
+                                  "pole_height or volume_ratio")
 CAVITY_VOLUME = Quantity("volume_ratio", "cavity volume ratio λ_a³ (1)", lambda c: np.asarray(c.stretch[0]) ** 3,
                          needs=SPHERE)
 BULGE_VOLUME = Quantity("volume_ratio", "chamber volume ratio (V0 + V)/V0 (1)", lambda c: c.extra["volume_ratio"],
