@@ -147,7 +147,7 @@ def check_view(camera: Camera, face: Face) -> None:
     lo, hi = face.bounds
     if x1[-1] <= lo[0] or x1[0] >= hi[0] or x2[0] <= lo[1] or x2[-1] >= hi[1]:
         raise CameraError(
-            f"camera.centre = {tuple(np.round(camera.centre_on(face), 6))} mm with a field of view of "
+            f"camera.centre = {[round(float(c), 6) for c in camera.centre_on(face)]} mm with a field of view of "
             f"{x1[-1] - x1[0]:.4g} × {x2[0] - x2[-1]:.4g} mm (x₁ {x1[0]:.4g}…{x1[-1]:.4g}, x₂ "
             f"{x2[-1]:.4g}…{x2[0]:.4g}) cannot see the face (x₁ {lo[0]:.4g}…{hi[0]:.4g}, "
             f"x₂ {lo[1]:.4g}…{hi[1]:.4g} mm): move the centre into the face", "centre")

@@ -179,11 +179,15 @@ def _extension_closed_form(d, raw, area0):
 
 
 def _torsion_closed_form(d, raw, area0):
-    if d.extra["channels"][-1][1] == "axial_stretch":
-        return None  # the closed form holds the length
-    outputs = tuple(r for _, r in d.extra["channels"])
+    """Rivlin's cylinder of the scene's radius: kind "torsion" (torque, axial force, length held) or
+    "free-end-torsion" (axial strain λ − 1 then torque, a free end)."""
+    geometry = {"radius": float(raw["specimen"]["radius"])}
+    n, keys = d.points, [r for _, r in d.extra["channels"]]
+    if keys[-1] == "axial_stretch":
+        return {"kind": "free-end-torsion", "a": np.asarray(d.a), "b": None, "y": np.r_[d.y[n:] - 1.0, d.y[:n]],
+                "extra": {"geometry": geometry, "outputs": ("axial_strain", "torque")}}
     return {"kind": "torsion", "a": np.asarray(d.a), "b": None, "y": np.asarray(d.y),
-            "extra": {"geometry": {"radius": float(raw["specimen"]["radius"])}, "outputs": outputs}}
+            "extra": {"geometry": geometry, "outputs": tuple(keys)}}
 
 
 def _inflation_closed_form(d, raw, area0):
@@ -191,11 +195,13 @@ def _inflation_closed_form(d, raw, area0):
         return None
     s = raw["specimen"]
     return {"kind": "inflation", "a": np.asarray(d.a), "b": None, "y": np.asarray(d.y),
-            "extra": {"geometry": {"inner_radius": float(s["inner_radius"]), "thickness": float(s["thickness"])}}}
+            "extra": {"geometry": {"inner_radius": float(s["inner_radius"]), "thickness": float(s["thickness"])},
+                      "outputs": ("pressure",)}}
 
 
 def _die_closed_form(d, raw, area0):
-    return {"kind": "confined-compression", "a": np.asarray(d.a), "b": None, "y": np.asarray(d.y), "extra": None}
+    return {"kind": "confined-compression", "a": np.asarray(d.a), "b": None, "y": np.asarray(d.y),
+            "extra": {"geometry": {}, "outputs": ("stress",)}}
 
 
 def _volume_controlled(scene):
