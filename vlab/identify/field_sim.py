@@ -54,10 +54,11 @@ class FieldSimulation:
 
 
 class _FieldObserver(LevelSensitivities):
-    """LevelSensitivities of the x load cell that also keeps the face's u and du/dp per level."""
+    """LevelSensitivities of the x load cell (its reading channel 0) that also keeps the face's u
+    and du/dp per level."""
 
-    def __init__(self, prepared, tangents, fe: dict, values: dict, face):
-        super().__init__(prepared, tangents, fe, values, (0,))
+    def __init__(self, prepared, tangents, fe: dict, values: dict, face, channels):
+        super().__init__(prepared, tangents, fe, values, channels)
         self.face, self.u, self.du = face, [], []
         self._du = None
 
@@ -74,19 +75,22 @@ class _FieldObserver(LevelSensitivities):
 def simulate_field(fe: dict, values: dict, face_side: tuple[int, int]) -> FieldSimulation:
     """Run fe's scene at ``values``; RuntimeError if the test fails, SceneError if the face is not there."""
     from vlab.dic.face import FaceError, face_of
+    from vlab.identify.fe_readings import quantities
     from vlab.identify.fe_sensitivity import run_quietly, scene_with
 
     made: list[_FieldObserver] = []
+    scene = scene_with(fe, values)
+    channels = quantities(fe, scene)  # the extensometer and the x load cell (fe_spec._channels)
 
     def observe(prepared, tangents):
         try:
             face = face_of(prepared.specimen.mesh, *face_side)
         except FaceError as exc:
             raise SceneError(f"data.camera.face: {exc}") from None
-        made.append(_FieldObserver(prepared, tangents, fe, values, face))
+        made.append(_FieldObserver(prepared, tangents, fe, values, face, channels))
         return made[-1]
 
-    result = run_quietly(fe, scene_with(fe, values), values, observe)
+    result = run_quietly(fe, scene, values, observe)
     obs, curve = made[0], result.curve
     if len(curve.force[0]) != len(obs.rows):
         raise SceneError("fe.scene: the recorded levels and the solver's levels differ")

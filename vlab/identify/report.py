@@ -94,12 +94,17 @@ def _fe_section(d: dict) -> str:
         from vlab.identify.field_fit import field_section
         return field_section(d)
     hom = fe["homogeneous_fit"]
+    head = f"<h2>FE in the loop</h2><p>{fe['solves']} whole-test solves of {html.escape(fe['scene'])}; "
+    if not hom.get("parameters"):
+        return head + f"{html.escape(hom.get('note', 'no closed-form comparison'))}.</p>"
     rows = [[html.escape(n), _f(d["parameters"][n], 6), _f(v, 6), f"{100 * hom['relative_difference'][n]:+.3g} %",
              _f(hom["difference_in_standard_errors"][n], 3)] for n, v in hom["parameters"].items()]
-    return (f"<h2>FE in the loop</h2><p>{fe['solves']} whole-test solves of {html.escape(fe['scene'])}; the "
-            "closed-form uniaxial fit of the same readings (stress = force / A0, stretch = 1 + strain) for "
-            "comparison: the error a specimen's inhomogeneity would put into a homogeneous fit.</p>"
-            + _table(["constant", "FE fit", "homogeneous fit", "difference", "difference (standard errors)"], rows))
+    return (head + f"the closed-form fit of the same readings (kind {html.escape(str(hom['kind']))}: an extension "
+            "test's stress = force / A0 and stretch = 1 + strain; torsion by Rivlin's integrals; the thick sphere; "
+            "the die's homogeneous state) for comparison: the error a specimen's inhomogeneity (and the mesh) "
+            "would put into a closed-form fit.</p>"
+            + _table(["constant", "FE fit", "closed-form fit", "difference", "difference (standard errors)"], rows)
+            + (f"<p>{html.escape(hom['note'])}.</p>" if hom.get("note") else ""))
 
 
 def _specimens_section(d: dict) -> str:
