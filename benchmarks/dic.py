@@ -130,8 +130,8 @@ def challenge() -> None:
     print(f"| worst sub-pixel bias, no noise / 1 % (px) | {bias0['worst_bias_px']:.1e} / {bias1['worst_bias_px']:.1e} |")
     print(f"| displacement spatial resolution (10 % low) (px) | {_fmt(res['displacement_px'])} |")
     print(f"| strain spatial resolution (10 % low) (px) | {_fmt(res['strain_px'])} |")
-    print(f"| MEI_u = σ_u · SR_u (px²) | {_fmt(m['displacement_px2'], '.3g')} |")
-    print(f"| MEI_ε = σ_ε · SR_ε (px) | {_fmt(m['strain_px'], '.3g')} |")
+    print(f"| MEI_u = σ_v · SR_u (px²) | {_fmt(m['displacement_px2'], '.3g')} |")
+    print(f"| MEI_ε = σ_Exy · SR_ε² (px²) | {_fmt(m['strain_px2'], '.3g')} |")
     print(f"\n(metrics computed in {time.perf_counter() - t:.0f} s)")
 
 
