@@ -138,9 +138,11 @@ def spatial_resolution(settings: Settings, camera: Camera, periods, amplitude: f
 
 
 def mei(noise: dict, resolution: dict) -> dict:
-    """The Metrological Efficiency Indicator (DIC Challenge 2.0, Reu et al. 2022): noise times
-    spatial resolution, to the power that makes it independent of the subset and window a user
-    picks, MEI_u = σ_n · SR_u (px²) and MEI_ε = σ_Exy · SR_ε² (px²; σ_Exy as a strain, not µε).
+    """The Metrological Efficiency Indicator (DIC Challenge 2.0, Reu et al. 2022,
+    doi:10.1007/s11340-021-00806-6): noise times spatial resolution, to the power that makes it
+    nearly independent of the subset and window a user picks, MEI_u = σ_n · SR_u (px²) and, since
+    strain noise falls as the square of the strain's resolution, the strain's noise times its
+    squared resolution, MEI_ε = σ_Exy · SR_ε² (px²; σ_Exy as a strain, not µε).
     σ_n is the static pair's noise of the component the sinusoid moves (resolution["component"]:
     "u" or "v") and σ_Exy that of the strain measured on it, so each product pairs a noise with
     the resolution of the same quantity. Smaller is better; None where a resolution or noise is."""
