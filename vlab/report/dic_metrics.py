@@ -24,7 +24,7 @@ EXPLANATIONS = {
              "the same for the strain E<sub>xy</sub> of the sinusoid: subset and strain window together"),
     "mei_u": ("MEI<sub>u</sub> = σ · SR<sub>u</sub>",
               "Metrological Efficiency Indicator: noise × resolution of the sinusoid's component; a larger "
-              "subset trades one for the other, the product stays; smaller is better"),
+              "subset trades one for the other, the product changes far less; smaller is better"),
     "mei_e": ("MEI<sub>ε</sub> = σ<sub>Exy</sub> · SR<sub>ε</sub>²",
               "the same for the strain (its noise falls as the square of the resolution)"),
 }
