@@ -167,6 +167,14 @@ VALLEY = ("the file's data do not identify the fitted card, so the design is aro
           "valley: give the expected constants with --expect")
 
 
+def _specimen_fe(spec) -> dict:
+    """spec.fe of a fit file with specimen readings; SceneError for DIC fields (no design yet)."""
+    if any(d.kind == "field" for d in spec.datasets):
+        raise SceneError("vlab design plans homogeneous and specimen (kind = \"specimen\") tests; a fit file of DIC "
+                         "fields (kind = \"field\") has no test design yet")
+    return spec.fe
+
+
 def design_fe(spec, kinds, ranges, points: int, max_size: int | None, noise: float | None, expect: np.ndarray | None,
               specimens, gauges, elongation_sd: float = 0.0) -> dict:
     """design.json's dict for a fit file with specimen data (FE in the loop): candidate specimen tests
@@ -179,7 +187,7 @@ def design_fe(spec, kinds, ranges, points: int, max_size: int | None, noise: flo
     from vlab.identify.fe_design import data_rows, specimen_candidates, specimen_rows, specimen_runs, strain_range
     from vlab.identify.fe_loop import fit_specimen
 
-    fe, names, relative = spec.fe, list(spec.fe["parameters"]), spec.residual == "relative"
+    fe, names, relative = _specimen_fe(spec), list(spec.fe["parameters"]), spec.residual == "relative"
     if kinds and not relative:
         raise SceneError("--candidates with a specimen fit file needs options.residual = \"relative\" (its force "
                          "scatter in N has no stress equivalent for homogeneous tests); give --specimens instead")

@@ -69,11 +69,16 @@ class LevelSensitivities:
             self.solves += 1
             du = np.zeros(self.space.n_dofs)
             du[self.free] = du_f
+            self.keep(j, du)
             for a, (grip, c, Kg, ext, n) in enumerate(zip(self.grips, self.factors, K_grips, self.ext, directions)):
                 dF[a, j] = c * float(g[grip].sum() + (Kg @ du_f).sum())
                 dx = _marks_displacement(ext, du)
                 de[a, j] = float(n @ (dx[1] - dx[0])) / ext.length0
         self.rows.append((dF, de))
+
+    def keep(self, j: int, du: np.ndarray) -> None:
+        """Hook: du/dp_j (all DOFs) of the level being differentiated, for a subclass that needs
+        the displacement field's sensitivity (vlab.identify.field_sim)."""
 
     def _grip_rows(self, tangent) -> list:
         """K[g, free] for each grip's (prescribed) DOFs g: rows of K_fpᵀ, K being symmetric."""

@@ -31,7 +31,7 @@ from vlab.identify.fe_spec import admissible
 from vlab.identify.laws import law_for
 from vlab.identify.states import Constitutive
 
-__all__ = ["fit_specimen", "residuals", "closed_form"]
+__all__ = ["fit_specimen", "residuals", "closed_form", "lm_fit"]
 
 EXTRAPOLATION = 0.1  # data may reach 10 % of the simulated strain range beyond its end
 MATCHED = 1e-9  # rms weighted residual at which noise-free readings count as reproduced (solver rtol 1e-8)
@@ -194,15 +194,8 @@ def _fit_specimen(spec, run, t0):
 
     prob = _Problem(spec, run)
     names = prob.names
-    p0 = np.array([spec.fe["start"][n] for n in names])
-    try:
-        p, r, J, sim, trail, converged, reason = _lm(prob, p0)
-    except RuntimeError as exc:
-        raise SceneError(f"fe.scene: {exc}") from None
+    (p, r, J, sim, trail, converged, reason), (cov, s2, dof, cond, reasons, stats) = lm_fit(prob, spec)
     t_fit = time.perf_counter() - t0
-    cov, s2, dof, cond = unc.covariance(J, r)
-    reasons = unc.undetermined(J, list(names), dof)
-    stats = unc.summarize(p, cov, list(names), dof, spec.confidence, reasons)
     se = np.sqrt(np.clip(np.diag(cov), 0, None))
     values = prob.values(p)
     model = closed_form(spec.fe, "fit")
@@ -226,6 +219,20 @@ def _fit_specimen(spec, run, t0):
     outcome = FitOutcome(data, dataclasses.replace(spec, model=model), x, cov_x, stats["t_quantile"])
     _attach_figure(outcome, lambda path: _plot(spec, sim, J, cov, stats["t_quantile"], path))
     return outcome
+
+
+def lm_fit(prob, spec):
+    """(_lm's result from fe.start, (cov, s², dof, κ, undetermined, summary) at its end point); a
+    test that fails at the start is a SceneError."""
+    names = list(prob.names)
+    try:
+        p, r, J, sim, trail, converged, reason = _lm(prob, np.array([spec.fe["start"][n] for n in names]))
+    except RuntimeError as exc:
+        raise SceneError(f"fe.scene: {exc}") from None
+    cov, s2, dof, cond = unc.covariance(J, r)
+    reasons = unc.undetermined(J, names, dof)
+    stats = unc.summarize(p, cov, names, dof, spec.confidence, reasons)
+    return (p, r, J, sim, trail, converged, reason), (cov, s2, dof, cond, reasons, stats)
 
 
 def _model_entry(spec, model: Constitutive, values: dict, names) -> dict:

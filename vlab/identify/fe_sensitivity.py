@@ -22,7 +22,7 @@ import numpy as np
 
 from vlab.fields import SceneError
 
-__all__ = ["Simulation", "simulate", "MODULUS_KEYS"]
+__all__ = ["Simulation", "simulate", "run_quietly", "MODULUS_KEYS"]
 
 MODULUS_KEYS = ("E", "nu", "lambda", "mu", "G", "K", "M")
 
@@ -72,11 +72,15 @@ def material_table(fe: dict, values: dict) -> dict:
 
 
 def scene_with(fe: dict, values: dict):
-    """The fit's scene with its material constants replaced by ``values``."""
+    """The fit's scene with its material constants replaced by ``values`` and without a camera
+    ([instruments.dic]: the loop needs the readings and the displacement, and rendering and
+    correlating every trial made a 7 s field fit take 40 s)."""
     from vlab.scene import parse_scene
 
     raw = copy.deepcopy(fe["scene_raw"])
     raw["material"] = material_table(fe, values)
+    if isinstance(raw.get("instruments"), dict):
+        raw["instruments"].pop("dic", None)
     return parse_scene(raw, "fe.scene", Path(fe["scene_path"]).parent)
 
 
@@ -114,9 +118,26 @@ def simulate(fe: dict, values: dict, refactorize: bool = False, run=None) -> Sim
     return sim
 
 
+def run_quietly(fe: dict, scene, values: dict, observe):
+    """vlab.run.run_scene(scene, observe=observe) with the run's log quiet (its caveats go to
+    fit.json once, not to the console per solve); RuntimeError if the test did not complete."""
+    from vlab.run import run_scene
+
+    run_log = logging.getLogger("vlab.run")
+    quiet = _Quiet()
+    run_log.addFilter(quiet)
+    try:
+        result = run_scene(scene, observe=observe)
+    finally:
+        run_log.removeFilter(quiet)
+    if not result.converged:
+        raise RuntimeError(f"the test at {material_table(fe, values)} did not complete: "
+                           f"{result.history.failure.reason}")
+    return result
+
+
 def _solve(fe: dict, scene, values: dict, refactorize: bool) -> Simulation:
     from vlab.identify.fe_levels import LevelSensitivities
-    from vlab.run import run_scene
 
     axes = tuple(fe.get("axes", (0,)))
     made: list[LevelSensitivities] = []
@@ -125,16 +146,7 @@ def _solve(fe: dict, scene, values: dict, refactorize: bool) -> Simulation:
         made.append(LevelSensitivities(prepared, tangents, fe, values, axes, refactorize))
         return made[-1]
 
-    run_log = logging.getLogger("vlab.run")
-    quiet = _Quiet()
-    run_log.addFilter(quiet)  # the run's caveats go to fit.json once, not to the console per solve
-    try:
-        result = run_scene(scene, observe=observe)
-    finally:
-        run_log.removeFilter(quiet)
-    if not result.converged:
-        raise RuntimeError(f"the test at {material_table(fe, values)} did not complete: "
-                           f"{result.history.failure.reason}")
+    result = run_quietly(fe, scene, values, observe)
     sens, curve = made[0], result.curve
     if len(curve.strain[0]) != len(sens.rows):
         raise SceneError("fe.scene: the recorded levels and the solver's levels differ")

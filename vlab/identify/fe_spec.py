@@ -130,6 +130,8 @@ def _axes(scene, datasets) -> tuple[int, ...]:
 
     kind = scene.test.kind
     two = [d.b is not None for d in datasets if d.kind == "specimen"]
+    if not two:  # DIC fields (kind = "field"): the x load cell
+        return (0,)
     axes = kind_of(scene.test).axes
     if any(two) and 1 not in axes:  # the kind has no load cell along y
         raise SceneError(f"columns strain2/force2 (a second load cell) need a biaxial scene (a cruciform); "
@@ -144,13 +146,19 @@ def parse_fe(raw, base: Path, model, datasets) -> dict:
     from vlab.identify.fe_stress import flat_constants
 
     if raw is None:
-        raise SceneError("a data set of kind = \"specimen\" needs an [fe] table with scene = \"<scene>.toml\"")
+        raise SceneError("a data set of kind = \"specimen\" or \"field\" needs an [fe] table with scene = "
+                         "\"<scene>.toml\"")
     t = Table("fe", raw, ("scene", "parameters", "start", "max_solves", "cache"))
     path, scene_raw, scene = _scene(t, base)
     name = scene.material.model
     check_scene(scene, model.law.model, "fe.scene")
-    if any(d.kind != "specimen" for d in datasets if d.role == "fit"):
-        raise SceneError("an FE-in-the-loop fit takes only data sets of kind = \"specimen\"")
+    kinds = {d.kind for d in datasets if d.role == "fit"}
+    if kinds not in ({"specimen"}, {"field"}):
+        raise SceneError("an FE-in-the-loop fit takes only data sets of kind = \"specimen\", or only of kind = "
+                         f"\"field\" (DIC fields, vlab.identify.field_fit), got {', '.join(sorted(kinds))}")
+    if kinds == {"field"} and scene.mesh.symmetry != "none":
+        raise SceneError(f"fe.scene: a field fit needs mesh.symmetry = \"none\" (the camera sees the whole face), "
+                         f"got {scene.mesh.symmetry!r}")
     values = flat_constants(scene.material)
     params = _parameters(t, values)
     return {"scene_path": str(path), "scene_raw": scene_raw, "scene": scene, "parameters": params,

@@ -12,7 +12,8 @@
                material are fitted per specimen and pooled, vlab.identify.specimens)
     [options]  residual (relative | absolute), starts (1..1000), seed, confidence (0.5..0.999),
                max_evaluations (per start, default 400)
-    [fe]       scene (kind = "specimen"), parameters (the card keys fitted), start, max_solves
+    [fe]       scene (kind = "specimen" or "field"), parameters (the card keys fitted), start, max_solves
+    kind = "field": a DIC fields folder instead of a file (vlab.identify.field_data)
 """
 
 from __future__ import annotations
@@ -37,7 +38,8 @@ __all__ = ["FitSpec", "load_fit", "parse_fit", "parse_fit_text", "parse_model_na
 
 K_MAX = 1e9  # MPa: 2000 times diamond's bulk modulus; beyond it the residuals overflow (1e300 was inf)
 WEIGHT_MAX = 1e6  # a data set's weight relative to the others; 1e300 overflowed the residuals (SVD failed)
-BUILTIN_KINDS = ("uniaxial", "equibiaxial", "planar", "biaxial", "simple-shear", "volumetric", "specimen")
+BUILTIN_KINDS = ("uniaxial", "equibiaxial", "planar", "biaxial", "simple-shear", "volumetric", "specimen", "field")
+FE_DATA = ("specimen", "field")  # the kinds fitted with FE in the loop ([fe] scene)
 
 
 def kinds() -> tuple[str, ...]:
@@ -135,6 +137,9 @@ def _dataset_of(raw, i: int, base: Path) -> Dataset:
     record = dataset_hook(raw, i, base)  # a lab record (relaxation, dma) or a raw machine export
     if record is not None:
         return record
+    if isinstance(raw, dict) and raw.get("kind") == "field":  # a DIC fields folder (vlab.identify.field_data)
+        from vlab.identify.field_data import field_dataset
+        return field_dataset(raw, i, base)
     t = Table(f"data[{i}]", raw, ("file", "kind", "columns", "stress_measure", "units", "role",
                                   "weight", "name", "geometry"))
     file = t.get("file")
@@ -262,11 +267,11 @@ def parse_fit(data: dict, base_dir: Path, default_name: str = "fit") -> FitSpec:
     if not any(d.role == "fit" for d in datasets):
         raise SceneError("no data set has role = \"fit\": at least one must be fitted")
     fe = None
-    if any(d.kind == "specimen" for d in datasets):
+    if any(d.kind in FE_DATA for d in datasets):
         from vlab.identify.fe_spec import parse_fe
         fe = parse_fe(data.get("fe"), Path(base_dir), model, datasets)
     elif "fe" in data:
-        raise SceneError("[fe] is only used with a data set of kind = \"specimen\"")
+        raise SceneError("[fe] is only used with a data set of kind = \"specimen\" or \"field\"")
     check_records(model, effects, datasets, fe)
     from vlab.identify.specimens import check_specimens
     check_specimens(model, effects, datasets, fe)

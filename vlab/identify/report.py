@@ -78,8 +78,11 @@ def _limit_text(side: dict | None, bound: str, lim: float) -> str:
 
 
 def _stability_rows(st: dict) -> list:
-    return [[kind, _limit_text(s["tension"], "from", 10), _limit_text(s["compression"], "below", 0.1),
-             _f(s.get("stable_over_fitted_range"))] for kind, s in st["kinds"].items()]
+    """A row per scanned path, then one per closed-form data set judged at its own states."""
+    paths = [[kind, _limit_text(s["tension"], "from", 10), _limit_text(s["compression"], "below", 0.1),
+              _f(s.get("stable_over_fitted_range"))] for kind, s in st["kinds"].items()]
+    return paths + [[html.escape(name), f"{s['states']} states of the data", f"min eig D {_f(s['min_eigenvalue'], 4)} MPa",
+                     _f(s["stable"])] for name, s in st.get("data_states", {}).items()]
 
 
 def _fe_section(d: dict) -> str:
@@ -87,6 +90,9 @@ def _fe_section(d: dict) -> str:
     fe = d.get("fe")
     if not fe:
         return ""
+    if "field" in fe:  # FE model updating on DIC fields
+        from vlab.identify.field_fit import field_section
+        return field_section(d)
     hom = fe["homogeneous_fit"]
     rows = [[html.escape(n), _f(d["parameters"][n], 6), _f(v, 6), f"{100 * hom['relative_difference'][n]:+.3g} %",
              _f(hom["difference_in_standard_errors"][n], 3)] for n, v in hom["parameters"].items()]
@@ -215,7 +221,7 @@ def write_fit_files(outcome, tmp: Path, fit_text: str | None = None) -> dict:
     from vlab.identify.plots import plot_curves, plot_stability_map
 
     d = outcome.data = strict(outcome.data)  # what the console and the page show is what fit.json holds
-    sets = [s for s in outcome.spec.datasets if s.kind != "specimen"]
+    sets = [s for s in outcome.spec.datasets if s.kind not in ("specimen", "field")]
     tmp = Path(tmp)
     images = list(outcome.extras.get("figures", []))
     if sets:
