@@ -11,7 +11,10 @@ The static pair gives the noise floor (DIC Challenge 2.0, vlab.dic.metrics.stati
 reference rendered twice more with fresh noise (frames NOISE_FRAMES) and correlated, so σ_u, σ_v
 (px) and σ_Exx, σ_Eyy (µε) are those of this camera, pattern and settings on this face; the face
 rigidly shifted by half a pixel along e₁ and e₂ and correlated against the first of the pair gives
-the sub-pixel translation bias (translation_bias).
+the sub-pixel translation bias (translation_bias). With metrics = "full" (the default), the
+spatial resolution of the same camera, pattern and settings and the Metrological Efficiency
+Indicator (vlab.dic.resolution): sinusoidal fields rendered exactly and correlated against the
+reference, a few more images than the levels (each about a level's rendering and correlation).
 
 Pixel ↔ face convention (vlab.dic.camera): pixel (row i, column j) of a W × H image is centred on
 the face point x₁ = c₁ + (j − (W − 1)/2) p, x₂ = c₂ − (i − (H − 1)/2) p (mm), with the face's
@@ -133,20 +136,22 @@ def translation_bias(view: View, pattern, static: Correlator, n_vertices: int, s
 
 @dataclass
 class Record:
-    """The camera's frames (frame 0 the reference) and the DIC field of every deformed frame."""
+    """The camera's frames (frame 0 the reference), the DIC field of every deformed frame, the
+    noise floor and translation bias (``noise``) and, with metrics = "full", the spatial
+    resolution and MEI (``resolution``, vlab.dic.resolution; None with "basic")."""
 
     view: View
     images: list[np.ndarray]
     fields: list[Field]
     noise: dict
     timing: dict = field(default_factory=dict)
+    resolution: dict | None = None
 
 
-def record(view: View, displacements: list[np.ndarray]) -> Record:
+def record(view: View, displacements: list[np.ndarray], metrics: str = "full") -> Record:
     """Render every frame of ``displacements`` ((n_vertices, 3) mm each, frame 0 = 0), correlate
-    each deformed frame against frame 0 seeded by the previous field, and measure the noise floor."""
-    from vlab.dic.metrics import static_noise
-
+    each deformed frame against frame 0 seeded by the previous field, and measure the noise floor,
+    the translation bias and (``metrics`` = "full") the spatial resolution and MEI."""
     t0 = time.perf_counter()
     pattern = paint(view.face, view.camera, view.speckle)
     images = [render(view.camera, view.face, pattern, u, frame=k) for k, u in enumerate(displacements)]
@@ -158,15 +163,32 @@ def record(view: View, displacements: list[np.ndarray]) -> Record:
         previous = correlator.correlate(image.astype(float), guess=previous)
         fields.append(previous)
     t2 = time.perf_counter()
-    still = [render(view.camera, view.face, pattern, displacements[0], frame=k) for k in NOISE_FRAMES]
+    noise = noise_floor(view, pattern, roi, displacements[0])
+    t3 = time.perf_counter()
+    resolution = None
+    if metrics == "full":
+        from vlab.dic.metrics import mei
+        from vlab.dic.resolution import spatial_resolution
+
+        resolution = spatial_resolution(view, pattern, correlator)
+        resolution["mei"] = mei(noise, resolution)
+    timing = {"render_s": t1 - t0, "correlate_s": t2 - t1, "noise_floor_s": t3 - t2,
+              "resolution_s": time.perf_counter() - t3, "levels": len(fields)}
+    return Record(view, images, fields, noise, timing, resolution)
+
+
+def noise_floor(view: View, pattern, roi: np.ndarray, unloaded: np.ndarray) -> dict:
+    """The static pair's noise (vlab.dic.metrics.static_noise; σ_u also in mm) and the 0.5 px
+    translation bias, on the reference rendered twice more with fresh noise (NOISE_FRAMES)."""
+    from vlab.dic.metrics import static_noise
+
+    still = [render(view.camera, view.face, pattern, unloaded, frame=k) for k in NOISE_FRAMES]
     static = Correlator(still[0].astype(float), view.settings, roi=roi)
     noise = static_noise(static.correlate(still[1].astype(float))) | {"frames": list(NOISE_FRAMES)}
     if noise["sigma_u_px"] is not None:
         noise["sigma_u_mm"] = 0.5 * (noise["sigma_u_px"] + noise["sigma_v_px"]) * view.camera.pitch
-    noise["translation"] = translation_bias(view, pattern, static, len(displacements[0]))
-    timing = {"render_s": t1 - t0, "correlate_s": t2 - t1, "noise_floor_s": time.perf_counter() - t2,
-              "levels": len(fields)}
-    return Record(view, images, fields, noise, timing)
+    noise["translation"] = translation_bias(view, pattern, static, len(unloaded))
+    return noise
 
 
 __all__ = ["View", "Record", "build_view", "record", "CameraError", "FaceError", "NOISE_FRAMES"]

@@ -81,7 +81,7 @@ def with_dic(result):
     view = _view(spec, result.specimen.mesh)
     levels, dim, n = result.history.levels, result.space.dim, result.specimen.mesh.nvertices
     frames = [np.zeros((n, 3))] + [_in_3d(lv.evaluation.u.reshape(-1, dim)[:n]) for lv in levels]
-    rec = record(view, frames)
+    rec = record(view, frames, spec.metrics)
     t0 = time.perf_counter()
     gauge = gauge_strains(view, result.specimen, rec.fields)
     differences, last, area = [], None, None

@@ -13,8 +13,8 @@ Files, in the model's folder (the report folder for one model):
     dic/maps.png              the last level: DIC, levelled FE and their difference
 
 results.json gets ``measured.dic`` (the virtual extensometer's E and ν beside the point
-extensometers', with the relative differences) and ``dic`` (camera, noise floor, levelled
-differences at the last level, timing).
+extensometers', with the relative differences) and ``dic`` (camera, noise floor, the DIC Challenge
+2.0 metrics (``dic.metrics``, vlab.report.dic_metrics), levelled differences at the last level, timing).
 """
 
 from __future__ import annotations
@@ -54,11 +54,12 @@ def measured_dict(result) -> dict:
 def summary_dict(result) -> dict:
     """results.json's dic: camera, settings, noise floor, FE-vs-DIC levelled at the last level."""
     from vlab.dic.correlate import settings_dict
+    from vlab.report.dic_metrics import metrics_dict
 
     run = result.dic
     rec = run.record
     return {"camera": rec.view.as_dict(), "settings": settings_dict(rec.view.settings),
-            "levels": len(rec.fields), "noise_floor": rec.noise,
+            "levels": len(rec.fields), "noise_floor": rec.noise, "metrics": metrics_dict(rec),
             "levelled_last": run.differences[-1] if run.differences else None,
             "converged_last": rec.fields[-1].converged if rec.fields else None,
             "timing": run.timing, "folder": "dic"}
@@ -85,7 +86,7 @@ def write_folder(result_data: dict, run, folder: Path) -> list[str]:
             "levels_csv": {"columns": ["image", "displacement", "force"], "units": {"displacement": "mm", "force": "N"},
                            "displacement": "grip displacement (lambda_grip - 1) L0, L0 the full specimen's grip separation"},
             "virtual_extensometer": result_data["measured"].get("dic")} | {
-        k: v for k, v in result_data["dic"].items() if k in ("camera", "settings", "noise_floor", "timing")}
+        k: v for k, v in result_data["dic"].items() if k in ("camera", "settings", "noise_floor", "metrics", "timing")}
     (root / "dic.json").write_text(json.dumps(_clean(data), indent=2), encoding="utf-8")
     files = ["dic/dic.json", "dic/levels.csv"]
     if rec.fields and run.levelled_last is not None:
@@ -159,9 +160,10 @@ def _g(v, digits: int = 5) -> str:
 def html_section(data: dict, prefix: str = "", image_source=None) -> str:
     """The run page's DIC section from a results dict (``prefix``: the model's folder, "" for one;
     ``image_source(name)``: the img src of a file of the folder, e.g. inlined; default its name)."""
+    from vlab.report.dic_metrics import metrics_table
+
     d, m, point = data["dic"], data["measured"].get("dic") or {}, data["measured"]
-    cam, noise, lev = d["camera"], d["noise_floor"], d.get("levelled_last") or {}
-    shift = noise.get("translation") or {}
+    cam, lev = d["camera"], d.get("levelled_last") or {}
     rows = [("E (MPa)", point.get("E"), m.get("E"), m.get("E_difference")),
             ("ν", point.get("nu"), m.get("nu"), m.get("nu_difference"))]
     table = "".join(f"<tr><th>{n}</th><td class=num>{_g(a)}</td><td class=num>{_g(b)}</td><td class=num>{_pct(c)}</td></tr>"
@@ -178,11 +180,7 @@ strain window {d['settings']['strain_window']} points; {d['levels']} levels corr
 (images, fields and levels.csv in <a href="{html.escape(prefix)}dic/dic.json">dic/</a>).</p>
 <table><tr><th></th><th>point extensometers</th><th>DIC virtual extensometer</th><th>difference</th></tr>{table}</table>
 <p><small>{html.escape(str(m.get('strain') or m.get('note') or ''))}; same modulus window and fit as the point extensometers.</small></p>
-<p>Noise floor (static pair, DIC Challenge 2.0): σ<sub>u</sub> = {_g(noise.get('sigma_u_px'), 3)} px,
-σ<sub>v</sub> = {_g(noise.get('sigma_v_px'), 3)} px, σ<sub>Exx</sub> = {_g(noise.get('sigma_exx_microstrain'), 3)} µε,
-σ<sub>Eyy</sub> = {_g(noise.get('sigma_eyy_microstrain'), 3)} µε; a rigid shift of {_g(shift.get('shift_px'), 2)} px
-is read with a bias of {_g(shift.get('bias_u_px'), 2)} px (u), {_g(shift.get('bias_v_px'), 2)} px (v) and a scatter of
-{_g(shift.get('std_u_px'), 2)} px, {_g(shift.get('std_v_px'), 2)} px.</p>
+{metrics_table(d['metrics']) if 'metrics' in d else ''}
 <table><tr><th>DIC − levelled FE, last level</th><th>rms</th><th>max</th></tr>{levelled}</table>
 <figure><img src="{maps}" alt="DIC maps"><figcaption>Last level: DIC, the FE field levelled through the same
 subset grid and strain window, and their difference (measurement error, not filtering).</figcaption></figure>"""

@@ -7,6 +7,7 @@ vlab.dic.correlate; docs/dic.md):
     subset = 31                  # DIC settings: subset (odd px), step (px), strain_window (odd,
     step = 10                    #   grid points), search, tolerance, max_iterations, min_zncc,
     strain_window = 5            #   interpolation, shape_function
+    metrics = "full"             # full: + spatial resolution and MEI (a few more images); basic
     [instruments.dic.camera]
     pixels = [512, 256]          # W × H
     field_of_view = 40.0         # mm across W (or mm_per_px); exactly one
@@ -29,7 +30,7 @@ from typing import Any
 from vlab import fields
 from vlab.fields import SceneError
 
-__all__ = ["DicSpec", "InstrumentsSpec", "FACES", "INTERPOLATIONS", "parse_instruments"]
+__all__ = ["DicSpec", "InstrumentsSpec", "FACES", "INTERPOLATIONS", "METRICS", "parse_instruments"]
 
 #: face name -> (mesh axis of the normal, side ±1), vlab.dic.face.face_of's arguments
 FACES = {"top": (2, 1), "bottom": (2, -1), "front": (1, -1), "back": (1, 1)}
@@ -41,12 +42,16 @@ SPECKLE_KEYS = ("size", "density", "seed")
 SETTINGS_KEYS = ("subset", "step", "strain_window", "search", "tolerance", "max_iterations", "min_zncc",
                  "interpolation", "shape_function")
 SEED_MAX = 2**31 - 1
+#: the DIC Challenge metrics a run measures: "basic" the static pair's noise floor and the sub-pixel
+#: translation bias; "full" also the spatial resolution and the MEI (vlab.dic.resolution)
+METRICS = ("full", "basic")
 
 
 @dataclass(frozen=True)
 class DicSpec:
     """face: its name and (axis, side); camera, speckle, settings: keyword arguments of
-    vlab.dic.camera.Camera, .Speckle and vlab.dic.correlate.Settings (only the keys given)."""
+    vlab.dic.camera.Camera, .Speckle and vlab.dic.correlate.Settings (only the keys given);
+    metrics: one of METRICS."""
 
     face: str
     axis: int
@@ -54,6 +59,7 @@ class DicSpec:
     camera: dict
     speckle: dict
     settings: dict
+    metrics: str = "full"
 
 
 @dataclass(frozen=True)
@@ -72,7 +78,7 @@ def parse_instruments(raw: Any, specimen) -> InstrumentsSpec | None:
 
 
 def _parse_dic(raw: Any, specimen) -> DicSpec:
-    t = fields.Table("instruments.dic", raw, ("face", "camera", "speckle") + SETTINGS_KEYS)
+    t = fields.Table("instruments.dic", raw, ("face", "camera", "speckle", "metrics") + SETTINGS_KEYS)
     if specimen.shape == "sheet":
         raise SceneError(f"[instruments.dic] needs a 3-D specimen with a flat face to look at; "
                          f"specimen.shape = {specimen.shape!r} is meshed in 2-D")
@@ -84,7 +90,8 @@ def _parse_dic(raw: Any, specimen) -> DicSpec:
         raise SceneError(f"instruments.dic.subset = {settings.get('subset', 31)} px does not fit the camera's "
                          f"{camera['pixels'][0]} × {camera['pixels'][1]} px image: instruments.dic.camera.pixels "
                          f"must be ≥ subset + 2 = {need} each way")
-    return DicSpec(face, *FACES[face], camera, _speckle(t.raw.get("speckle", {})), settings)
+    return DicSpec(face, *FACES[face], camera, _speckle(t.raw.get("speckle", {})), settings,
+                   t.choice("metrics", METRICS, default="full"))
 
 
 def _camera(raw: Any) -> dict:
