@@ -58,10 +58,14 @@ for case in cases:
     best = None
     for _ in range(case["repeat"]):
         t = time.perf_counter()
-        dic.calculate_2d(reference=f"{folder}/{case['ref']}", deformed=f"{folder}/{case['name']}.tif",
-                         roi_mask=mask, seed=[w // 2, h // 2], subset_size=31, subset_step=10, num_threads=1,
-                         max_displacement=16, precision=1e-4, threshold=0.9, output_basepath=folder,
-                         output_prefix="pv_", print_level=0)
+        try:
+            dic.calculate_2d(reference=f"{folder}/{case['ref']}", deformed=f"{folder}/{case['name']}.tif",
+                             roi_mask=mask, seed=[w // 2, h // 2], subset_size=31, subset_step=10,
+                             num_threads=1, max_displacement=16, precision=1e-4, threshold=0.9,
+                             output_basepath=folder, output_prefix="pv_", print_level=0)
+        except Exception as exc:
+            best = repr(exc)
+            break
         best = min(best or 1e9, time.perf_counter() - t)
     out[case["name"]] = best
 print(json.dumps(out))
@@ -69,7 +73,8 @@ print(json.dumps(out))
 
 
 def _case(name, ref, inverse, truth, noise_seed=None, kind="shift", repeat=1, **extra):
-    return {"name": name, "ref": ref, "inverse": inverse, "truth": truth, "noise_seed": noise_seed,
+    # no dots in a name: Pyvale names its output after the image's name up to the first dot
+    return {"name": name.replace(".", "p"), "ref": ref, "inverse": inverse, "truth": truth, "noise_seed": noise_seed,
             "kind": kind, "repeat": repeat, **extra}
 
 
@@ -98,21 +103,22 @@ REFERENCES = {"ref256": ((256, 256), None), "ref256n": ((256, 256), 1), "ref96":
               "ref1024": ((1024, 1024), None)}
 
 
-def render_all(folder: Path, all_cases: list[dict]) -> dict:
-    """Write every reference and deformed image as a 16-bit TIFF; the shape of each reference."""
-    patterns = {}
+def render_all(folder: Path, all_cases: list[dict]) -> None:
+    """Write every reference and deformed image as a 16-bit TIFF (kept where already there: the
+    images depend on nothing but this file)."""
+    patterns = {name: speckle.make_pattern(shape, 4.0, 0.5, 0) for name, (shape, _) in REFERENCES.items()}
     for name, (shape, noise_seed) in REFERENCES.items():
-        patterns[name] = speckle.make_pattern(shape, 4.0, 0.5, 0)
-        _write(folder / f"{name}.tif", speckle.render(patterns[name], shape, None, SUPERSAMPLE), noise_seed)
+        _write(folder / f"{name}.tif", patterns[name], shape, None, noise_seed)
     for case in all_cases:
-        shape = REFERENCES[case["ref"]][0]
-        case["shape"] = shape
-        _write(folder / f"{case['name']}.tif", speckle.render(patterns[case["ref"]], shape, case["inverse"],
-                                                               SUPERSAMPLE), case["noise_seed"])
-    return {name: shape for name, (shape, _) in REFERENCES.items()}
+        case["shape"] = REFERENCES[case["ref"]][0]
+        _write(folder / f"{case['name']}.tif", patterns[case["ref"]], case["shape"], case["inverse"],
+               case["noise_seed"])
 
 
-def _write(path: Path, image: np.ndarray, noise_seed) -> None:
+def _write(path: Path, pattern, shape, inverse, noise_seed) -> None:
+    if path.exists():
+        return
+    image = speckle.render(pattern, shape, inverse, SUPERSAMPLE)
     write_grey(path, speckle.add_noise(image, 0.01, noise_seed) if noise_seed is not None else image, 16)
 
 
@@ -159,6 +165,9 @@ def run_pyvale(python: str, folder: Path, all_cases: list[dict]) -> dict | str:
     if res.returncode:
         return res.stderr[-3000:]
     seconds = json.loads(res.stdout.strip().splitlines()[-1])
+    failed = {name: why for name, why in seconds.items() if isinstance(why, str)}
+    if failed:
+        return "Pyvale refused " + "; ".join(f"{name}: {why}" for name, why in failed.items())
     return {c["name"]: _pyvale_case(folder / f"pv_{c['name']}.csv", c, seconds[c["name"]]) for c in all_cases}
 
 
@@ -195,7 +204,7 @@ def shift_table(results: dict, all_cases: list[dict]) -> None:
     print("|---|---|---|---|---|---|---|")
     by_name = {c["name"]: c for c in all_cases}
     for case in (c for c in all_cases if c["kind"] == "shift"):
-        noisy = by_name.get(case["name"].replace("shift", "noisy"))
+        noisy = by_name.get(case["name"].replace("shift", "noisy"))  # none for 3.3 px
         for engine in _engines(results):
             cells, counts = [], []
             for c in (case, noisy):
@@ -259,10 +268,11 @@ def summary_table(results: dict, all_cases: list[dict], resolution: dict) -> Non
               f"{_fmt(sr_u)}, {_fmt(sr_e)} | {mei} |")
 
 
-def side_by_side(pyvale: str | None) -> None:
+def side_by_side(pyvale: str | None, images: str | None) -> None:
     all_cases = cases()
     with tempfile.TemporaryDirectory() as tmp:
-        folder = Path(tmp)
+        folder = Path(images or tmp)
+        folder.mkdir(parents=True, exist_ok=True)
         t = time.perf_counter()
         render_all(folder, all_cases)
         print(f"\n{len(all_cases)} deformed images and {len(REFERENCES)} references rendered in "
@@ -320,8 +330,9 @@ if __name__ == "__main__":
     ap.add_argument("--pyvale", help="a Python interpreter with pyvale installed (its venv's bin/python)")
     ap.add_argument("--skip-speed", help="skip the side-by-side cases", action="store_true")
     ap.add_argument("--skip-challenge", action="store_true")
+    ap.add_argument("--images", help="a folder to keep the rendered images in (reused when run again)")
     a = ap.parse_args()
     if not a.skip_speed:
-        side_by_side(a.pyvale)
+        side_by_side(a.pyvale, a.images)
     if not a.skip_challenge:
         challenge()
