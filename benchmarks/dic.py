@@ -49,7 +49,7 @@ PYVALE_SCRIPT = r"""
 import json, sys, time
 import numpy as np
 from pyvale import dic
-folder, cases = sys.argv[1], json.loads(open(sys.argv[2]).read())
+folder, cases, kernel, prefix = sys.argv[1], json.loads(open(sys.argv[2]).read()), int(sys.argv[3]), sys.argv[4]
 out = {}
 for case in cases:
     h, w = case["shape"]
@@ -62,7 +62,8 @@ for case in cases:
             dic.calculate_2d(reference=f"{folder}/{case['ref']}", deformed=f"{folder}/{case['name']}.tif",
                              roi_mask=mask, seed=[w // 2, h // 2], subset_size=31, subset_step=10,
                              num_threads=1, max_displacement=16, precision=1e-4, threshold=0.9,
-                             output_basepath=folder, output_prefix="pv_", print_level=0)
+                             output_basepath=folder, output_prefix=prefix, image_filter_kernel=kernel,
+                             print_level=0)
         except Exception as exc:
             best = repr(exc)
             break
@@ -84,7 +85,7 @@ def cases() -> list[dict]:
     for k, t in enumerate(np.arange(1, 10) / 10):
         shift = (lambda t: lambda x, y: (t + 0 * x, t + 0 * y))(t)
         out.append(_case(f"shift{t:.1f}", "ref256", speckle.translation(t, t), shift, shift=t))
-        out.append(_case(f"noisy{t:.1f}", "ref256n", speckle.translation(t, t), shift, 10 + k, shift=t))
+        out.append(_case(f"noisy{t:.1f}", "ref256n", speckle.translation(t, t), shift, 10 + k, "noisy", shift=t))
     out.append(_case("shift3.3", "ref256", speckle.translation(3.3, 3.3), lambda x, y: (3.3 + 0 * x, 3.3 + 0 * y),
                      shift=3.3))
     for e in (1e-3, 1e-2):
@@ -151,16 +152,19 @@ def run_vlab(folder: Path, all_cases: list[dict]) -> dict:
     return out
 
 
-def run_pyvale(python: str, folder: Path, all_cases: list[dict]) -> dict | str:
+def run_pyvale(python: str, folder: Path, all_cases: list[dict], kernel: int = 5) -> dict | str:
     """The same per-case results from Pyvale's CSVs (strain by vlab's window on its grid), or the
-    error text if Pyvale failed."""
+    error text if Pyvale failed. ``kernel``: Pyvale's Gaussian prefilter of every image (its
+    default: 5 × 5 px, σ = 1 px; 1 = none: its Python check admits 0, its C++ refuses it)."""
+    prefix = f"pv{kernel}_"
     spec = [{"name": c["name"], "ref": f"{c['ref']}.tif", "shape": c["shape"], "margin": MARGIN,
              "repeat": c["repeat"]} for c in all_cases]
     (folder / "cases.json").write_text(json.dumps(spec))
     (folder / "run_pyvale.py").write_text(PYVALE_SCRIPT)
     env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH",)}
     env.update(NUMBA_NUM_THREADS="1", OMP_NUM_THREADS="1", QT_QPA_PLATFORM="offscreen", MPLBACKEND="Agg")
-    res = subprocess.run([python, str(folder / "run_pyvale.py"), str(folder), str(folder / "cases.json")],
+    res = subprocess.run([python, str(folder / "run_pyvale.py"), str(folder), str(folder / "cases.json"),
+                          str(kernel), prefix],
                          capture_output=True, text=True, env=env)
     if res.returncode:
         return res.stderr[-3000:]
@@ -168,7 +172,7 @@ def run_pyvale(python: str, folder: Path, all_cases: list[dict]) -> dict | str:
     failed = {name: why for name, why in seconds.items() if isinstance(why, str)}
     if failed:
         return "Pyvale refused " + "; ".join(f"{name}: {why}" for name, why in failed.items())
-    return {c["name"]: _pyvale_case(folder / f"pv_{c['name']}.csv", c, seconds[c["name"]]) for c in all_cases}
+    return {c["name"]: _pyvale_case(folder / f"{prefix}{c['name']}.csv", c, seconds[c["name"]]) for c in all_cases}
 
 
 def _pyvale_case(path: Path, case: dict, seconds: float) -> dict:
@@ -195,7 +199,7 @@ def errors(r: dict, case: dict) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _engines(results: dict) -> list[str]:
-    return [name for name in ("vlab", "Pyvale") if isinstance(results.get(name), dict)]
+    return [name for name, r in results.items() if isinstance(r, dict)]
 
 
 def shift_table(results: dict, all_cases: list[dict]) -> None:
@@ -203,6 +207,7 @@ def shift_table(results: dict, all_cases: list[dict]) -> None:
           " std u, v 1 % noise (px) | subsets (no noise / noise) |")
     print("|---|---|---|---|---|---|---|")
     by_name = {c["name"]: c for c in all_cases}
+    worst = {}
     for case in (c for c in all_cases if c["kind"] == "shift"):
         noisy = by_name.get(case["name"].replace("shift", "noisy"))  # none for 3.3 px
         for engine in _engines(results):
@@ -215,7 +220,15 @@ def shift_table(results: dict, all_cases: list[dict]) -> None:
                 eu, ev = errors(r, c)
                 cells += [f"{eu.mean():+.1e}, {ev.mean():+.1e}", f"{eu.std():.1e}, {ev.std():.1e}"]
                 counts.append(str(r["n"]))
+                bias, std = worst.get((engine, c["kind"]), (0.0, 0.0))
+                worst[engine, c["kind"]] = (max(bias, abs(eu.mean()), abs(ev.mean())), max(std, eu.std(), ev.std()))
             print(f"| {case['shift']:.1f} | {engine} | " + " | ".join(cells) + f" | {' / '.join(counts)} |")
+    print("\n| engine | worst abs bias, no noise (px) | worst std, no noise (px) | worst abs bias, 1 % noise (px) |"
+          " worst std, 1 % noise (px) |")
+    print("|---|---|---|---|---|")
+    for engine in _engines(results):
+        (b0, s0), (b1, s1) = worst[engine, "shift"], worst[engine, "noisy"]
+        print(f"| {engine} | {b0:.1e} | {s0:.1e} | {b1:.1e} | {s1:.1e} |")
 
 
 def strain_table(results: dict, all_cases: list[dict]) -> None:
@@ -257,15 +270,17 @@ def summary_table(results: dict, all_cases: list[dict], resolution: dict) -> Non
     static = next(c for c in all_cases if c["kind"] == "static")
     speed = next(c for c in all_cases if c["kind"] == "speed")
     print("\n| engine | 1024² pair, 1 thread (s) | subsets converged (1024²) | σ_u, σ_v static 1 % noise (px) |"
-          " SR_u, SR_ε 10 % low (px) | MEI_u (px²) |")
-    print("|---|---|---|---|---|---|")
+          " σ_Exx, σ_Eyy static (µε) | SR_u, SR_ε 10 % low (px) | MEI_u (px²) | MEI_ε (px) |")
+    print("|---|---|---|---|---|---|---|---|")
     for engine in _engines(results):
         r, s = results[engine][speed["name"]], results[engine][static["name"]]
         su, sv = s["u"].std(), s["v"].std()
         sr_u, sr_e = resolution[engine]
-        mei = "—" if sr_u is None else f"{0.5 * (su + sv) * sr_u:.3g}"
+        sxx, syy = np.nanstd(s["exx"]), np.nanstd(s["eyy"])
+        mei_u = "—" if sr_u is None else f"{0.5 * (su + sv) * sr_u:.3g}"
+        mei_e = "—" if sr_e is None else f"{0.5 * (sxx + syy) * sr_e:.3g}"
         print(f"| {engine} | {r['seconds']:.2f} | {r['n']} ({r['share']:.1%}) | {su:.4f}, {sv:.4f} | "
-              f"{_fmt(sr_u)}, {_fmt(sr_e)} | {mei} |")
+              f"{sxx * 1e6:.0f}, {syy * 1e6:.0f} | {_fmt(sr_u)}, {_fmt(sr_e)} | {mei_u} | {mei_e} |")
 
 
 def side_by_side(pyvale: str | None, images: str | None) -> None:
@@ -279,9 +294,10 @@ def side_by_side(pyvale: str | None, images: str | None) -> None:
               f"{time.perf_counter() - t:.0f} s")
         results = {"vlab": run_vlab(folder, all_cases)}
         if pyvale:
-            results["Pyvale"] = run_pyvale(pyvale, folder, all_cases)
-            if isinstance(results["Pyvale"], str):
-                print("Pyvale failed:\n" + results["Pyvale"])
+            for name, kernel in (("Pyvale", 5), ("Pyvale, no prefilter", 1)):
+                results[name] = run_pyvale(pyvale, folder, all_cases, kernel)
+                if isinstance(results[name], str):
+                    print(f"{name} failed:\n" + results[name])
     shift_table(results, all_cases)
     strain_table(results, all_cases)
     summary_table(results, all_cases, resolution_table(results, all_cases))

@@ -171,6 +171,25 @@ def test_quadratic_cells_render_the_exact_image():
     assert np.abs(got - want).max() <= 1e-9 * CAMERA.levels
 
 
+@pytest.mark.parametrize("k", [3, 4, 6, 8, 9])
+def test_shape_functions_are_nodal_sum_to_one_and_differentiate_right(k):
+    """N_a(ξ_b) = δ_ab at the nodes, Σ_a N_a = 1 anywhere, and ∂N/∂ξ, ∂N/∂η equal central
+    differences (step 1e-6) to 1e-8."""
+    from vlab.dic.inverse_map import NODES, shape_functions
+
+    nodes = {3: [[0, 0], [1, 0], [0, 1]], 6: [[0, 0], [1, 0], [0, 1], [0.5, 0], [0.5, 0.5], [0, 0.5]]}
+    P = np.array(nodes.get(k, NODES[:k]), float)
+    assert np.allclose(shape_functions(k, P[:, 0], P[:, 1])[0], np.eye(k), rtol=0, atol=1e-15)
+    xi, eta = np.random.default_rng(k).uniform(-0.3, 0.4, (2, 7))
+    N, dxi, deta = shape_functions(k, xi, eta)
+    assert np.allclose(N.sum(axis=0), 1.0, rtol=0, atol=1e-14)
+    h = 1e-6
+    assert np.allclose(dxi, (shape_functions(k, xi + h, eta)[0] - shape_functions(k, xi - h, eta)[0]) / (2 * h),
+                       rtol=0, atol=1e-8)
+    assert np.allclose(deta, (shape_functions(k, xi, eta + h)[0] - shape_functions(k, xi, eta - h)[0]) / (2 * h),
+                       rtol=0, atol=1e-8)
+
+
 def test_face_of_a_space_the_camera_cannot_take_is_named():
     mesh = block_mesh(SIZE, 2.0, "tet")
     with pytest.raises(FaceError, match="ElementTetP0"):

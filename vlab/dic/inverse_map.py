@@ -56,11 +56,14 @@ def shape_functions(k: int, xi: np.ndarray, eta: np.ndarray) -> tuple[np.ndarray
         (lx, dlx), (ly, dly) = _lagrange2(a, xi), _lagrange2(b, eta)
         return lx * ly, dlx * ly, lx * dly
     sx, sy = 1 + a * xi, 1 + b * eta  # the 8-node serendipity quadrilateral
-    corner = 0.25 * sx * sy * (a * xi + b * eta - 1)
-    N = np.where(a * b != 0, corner, np.where(a == 0, 0.5 * (1 - xi ** 2) * sy, 0.5 * sx * (1 - eta ** 2)))
-    dxi = np.where(a * b != 0, 0.25 * a * sy * (2 * a * xi + b * eta), np.where(a == 0, -xi * sy, 0.5 * a * (1 - eta ** 2)))
-    deta = np.where(a * b != 0, 0.25 * b * sx * (a * xi + 2 * b * eta), np.where(a == 0, 0.5 * b * (1 - xi ** 2), -eta * sx))
-    return N, dxi, deta
+    corner, on_xi = a * b != 0, a == 0  # a corner; a mid-edge node on an edge along ξ
+    qx, qy = 1 - xi ** 2, 1 - eta ** 2
+
+    def pick(at_corner, along_xi, along_eta):
+        return np.where(corner, at_corner, np.where(on_xi, along_xi, along_eta))
+    return (pick(0.25 * sx * sy * (a * xi + b * eta - 1), 0.5 * qx * sy, 0.5 * sx * qy),
+            pick(0.25 * a * sy * (2 * a * xi + b * eta), -xi * sy, 0.5 * a * qy),
+            pick(0.25 * b * sx * (a * xi + 2 * b * eta), 0.5 * b * qx, -eta * sx))
 
 
 def _lagrange2(node: np.ndarray, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
