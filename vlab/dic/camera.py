@@ -147,7 +147,7 @@ def check_view(camera: Camera, face: Face) -> None:
     lo, hi = face.bounds
     if x1[-1] <= lo[0] or x1[0] >= hi[0] or x2[0] <= lo[1] or x2[-1] >= hi[1]:
         raise CameraError(
-            f"camera.centre = {tuple(np.round(camera.centre_on(face), 6))} mm with a field of view of "
+            f"camera.centre = {[round(float(c), 6) for c in camera.centre_on(face)]} mm with a field of view of "
             f"{x1[-1] - x1[0]:.4g} × {x2[0] - x2[-1]:.4g} mm (x₁ {x1[0]:.4g}…{x1[-1]:.4g}, x₂ "
             f"{x2[-1]:.4g}…{x2[0]:.4g}) cannot see the face (x₁ {lo[0]:.4g}…{hi[0]:.4g}, "
             f"x₂ {lo[1]:.4g}…{hi[1]:.4g} mm): move the centre into the face", "centre")
@@ -170,8 +170,8 @@ def paint(face: Face, camera: Camera, pattern: Speckle) -> speckle.Pattern:
 def irradiance(camera: Camera, face: Face, pattern: speckle.Pattern, u: np.ndarray,
                compiled: bool | None = None) -> np.ndarray:
     """The sharp noiseless image (H, W) in grey levels (float) of the face displaced by ``u`` (the
-    mesh's nodal displacement (n_vertices, 3), mm): each pixel the mean over its s × s
-    sub-samples of I(φ⁻¹(x)), I the speckle on the face and the background off it.
+    nodal displacement (n_vertices, 3) mm, or (n_nodes, 3) for a face built with a basis): each
+    pixel the mean over its s × s sub-samples of I(φ⁻¹(x)), I the speckle on the face and the background off it.
     ``compiled``: None uses the numba kernels when available, False their numpy twins."""
     (W, H), s = camera.pixels, camera.supersample
     x1, x2 = camera.axes(face)

@@ -42,7 +42,8 @@ class Face:
 
     def in_plane(self, u: np.ndarray) -> np.ndarray:
         """The in-plane displacement (n, 2) mm of the face's nodes from the nodal displacement
-        ``u`` (n_vertices or more, 3) of the mesh (the vertices come first, as in vlab's spaces)."""
+        ``u`` (n_vertices or more, 3) of the mesh (the vertices come first, as in vlab's spaces; a face
+        built with a basis needs all the basis's nodes)."""
         u = np.asarray(u, float)[self.nodes]
         return np.stack([sign * u[:, axis] for axis, sign in self.axes], axis=1)
 

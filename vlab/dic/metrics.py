@@ -47,8 +47,16 @@ def noise_floor(settings: Settings, camera: Camera) -> dict:
     clean = speckle.render(pattern, camera.shape, None, camera.supersample)
     a = speckle.add_noise(clean, camera.noise, 1)
     b = speckle.add_noise(clean, camera.noise, 2)
-    f = Correlator(a, settings).correlate(b)
+    return static_noise(Correlator(a, settings).correlate(b))
+
+
+def static_noise(f) -> dict:
+    """σ_u, σ_v (px) and σ_Exx, σ_Eyy (µε): the standard deviations over the converged subsets of
+    the field ``f`` of a static pair (two images of one state, independent noise)."""
     ok = f.status == icgn.OK
+    if not ok.any():
+        return {"sigma_u_px": None, "sigma_v_px": None, "sigma_exx_microstrain": None,
+                "sigma_eyy_microstrain": None, "converged": f.converged}
     return {"sigma_u_px": float(np.std(f.u[ok])), "sigma_v_px": float(np.std(f.v[ok])),
             "sigma_exx_microstrain": float(np.nanstd(f.exx) * 1e6),
             "sigma_eyy_microstrain": float(np.nanstd(f.eyy) * 1e6), "converged": f.converged}

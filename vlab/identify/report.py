@@ -78,8 +78,11 @@ def _limit_text(side: dict | None, bound: str, lim: float) -> str:
 
 
 def _stability_rows(st: dict) -> list:
-    return [[kind, _limit_text(s["tension"], "from", 10), _limit_text(s["compression"], "below", 0.1),
-             _f(s.get("stable_over_fitted_range"))] for kind, s in st["kinds"].items()]
+    """A row per scanned path, then one per closed-form data set judged at its own states."""
+    paths = [[kind, _limit_text(s["tension"], "from", 10), _limit_text(s["compression"], "below", 0.1),
+              _f(s.get("stable_over_fitted_range"))] for kind, s in st["kinds"].items()]
+    return paths + [[html.escape(name), f"{s['states']} states of the data", f"min eig D {_f(s['min_eigenvalue'], 4)} MPa",
+                     _f(s["stable"])] for name, s in st.get("data_states", {}).items()]
 
 
 def _fe_section(d: dict) -> str:
