@@ -8,6 +8,7 @@ import math
 
 import numpy as np
 import pytest
+import skfem
 
 from vlab.dic import icgn, speckle
 from vlab.dic.camera import Camera, CameraError, Speckle, expose, irradiance, paint, render
@@ -125,6 +126,76 @@ def test_quadratic_field_image_converges_to_the_exact_rendering():
     assert errors[1] < 0.02 * CAMERA.levels
 
 
+QUADRATIC = [("hex", skfem.ElementHex2), ("hex", skfem.ElementHexS2), ("tet", skfem.ElementTetP2)]
+
+
+def _quadratic_face(cell, element, h, field):
+    """The block's top face in an order-2 space, and the nodal displacement (n_nodes, 3) of
+    ``field`` at the space's nodes."""
+    mesh = block_mesh(SIZE, h, cell)
+    basis = skfem.Basis(mesh, element(), intorder=2)
+    P = basis.doflocs
+    ux, uy = field(P[0], P[1])
+    return mesh, face_of(mesh, basis=basis), np.stack([ux, uy, np.zeros_like(ux)], axis=1)
+
+
+@pytest.mark.parametrize("cell, element", QUADRATIC, ids=["9-node", "8-node", "6-node"])
+def test_quadratic_cells_carry_a_quadratic_field_exactly(cell, element):
+    """u₁ = A (X₂ − 10)² lies in the order-2 space (Q2, serendipity and P2 alike), so the face's
+    quadratic cells interpolate it exactly and the reference points found are the analytic inverse
+    X₁ = x₁ − A (x₂ − 10)² to round-off, where the same space seen through its vertices only errs by
+    the interpolation error A h²/4 = 2e-3 mm (h = 2 mm)."""
+    h = 2.0
+    mesh, face, u = _quadratic_face(cell, element, h, lambda X, Y: (A * (Y - CENTRE[1]) ** 2, 0 * Y))
+    assert face.cells.shape[1] == {"ElementHex2": 9, "ElementHexS2": 8, "ElementTetP2": 6}[element.__name__]
+    xs, ys = np.linspace(1.0, 19.0, 181), np.linspace(19.0, 1.0, 173)
+    x, y = np.meshgrid(xs, ys)
+    X, Y = _quadratic_inverse(x, y)
+    PX, PY, hit = reference_points(face.X, face.X + face.in_plane(u), face.cells, xs, ys)
+    assert hit.all()
+    assert np.hypot(PX - X, PY - Y).max() <= 1e-12
+    vertices = face_of(mesh)
+    PX, PY, _ = reference_points(vertices.X, vertices.X + vertices.in_plane(u), vertices.cells, xs, ys)
+    assert np.hypot(PX - X, PY - Y).max() >= 0.9 * A * h * h / 4
+
+
+def test_quadratic_cells_render_the_exact_image():
+    """The camera's image of u₁ = A (X₂ − 10)² on 9-node face cells (h = 2 mm) equals
+    speckle.render through the analytic inverse to round-off, as the homogeneous stretch does on
+    bilinear cells (on those, the same field errs by hundreds of grey levels)."""
+    _, face, u = _quadratic_face("hex", skfem.ElementHex2, 2.0, lambda X, Y: (A * (Y - CENTRE[1]) ** 2, 0 * Y))
+    pattern = paint(face, CAMERA, Speckle(seed=5))
+    got = irradiance(CAMERA, face, pattern, u)
+    want = speckle.render(_in_pixels(pattern, CAMERA, face), (160, 160),
+                          _pixel_map(CAMERA, face, _quadratic_inverse), CAMERA.supersample)
+    assert np.abs(got - want).max() <= 1e-9 * CAMERA.levels
+
+
+@pytest.mark.parametrize("k", [3, 4, 6, 8, 9])
+def test_shape_functions_are_nodal_sum_to_one_and_differentiate_right(k):
+    """N_a(ξ_b) = δ_ab at the nodes, Σ_a N_a = 1 anywhere, and ∂N/∂ξ, ∂N/∂η equal central
+    differences (step 1e-6) to 1e-8."""
+    from vlab.dic.inverse_map import NODES, shape_functions
+
+    nodes = {3: [[0, 0], [1, 0], [0, 1]], 6: [[0, 0], [1, 0], [0, 1], [0.5, 0], [0.5, 0.5], [0, 0.5]]}
+    P = np.array(nodes.get(k, NODES[:k]), float)
+    assert np.allclose(shape_functions(k, P[:, 0], P[:, 1])[0], np.eye(k), rtol=0, atol=1e-15)
+    xi, eta = np.random.default_rng(k).uniform(-0.3, 0.4, (2, 7))
+    N, dxi, deta = shape_functions(k, xi, eta)
+    assert np.allclose(N.sum(axis=0), 1.0, rtol=0, atol=1e-14)
+    h = 1e-6
+    assert np.allclose(dxi, (shape_functions(k, xi + h, eta)[0] - shape_functions(k, xi - h, eta)[0]) / (2 * h),
+                       rtol=0, atol=1e-8)
+    assert np.allclose(deta, (shape_functions(k, xi, eta + h)[0] - shape_functions(k, xi, eta - h)[0]) / (2 * h),
+                       rtol=0, atol=1e-8)
+
+
+def test_face_of_a_space_the_camera_cannot_take_is_named():
+    mesh = block_mesh(SIZE, 2.0, "tet")
+    with pytest.raises(FaceError, match="ElementTetP0"):
+        face_of(mesh, basis=skfem.Basis(mesh, skfem.ElementTetP0(), intorder=1))
+
+
 def test_noise_of_two_frames_differs_by_sqrt2_sigma(block):
     """Two frames of the same state carry independent sensor noise of std σ: their difference has
     std √2 σ (within 3 % on 160² pixels); the same frame number repeats exactly."""
@@ -205,6 +276,23 @@ def test_compiled_camera_matches_its_numpy_twin():
         pattern = paint(face, camera, Speckle(seed=2))
         assert np.allclose(irradiance(camera, face, pattern, u, compiled=True),
                            irradiance(camera, face, pattern, u, compiled=False), rtol=0, atol=1e-8)
+
+
+@pytest.mark.parametrize("cell, element", QUADRATIC, ids=["9-node", "8-node", "6-node"])
+def test_compiled_quadratic_cells_match_their_numpy_twin(cell, element):
+    """The same on quadratic face cells made curved by a field outside the space (a sine), with the
+    face's edge in view: the same sub-samples on the face, reference points to round-off."""
+    pytest.importorskip("numba")
+    _, face, u = _quadratic_face(cell, element, 2.0, lambda X, Y: (A * (Y - CENTRE[1]) ** 2 + 0.05 * np.sin(Y),
+                                                                   1e-3 * X * Y + 0.05 * np.sin(X)))
+    camera = Camera(pixels=(96, 80), mm_per_px=0.25, supersample=2, centre=(18.0, 3.0))
+    x1, x2 = camera.axes(face)
+    x = face.X + face.in_plane(u)
+    a = reference_points(face.X, x, face.cells, x1, x2, compiled=True)
+    b = reference_points(face.X, x, face.cells, x1, x2, compiled=False)
+    assert np.array_equal(a[2], b[2]) and 0.2 < a[2].mean() < 0.8
+    assert np.allclose(a[0], b[0], rtol=0, atol=1e-11, equal_nan=True)
+    assert np.allclose(a[1], b[1], rtol=0, atol=1e-11, equal_nan=True)
 
 
 def test_dogbone_face_sub_samples_are_those_inside_its_cells_and_the_rest_is_background():

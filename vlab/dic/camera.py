@@ -170,8 +170,8 @@ def paint(face: Face, camera: Camera, pattern: Speckle) -> speckle.Pattern:
 def irradiance(camera: Camera, face: Face, pattern: speckle.Pattern, u: np.ndarray,
                compiled: bool | None = None) -> np.ndarray:
     """The sharp noiseless image (H, W) in grey levels (float) of the face displaced by ``u`` (the
-    mesh's nodal displacement (n_vertices, 3), mm): each pixel the mean over its s × s
-    sub-samples of I(φ⁻¹(x)), I the speckle on the face and the background off it.
+    nodal displacement (n_vertices, 3) mm, or (n_nodes, 3) for a face built with a basis): each
+    pixel the mean over its s × s sub-samples of I(φ⁻¹(x)), I the speckle on the face and the background off it.
     ``compiled``: None uses the numba kernels when available, False their numpy twins."""
     x1, x2 = camera.axes(face)
     x = face.X + face.in_plane(u)

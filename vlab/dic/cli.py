@@ -28,13 +28,17 @@ def run_dic(reference: Path, deformed: list[Path], options: dict, dest, quiet: b
 
     start = time.perf_counter()
     try:
-        fields = analyse(reference, deformed, settings, progress)
+        fields, depths = analyse(reference, deformed, settings, progress)
     except ImageError as exc:
         fail("invalid image", exc)
     except DICError as exc:
         fail("invalid input", exc)
+    mixed = [stem for stem in depths if depths[stem] != depths[str(reference)]]
+    if mixed and not quiet:
+        say(f"  note: {', '.join(f'{s} is {depths[s]}' for s in mixed)}, the reference {depths[str(reference)]}: "
+            f"ZNSSD ignores a grey-level scale, so they correlate; fewer grey levels add noise")
     try:
-        write(dest, reference, fields, settings, time.perf_counter() - start)
+        write(dest, reference, fields, settings, time.perf_counter() - start, depths)
     except ReportFolderError as exc:
         fail("invalid output folder", exc)
     show(f"report: {dest.path / 'index.html'}")

@@ -22,6 +22,17 @@ SUFFIXES = (".png", ".tif", ".tiff")
 def read_grey(path: Path) -> np.ndarray:
     """The grey levels of ``path`` as float64 [row, column]; ImageError naming the file if it is
     not an 8- or 16-bit grey PNG or TIFF."""
+    return read_grey_scale(path)[0]
+
+
+def bits_of(full_scale: float | None) -> str:
+    """How a full scale reads in a message: 8-bit, 16-bit or floating-point."""
+    return {255: "8-bit", 65535: "16-bit"}.get(full_scale, "floating-point")
+
+
+def read_grey_scale(path: Path) -> tuple[np.ndarray, float | None]:
+    """(grey levels, full scale of the file's mode: 255 for 8-bit, 65535 for 16-bit, None for a
+    floating-point image), ImageError as read_grey."""
     from PIL import Image, UnidentifiedImageError
 
     path = Path(path)
@@ -40,7 +51,7 @@ def read_grey(path: Path) -> np.ndarray:
         raise ImageError(f"{path}: a {data.shape} array, not a 2-D grey image")
     if not np.isfinite(data).all():
         raise ImageError(f"{path}: holds non-finite grey levels")
-    return data
+    return data, GREY_MODES[mode]
 
 
 def write_grey(path: Path, image: np.ndarray, bits: int = 16) -> None:

@@ -2,8 +2,9 @@
 
 The camera looks at the specimen's face (vlab.dic.face.face_of(mesh, axis, side)); the speckle
 is painted on the reference face once (vlab.dic.camera.paint); frame 0 is the unloaded reference
-and frame k the k-th converged level, rendered from the nodal displacement of the mesh vertices
-(vlab.dic.camera.render: each frame a fresh draw of the sensor noise). Each level is correlated
+and frame k the k-th converged level, rendered from the nodal displacement of the face's nodes
+(the mesh vertices, or with an order-2 space its nodes on quadratic face cells;
+vlab.dic.camera.render: each frame a fresh draw of the sensor noise). Each level is correlated
 against the reference, seeded by the previous level's field (vlab.dic.correlate.Correlator), over
 the region of interest: the subsets that lie wholly on the reference face (region_of_interest).
 
@@ -85,14 +86,15 @@ def _axis_name(axis_sign: tuple[int, int]) -> str:
     return ("+" if s > 0 else "-") + "xyz"[a]
 
 
-def build_view(spec, mesh) -> View:
-    """The View of a scene's DicSpec on the specimen mesh; CameraError/FaceError (naming the
-    setting) if a setting is out of range, the face is missing or the camera cannot see it."""
+def build_view(spec, mesh, basis=None) -> View:
+    """The View of a scene's DicSpec on the specimen mesh (with ``basis``, the FE space's scalar
+    basis, the face cells carry its order-2 nodes: vlab.dic.face); CameraError/FaceError (naming
+    the setting) if a setting is out of range, the face is missing or the camera cannot see it."""
     camera, speckle = Camera(**spec.camera), Speckle(**spec.speckle)
     settings = Settings(**spec.settings)
     camera.check()
     speckle.check()
-    face = face_of(mesh, spec.axis, spec.side)
+    face = face_of(mesh, spec.axis, spec.side, basis)
     check_view(camera, face)
     coords = mesh.p[spec.axis]
     return View(camera, speckle, settings, face, spec.axis, spec.side, spec.face,
@@ -115,13 +117,13 @@ def region_of_interest(view: View) -> np.ndarray:
     return binary_erosion(on, structure=np.ones((n, n), bool), border_value=0)
 
 
-def translation_bias(view: View, pattern, static: Correlator, n_vertices: int, shift: float = TRANSLATION_PX) -> dict:
+def translation_bias(view: View, pattern, static: Correlator, n_nodes: int, shift: float = TRANSLATION_PX) -> dict:
     """Bias and scatter (px) of a rigid in-plane translation of the face by ``shift`` px along both
     e₁ and e₂ (DIC Challenge 2.0): the image moves by (u, v) = (+shift, −shift) px (y runs down);
     bias = mean measured − true over the converged subsets, std their standard deviation."""
     from vlab.dic import icgn
 
-    u = np.zeros((n_vertices, 3))
+    u = np.zeros((n_nodes, 3))
     for a, s in view.face.axes:
         u[:, a] = s * shift * view.camera.pitch
     moved = render(view.camera, view.face, pattern, u, frame=NOISE_FRAMES[-1] + 1)
@@ -149,7 +151,7 @@ class Record:
 
 
 def record(view: View, displacements: list[np.ndarray], metrics: str = "full") -> Record:
-    """Render every frame of ``displacements`` ((n_vertices, 3) mm each, frame 0 = 0), correlate
+    """Render every frame of ``displacements`` ((n_nodes, 3) mm each, frame 0 = 0), correlate
     each deformed frame against frame 0 seeded by the previous field, and measure the noise floor,
     the translation bias and (``metrics`` = "full") the spatial resolution and MEI."""
     t0 = time.perf_counter()

@@ -3,8 +3,8 @@ difference is taken, so the difference map shows measurement error, not filterin
 
 At every subset centre (x_px, y_px) of the DIC grid the reference face point (x₁, x₂) mm
 (vlab.dic.instrument.View.face_mm) is located on the face; the FE displacement there is
-u(X) = Σ_a N_a(ξ(X)) u_a over the face cell's vertices (the interpolation the camera renders,
-vlab.dic.inverse_map; for an order-2 space, its vertices), turned into image pixels,
+u(X) = Σ_a N_a(ξ(X)) u_a over the face cell's nodes (the interpolation the camera renders,
+vlab.dic.inverse_map; quadratic for an order-2 space), turned into image pixels,
 
     u_px = s₁ u[a₁] / p,   v_px = −s₂ u[a₂] / p      (image y runs down, against e₂),
 
@@ -33,7 +33,7 @@ class FeProbe:
         self.x1, self.x2 = view.face_mm(field.x[0], field.y[:, 0])
 
     def displacement_px(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(U, V) px on the grid from the mesh vertices' displacement ``u`` (n_vertices, 3) mm;
+        """(U, V) px on the grid from the nodal displacement ``u`` (n_nodes, 3) mm of the face's space;
         NaN off the face. The face's own interpolation is inverted the other way round
         (vlab.dic.inverse_map with the deformed nodes as "reference"): it returns φ(X) = X + u(X)
         at the grid points X, so u(X) is the camera's displacement field exactly."""

@@ -2,8 +2,9 @@
 
 Before the solve, ``check_view`` builds the camera on the specimen's face and refuses (SceneError,
 exit 2, nothing written) a setting out of range, a missing face or a camera that cannot see it.
-After the solve, ``with_dic`` renders the reference and every converged level from the vertices'
-displacement, correlates them (vlab.dic.instrument.record), and measures:
+After the solve, ``with_dic`` renders the reference and every converged level from the nodal
+displacement (every node of the space: an order-2 space's face cells are quadratic), correlates
+them (vlab.dic.instrument.record), and measures:
 
 - the DIC virtual extensometer (vlab.dic.extensometer): E and ν fitted exactly like the point
   extensometers' (same first-loading rows, modulus window and fit), from the gauge area's mean
@@ -56,12 +57,12 @@ def check_view(prepared) -> None:
         _view(spec, prepared.specimen.mesh)
 
 
-def _view(spec, mesh):
+def _view(spec, mesh, basis=None):
     from vlab.dic.correlate import DICError
     from vlab.dic.instrument import CameraError, FaceError, build_view
 
     try:
-        return build_view(spec, mesh)
+        return build_view(spec, mesh, basis)
     except (CameraError, DICError) as exc:
         raise SceneError(f"instruments.dic.{exc}") from None
     except FaceError as exc:
@@ -78,8 +79,8 @@ def with_dic(result):
     from vlab.dic.levelled import FeProbe, difference
 
     start = time.perf_counter()
-    view = _view(spec, result.specimen.mesh)
-    levels, dim, n = result.history.levels, result.space.dim, result.specimen.mesh.nvertices
+    view = _view(spec, result.specimen.mesh, result.space.basis)  # order 2: quadratic face cells
+    levels, dim, n = result.history.levels, result.space.dim, result.space.n_nodes
     frames = [np.zeros((n, 3))] + [_in_3d(lv.evaluation.u.reshape(-1, dim)[:n]) for lv in levels]
     rec = record(view, frames, spec.metrics)
     t0 = time.perf_counter()
