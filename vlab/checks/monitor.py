@@ -168,7 +168,9 @@ class StabilityMonitor:
             return self.partition.prescribed_block(K), Kff, Kfp, inertia(Kff)
         # the stepper verified the unloaded K_ff (no free rigid modes), so a Cholesky here
         # needs no second look for a zero eigenvalue (vlab.fe.stepping._check_restrained)
-        return tangent.Kpp, tangent.Kff, tangent.Kfp, factorized_inertia(tangent.factor, tangent.Kff, verify_zero=False)
+        found = factorized_inertia(tangent.factor, tangent.Kff, verify_zero=False,
+                                   accurate=self.options.eigenvalues)
+        return tangent.Kpp, tangent.Kff, tangent.Kfp, found
 
     def _recount(self, Kff, found):
         """The inertia again after the solve with ``found`` failed: on the iterative path LOBPCG
