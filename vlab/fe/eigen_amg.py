@@ -106,7 +106,8 @@ def amg_inertia(K: sp.spmatrix, solver, zero_tol: float = ZERO_TOL, accurate: bo
 
 
 def _solve_with(solver):
-    return lambda b: solver.solve(b)
+    """K⁻¹ b by CG to DIRECT_TOLERANCE, from an optional first guess ``x0``."""
+    return lambda b, x0=None: solver.solve(b, x0=x0)
 
 
 def _start_block(n: int, hierarchy) -> np.ndarray:
