@@ -260,8 +260,7 @@ class AMGConjugateGradient(Factorization):
         if x0 is not None and len(x0) == len(b):
             x += x0
             r -= self._K @ x0
-        r0_norm = math.sqrt(float(r @ r))  # the decades CG gains are counted from here
-        if r0_norm <= rtol * b_norm:
+        if math.sqrt(float(r @ r)) <= rtol * b_norm:
             return x
         z = self._M @ r
         p = z.copy()
@@ -279,7 +278,8 @@ class AMGConjugateGradient(Factorization):
             r_norm = math.sqrt(float(r @ r))
             if r_norm <= rtol * b_norm:
                 self.iterations.append(k)
-                self.hierarchy.record(k, math.log10(r0_norm / max(r_norm, 1e-300)))
+                if x0 is None:  # a warm start's first decades are its slowest: not a rate to judge by
+                    self.hierarchy.record(k, math.log10(b_norm / max(r_norm, 1e-300)))
                 return x
             z = self._M @ r
             rz_new = float(r @ z)
