@@ -28,9 +28,12 @@ lowest eigenvalue itself is wanted: ``[solver] eigenvalues``, a study, the stabi
 RESIDUAL_TOL, else (only the verdict is wanted) as soon as the lowest pair is *decided* by the
 second rule, which is the verdict's own acceptance test, so it is not weakened: on a thin shell
 (the 50k-DOF sphere octant of benchmarks/kinds_felupe.py, λ₁ ≈ 9e-3 max|K_ii|, the first two
-eigenvalues 3 % apart) the warm-started pair is decided after the first FIRST_ITERATIONS call
-(‖r‖ ≈ 2e-6 max|K_ii|), while reaching RESIDUAL_TOL took another ~45 iterations of a call that
-only ends when the random column, too, converges, ~80 % of the run's time. The recorded
+eigenvalues 3 % apart) the warm-started pair is decided after one to three calls of
+FIRST_ITERATIONS on most levels, while reaching RESIDUAL_TOL took another ~45 iterations of a
+call that only ends when the random column, too, converges: 183 of the run's 306 s (profiled,
+benchmarks/RESULTS.md). The decided test also keeps a near-degenerate pair honest: two modes
+0.3 % apart whose order swaps leave the tracked pair's residual above DECIDED_TOL until the
+block has found the lower one (seen on that octant). The recorded
 lowest eigenvalue then carries its residual (``Inertia.residual``): it lies within ‖r‖ of an
 eigenvalue, and its own error is O(‖r‖² / gap). A pair that does not converge is not trusted: the state is then
 vetted by the direct factorization after all (method "ldlt-inertia", with the reason logged),
