@@ -111,6 +111,7 @@ class StabilityMonitor:
         self._accepted_Kff = None  # (K_ff, K_ff⁻¹) of the last stable state, for its eigenvalue
         self.critical: CriticalState | None = None
         self._trial_plastic_strain: float | None = None  # largest α of the last unstable trial
+        self._path_tangent: np.ndarray | None = None  # the last v_f on the iterative path, CG's start
 
     def stretch_at(self, t: float) -> list[float]:
         return self.kind.at(self.target, t)
@@ -168,7 +169,9 @@ class StabilityMonitor:
             return self.partition.prescribed_block(K), Kff, Kfp, inertia(Kff)
         # the stepper verified the unloaded K_ff (no free rigid modes), so a Cholesky here
         # needs no second look for a zero eigenvalue (vlab.fe.stepping._check_restrained)
-        return tangent.Kpp, tangent.Kff, tangent.Kfp, factorized_inertia(tangent.factor, tangent.Kff, verify_zero=False)
+        found = factorized_inertia(tangent.factor, tangent.Kff, verify_zero=False,
+                                   accurate=self.options.eigenvalues)
+        return tangent.Kpp, tangent.Kff, tangent.Kfp, found
 
     def _recount(self, Kff, found):
         """The inertia again after the solve with ``found`` failed: on the iterative path LOBPCG
@@ -217,12 +220,18 @@ class StabilityMonitor:
 
     def _path_stiffness(self, Kff, Kfp, Kpp, found) -> float | None:
         """dQ/dt = vᵀ K v along the displacement-controlled path v = (v_f, û_p), v_f = −K_ff⁻¹K_fp û_p,
-        by blocks: v_fᵀK_ff v_f + 2 v_fᵀK_fp û_p + û_pᵀK_pp û_p (None if K_ff could not be solved)."""
+        by blocks: v_fᵀK_ff v_f + 2 v_fᵀK_fp û_p + û_pᵀK_pp û_p (None if K_ff could not be solved).
+        CG (the iterative path) starts from the last state's v_f: the same û_p on a tangent that
+        moved little (initial residual 6e-5 between the sphere octant's small first steps)."""
         if found.solve is None or found.negative or found.zero:
             return None
         up = self.u_hat[self.partition.prescribed]
         coupling = Kfp @ up
-        vf = -found.solve(coupling)
+        if found.key == "lobpcg-amg":
+            vf = -found.solve(coupling, x0=None if self._path_tangent is None else -self._path_tangent)
+            self._path_tangent = vf
+        else:
+            vf = -found.solve(coupling)
         return float(vf @ (Kff @ vf) + 2.0 * (vf @ coupling) + up @ (Kpp @ up))
 
     def _is_limit(self, load: float, slope: float | None) -> bool:

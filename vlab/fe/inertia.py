@@ -82,7 +82,7 @@ def inertia(K: sp.spmatrix, zero_tol: float = ZERO_TOL) -> Inertia:
 
 
 def factorized_inertia(factor, K: sp.spmatrix, zero_tol: float = ZERO_TOL,
-                       verify_zero: bool = True) -> Inertia:
+                       verify_zero: bool = True, accurate: bool = True) -> Inertia:
     """The inertia of K from the Newton solver's own factorization of K (no second one) when
     that factorization is conclusive, else ``inertia(K)``:
 
@@ -98,12 +98,14 @@ def factorized_inertia(factor, K: sp.spmatrix, zero_tol: float = ZERO_TOL,
 
     ``verify_zero=False`` skips the two solves behind a Cholesky: for states along a load path
     whose unloaded K_ff was verified free of zero eigenvalues, where an eigenvalue reaches zero
-    only by crossing it (and the crossing shows as a failed Cholesky, i.e. negative pivots)."""
+    only by crossing it (and the crossing shows as a failed Cholesky, i.e. negative pivots).
+    ``accurate=False``: only the counts are wanted, so LOBPCG stops once they are decided
+    (vlab.fe.eigen_amg; a factorization gives them exactly anyway)."""
     backend = factor.backend
     if backend == "cg-amg":  # no factorization on the iterative path: LOBPCG + the same AMG
         from vlab.fe.eigen_amg import amg_inertia
 
-        return amg_inertia(K, factor, zero_tol)
+        return amg_inertia(K, factor, zero_tol, accurate)
     if backend == "pardiso" and factor.cholesky:
         n = K.shape[0]
         if n == 0 or not verify_zero or (_rayleigh_after_inverse_iteration(factor.solve, K)

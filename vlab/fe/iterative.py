@@ -207,18 +207,19 @@ class AMGConjugateGradient(Factorization):
     def preconditioner(self):
         return self._M
 
-    def solve(self, b: np.ndarray, rtol: float = DIRECT_TOLERANCE) -> np.ndarray:
+    def solve(self, b: np.ndarray, rtol: float = DIRECT_TOLERANCE, x0: np.ndarray | None = None) -> np.ndarray:
         """x with ‖K x − b‖ ≤ rtol ‖b‖; a stale shared hierarchy that fails is rebuilt once.
 
         A right-hand side parallel to the last one (c b, to round-off) costs no solve: x = c x_last.
         The stability check's path slope vᵀKv and the next load step's predictor both solve
-        K_ff v = K_fp Δu_p at the same converged state, with Δu_p = Δt û_p."""
+        K_ff v = K_fp Δu_p at the same converged state, with Δu_p = Δt û_p. ``x0``: a first guess
+        (the same solve at the previous state; CG then starts from the residual b − K x0)."""
         b = np.asarray(b, dtype=float)
         scaled = self._parallel_to_last(b, rtol)
         if scaled is not None:
             return scaled
         try:
-            x = self._cg(b, rtol)
+            x = self._cg(b, rtol, x0)
         except IterativeSolveFailed as exc:
             x = self._retry(b, rtol, exc)
         self._last = (b.copy(), x.copy(), rtol)
@@ -249,13 +250,18 @@ class AMGConjugateGradient(Factorization):
         return self._cg(b, rtol)
 
     @timed(LINEAR_SOLVE)
-    def _cg(self, b: np.ndarray, rtol: float) -> np.ndarray:
+    def _cg(self, b: np.ndarray, rtol: float, x0: np.ndarray | None = None) -> np.ndarray:
         b = np.asarray(b, dtype=float)
         b_norm = math.sqrt(float(b @ b))
         x = np.zeros_like(b)
         if b_norm == 0.0:
             return x
         r = b.copy()
+        if x0 is not None and len(x0) == len(b):
+            x += x0
+            r -= self._K @ x0
+        if math.sqrt(float(r @ r)) <= rtol * b_norm:
+            return x
         z = self._M @ r
         p = z.copy()
         rz = float(r @ z)
@@ -272,7 +278,8 @@ class AMGConjugateGradient(Factorization):
             r_norm = math.sqrt(float(r @ r))
             if r_norm <= rtol * b_norm:
                 self.iterations.append(k)
-                self.hierarchy.record(k, math.log10(b_norm / max(r_norm, 1e-300)))
+                if x0 is None:  # a warm start's first decades are its slowest: not a rate to judge by
+                    self.hierarchy.record(k, math.log10(b_norm / max(r_norm, 1e-300)))
                 return x
             z = self._M @ r
             rz_new = float(r @ z)

@@ -97,32 +97,33 @@ def shell_mesh(inner: float, thickness: float, size: float):
 def cavity_volume(mesh, inner: float) -> float:
     """The octant's cavity volume (mm³) bounded by the meshed inner surface and the symmetry
     planes: Σ over the inner facets of the cone to the origin, (1/3) Σ x_c · n_f A_f, with each
-    quadrilateral facet split into two triangles (exact for the facetted surface)."""
+    quadrilateral facet split into two triangles (exact for the facetted surface):
+    V = Σ_f (|P₀ · (P₁ × P₂)| + |P₀ · (P₂ × P₃)|) / 6, the corners P in cyclic order."""
     r = np.linalg.norm(mesh.p, axis=0)
     facets = mesh.boundary_facets()
     nodes = mesh.facets[:, facets]
     on_inner = np.all(np.abs(r[nodes] - inner) <= 1e-9 * inner, axis=0)
-    volume = 0.0
-    for quad in nodes[:, on_inner].T:
-        P = mesh.p[:, quad].T
-        # the facet's nodes in cyclic order: scikit-fem stores hex facets as (0, 1, 2, 3) around
-        order = _cyclic(P)
-        P = P[order]
-        for tri in ((0, 1, 2), (0, 2, 3)):
-            volume += abs(np.dot(P[tri[0]], np.cross(P[tri[1]], P[tri[2]]))) / 6.0
-    return volume
+    P = np.transpose(mesh.p[:, nodes[:, on_inner]], (2, 1, 0))  # (facet, corner, xyz)
+    # the facet's nodes in cyclic order: scikit-fem stores hex facets as (0, 1, 2, 3) around
+    P = np.take_along_axis(P, _cyclic(P)[:, :, None], axis=1)
+    volume = (np.abs(np.einsum("fi,fi->f", P[:, 0], np.cross(P[:, 1], P[:, 2])))
+              + np.abs(np.einsum("fi,fi->f", P[:, 0], np.cross(P[:, 2], P[:, 3])))) / 6.0
+    return float(np.sum(volume))
 
 
 def _cyclic(P: np.ndarray) -> np.ndarray:
-    """The order of a planar-ish quadrilateral's four corners around its centroid."""
-    c = P.mean(axis=0)
-    n = np.cross(P[1] - P[0], P[2] - P[0])
-    if np.linalg.norm(n) < 1e-300:
-        n = np.cross(P[1] - P[0], P[3] - P[0])
-    u = P[0] - c
+    """The order of each planar-ish quadrilateral's four corners around its centroid, for
+    P of shape (facets, 4, 3)."""
+    c = P.mean(axis=1, keepdims=True)
+    n = np.cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0])
+    degenerate = np.linalg.norm(n, axis=1) < 1e-300
+    n[degenerate] = np.cross(P[degenerate, 1] - P[degenerate, 0], P[degenerate, 3] - P[degenerate, 0])
+    u = P[:, 0] - c[:, 0]
     v = np.cross(n, u)
-    angle = np.arctan2((P - c) @ v / np.linalg.norm(v), (P - c) @ u / np.linalg.norm(u))
-    return np.argsort(angle)
+    d = P - c
+    angle = np.arctan2(np.einsum("fki,fi->fk", d, v) / np.linalg.norm(v, axis=1)[:, None],
+                       np.einsum("fki,fi->fk", d, u) / np.linalg.norm(u, axis=1)[:, None])
+    return np.argsort(angle, axis=1)
 
 
 def shell_specimen(spec: SphereShellSpecimen, element_size: float, cell: str) -> Specimen:
