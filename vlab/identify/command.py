@@ -29,8 +29,10 @@ def _print_fit(console: Console, d: dict, errors: Console | None = None) -> None
         said = u["reason"]
         console.print(f"  {k:>10} = {u['value']:.6g} {spread}", highlight=False, soft_wrap=True)
     for x in d["datasets"]:
-        console.print(f"  {x['name']} ({x['kind']}, {x['role']}): rms {percent(x['rms_relative'])}, "
-                      f"max {percent(x['max_relative'])}", highlight=False)
+        strain = (f"; strain rms {x['strain_rms']:.3g} against the DIC's noise {x['strain_noise']:.3g}"
+                  if x["kind"] == "field" else "")  # the relative errors of a field fit are its force's
+        console.print(f"  {x['name']} ({x['kind']}, {x['role']}): {'force ' if strain else ''}rms "
+                      f"{percent(x['rms_relative'])}, max {percent(x['max_relative'])}{strain}", highlight=False)
     _print_specimens(console, d.get("specimens"))
     for w in d["warnings"]:
         (errors or console).print(Text.assemble("  ", ("warning", "yellow"), f" {w}"), highlight=False,
