@@ -46,7 +46,7 @@ from __future__ import annotations
 
 from vlab.loading.kinds.base import TestKind
 
-__all__ = ["KINDS", "TestKind", "kind_of", "peak_grip_strain", "register"]
+__all__ = ["KINDS", "TestKind", "kind_of", "peak_grip_strain", "register", "scheduled_levels"]
 
 KINDS: dict[str, TestKind] = {}
 
@@ -68,6 +68,16 @@ def peak_grip_strain(test) -> float:
     """The largest |grip strain| of a TestSpec at t = 1 (λ − 1 of any grip, or γ): what an
     effect's caveats compare with its own strain or time scales, whatever the kind."""
     return max(abs(g) for g in kind_of(test).grip_strain(test.targets))
+
+
+def scheduled_levels(test, window: tuple[float, float], modulus_points: int):
+    """The levels a TestSpec runs at (vlab.loading.protocol.Levels): its protocol's, over the
+    kind's grip strain, with the kind's own phases (``TestKind.scheduled``)."""
+    from vlab.loading.protocol import protocol_levels
+
+    kind = kind_of(test)
+    grip_stretch = tuple(1.0 + g for g in kind.grip_strain(test.targets))
+    return kind.scheduled(protocol_levels(test.protocol, grip_stretch, test.steps, window, modulus_points), test)
 
 
 def _register_builtins() -> None:

@@ -8,7 +8,7 @@ marks along each loaded axis.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Callable
 
 from vlab import fields
 from vlab.fields import SceneError
@@ -144,6 +144,11 @@ class TestKind:
         """Grip strain at t = 1 per control (λ − 1): what schedules and rates count."""
         return tuple(s - 1.0 for s in targets)
 
+    def scheduled(self, levels, test):
+        """The protocol's ``levels`` (vlab.loading.protocol.Levels) as this kind runs them: as they
+        are, unless the kind runs a phase of its own before them (tension–torsion's stretch)."""
+        return levels
+
     def grip_stretches(self, targets: tuple[float, ...]) -> tuple[float, ...]:
         """The grip stretch of every axis the grips move or hold (vlab.loading.grips)."""
         return tuple(targets)
@@ -161,6 +166,19 @@ class TestKind:
         """The isochoric (incompressible) deformation gradient (3, 3) at control values ``values``:
         the path a locking limit is checked on (vlab.materials.card.check_path)."""
         raise NotImplementedError
+
+    def locking_path(self, test, specimen) -> tuple[str, Callable[[float], Any]]:
+        """(the [test] key the load was given as, s ↦ the isochoric F (3, 3) at load fraction s):
+        what a locking limit is checked on (vlab.materials.card.check_path). ``specimen`` is the
+        parsed shape spec (its dimensions). The control values map to F through ``isochoric``;
+        a kind whose control is not a stretch of the material (a volume, a twist) says how."""
+        key = self.load_key_for(specimen.shape, dict(test.options))
+        return key, lambda s: self.isochoric(self.at(test.targets, s))
+
+    def has_state(self, shape: str) -> bool:
+        """Whether ``state`` of the control values is the material's state on ``shape`` (what the
+        admissibility check reads): ``homogeneous`` unless the kind says otherwise."""
+        return self.homogeneous
 
     def has_oracle(self, shape: str, grips: str) -> bool:
         return self.oracle_setups.get(shape) == grips

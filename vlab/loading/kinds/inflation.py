@@ -125,6 +125,22 @@ class Inflation(TestKind):
         lam = values[0]
         return np.diag([lam, lam, lam**-2])  # the inner wall: equibiaxial, isochoric
 
+    def locking_path(self, test, specimen):
+        """A sphere's inner wall, diag(λ, λ, λ⁻²) at the hoop stretch λ; a membrane's volume ratio v
+        is not a stretch: its path is the equibiaxial stretch √A(v) of the least-area cap that
+        holds the pumped volume (vlab.loading.bulge.cap_area_ratio), a lower bound of the bulge's
+        worst state, so a test is refused only where the sheet surely locks."""
+        key, path = super().locking_path(test, specimen)
+        if specimen.shape != "membrane":
+            return key, path
+        from vlab.loading.bulge import cap_area_ratio
+
+        return key, lambda s: self.isochoric([np.sqrt(cap_area_ratio(self.at(test.targets, s)[0]))])
+
+    def has_state(self, shape: str) -> bool:
+        """A membrane's control is a volume ratio: no material state follows from it alone."""
+        return shape != "membrane"
+
     def areas(self, specimen) -> dict[int, float]:
         return {0: specimen.area0[0]}  # the octant's cavity volume V₀ (mm³): the pressure reader's
 
