@@ -75,6 +75,7 @@ class TestKind:
     load_key = "stretch"
     rest = 1.0  # the control column's value at rest (a stretch 1; a shear γ or a twist ψ: 0)
     control_name = "grip stretch"  # what the renders' titles call the control value (vlab.post.snapshot)
+    render_field = "von-mises"  # the renders' default colouring (vlab.post.fields.FIELDS)
     axes: tuple[int, ...] = (0,)
     oracle_setups: dict[str, str] = {}  # specimen shape -> grips on which ``state`` is the exact answer
     cyclic = False  # may run test.protocol = "cyclic"
@@ -161,6 +162,11 @@ class TestKind:
         from vlab.loading.grips import grip_loading
 
         return grip_loading(specimen, X, self.grip_stretches(test.targets), test.grips)
+
+    def fixtures(self, specimen) -> tuple:
+        """The rigid fixtures of the test that the renders draw around the meshed ``specimen``
+        (vlab.geometry.fixtures.Part: a die, its platens); none unless the kind has some."""
+        return ()
 
     def isochoric(self, values):
         """The isochoric (incompressible) deformation gradient (3, 3) at control values ``values``:

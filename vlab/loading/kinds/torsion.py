@@ -37,7 +37,8 @@ class Torsion(LoadFromZero, TestKind):
     name = "torsion"
     load_key = "twist"
     rest = 0.0
-    control_name = "twist"
+    control_name = "twist (rad/mm)"
+    render_field = "max-shear"  # λ₁ − λ₃: the shear strain γ = ψ r of each section's simple shear
     axes = (0,)
     symmetric = False
     measures_E = False
