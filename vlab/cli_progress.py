@@ -48,10 +48,9 @@ def scheduled_levels(scene) -> int:
 
 def scheduled_ramps(scene) -> list[tuple[str, int]]:
     """The scene's levels as ramps: (name, levels) in order (vlab.loading.protocol's schedule)."""
-    from vlab.loading.kinds import scheduled_levels
+    from vlab.loading.kinds import run_levels
 
-    m = scene.measure
-    levels = scheduled_levels(scene.test, m.modulus_window, m.modulus_points)
+    levels = run_levels(scene)
     return ramps_of(levels.t)
 
 

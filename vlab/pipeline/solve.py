@@ -22,7 +22,7 @@ from vlab.fe.linsolve import solver_in_use
 from vlab.fe.newton import CHORD_CONTRACTION, NewtonOptions
 from vlab.fe.system import System
 from vlab.fe.stepping import Failure, Level, SolveHistory, Stepping, run_schedule
-from vlab.loading.kinds import kind_of, scheduled_levels
+from vlab.loading.kinds import kind_of, run_levels
 from vlab.loading.restraint import under_constrained_message, unrestrained_modes
 from vlab.pipeline.prepare import Prepared
 from vlab.scene import Scene
@@ -81,7 +81,7 @@ def solve(prepared: Prepared, monitor: StabilityMonitor, observers: list[Observe
 
 
 def _stepping(scene: Scene, monitor: StabilityMonitor, linear_solver: str) -> Stepping:
-    levels = scheduled_levels(scene.test, scene.measure.modulus_window, scene.measure.modulus_points)
+    levels = run_levels(scene)
     return Stepping(
         schedule=levels.t, times=levels.time,
         force_held=levels.force_held if levels.force_held.any() else None,

@@ -46,7 +46,7 @@ from __future__ import annotations
 
 from vlab.loading.kinds.base import TestKind
 
-__all__ = ["KINDS", "TestKind", "kind_of", "peak_grip_strain", "register", "scheduled_levels"]
+__all__ = ["KINDS", "TestKind", "kind_of", "peak_grip_strain", "register", "run_levels"]
 
 KINDS: dict[str, TestKind] = {}
 
@@ -70,14 +70,17 @@ def peak_grip_strain(test) -> float:
     return max(abs(g) for g in kind_of(test).grip_strain(test.targets))
 
 
-def scheduled_levels(test, window: tuple[float, float], modulus_points: int):
-    """The levels a TestSpec runs at (vlab.loading.protocol.Levels): its protocol's, over the
-    kind's grip strain, with the kind's own phases (``TestKind.scheduled``)."""
+def run_levels(scene):
+    """The levels a scene's test runs at (vlab.loading.protocol.Levels): its protocol's over the
+    kind's grip strain, with the modulus window's, and the kind's own (``TestKind.scheduled``:
+    a phase before the protocol, a finer start) for the scene's specimen spec."""
     from vlab.loading.protocol import protocol_levels
 
+    test, m = scene.test, scene.measure
     kind = kind_of(test)
     grip_stretch = tuple(1.0 + g for g in kind.grip_strain(test.targets))
-    return kind.scheduled(protocol_levels(test.protocol, grip_stretch, test.steps, window, modulus_points), test)
+    levels = protocol_levels(test.protocol, grip_stretch, test.steps, m.modulus_window, m.modulus_points)
+    return kind.scheduled(levels, test, scene.specimen)
 
 
 def _register_builtins() -> None:

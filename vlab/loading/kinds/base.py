@@ -145,9 +145,10 @@ class TestKind:
         """Grip strain at t = 1 per control (λ − 1): what schedules and rates count."""
         return tuple(s - 1.0 for s in targets)
 
-    def scheduled(self, levels, test):
-        """The protocol's ``levels`` (vlab.loading.protocol.Levels) as this kind runs them: as they
-        are, unless the kind runs a phase of its own before them (tension–torsion's stretch)."""
+    def scheduled(self, levels, test, specimen):
+        """The protocol's ``levels`` (vlab.loading.protocol.Levels) as this kind runs them on the
+        ``specimen`` spec: as they are, unless the kind runs a phase of its own before them
+        (tension–torsion's stretch) or needs finer levels somewhere (a bulge's first ones)."""
         return levels
 
     def grip_stretches(self, targets: tuple[float, ...]) -> tuple[float, ...]:

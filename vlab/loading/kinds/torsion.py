@@ -171,7 +171,7 @@ class TensionTorsion(Torsion):
     def at(self, targets, t: float) -> list[float]:
         return [tension_torsion(1.0, targets[0], t, True)[1]]
 
-    def scheduled(self, levels, test):
+    def scheduled(self, levels, test, specimen):
         """The stretch phase's ``test.steps`` levels, then the protocol's ``levels`` mapped into
         phase 2 (a timed or force-held protocol is refused in ``check``)."""
         from vlab.loading.protocol import Levels
