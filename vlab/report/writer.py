@@ -83,8 +83,7 @@ def write_report(outcomes: list, out: Path, scene, scene_text: str | None,
                          f"{', '.join(o.model for o in outcomes)}")
     datas = [o.data for o in outcomes]
     test_kind = kind_of_data(datas[0])
-    if options.field is None:  # the kind's own colouring (torsion: the shear strain)
-        options = replace(options, field=test_kind.render_field)
+    options = replace(options, field=options.field or test_kind.render_field)  # None: the kind's colouring
     departures = comparison_departures(outcomes)
     kind = "true" if options.true_measures else "engineering"
     job = figure_job(datas, options.true_measures, departures, test_kind.lateral_ratio)
