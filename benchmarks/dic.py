@@ -125,13 +125,13 @@ def challenge() -> None:
     print("\n| metric (256² images, 4 px speckles, 1 % noise) | value |")
     print("|---|---|")
     print(f"| displacement noise floor σ_u, σ_v (px) | {noise['sigma_u_px']:.4f}, {noise['sigma_v_px']:.4f} |")
-    print(f"| strain noise σ_Exx, σ_Eyy (µε) | {noise['sigma_exx_microstrain']:.0f}, "
-          f"{noise['sigma_eyy_microstrain']:.0f} |")
+    print(f"| strain noise σ_Exx, σ_Eyy, σ_Exy (µε) | {noise['sigma_exx_microstrain']:.0f}, "
+          f"{noise['sigma_eyy_microstrain']:.0f}, {noise['sigma_exy_microstrain']:.0f} |")
     print(f"| worst sub-pixel bias, no noise / 1 % (px) | {bias0['worst_bias_px']:.1e} / {bias1['worst_bias_px']:.1e} |")
     print(f"| displacement spatial resolution (10 % low) (px) | {_fmt(res['displacement_px'])} |")
     print(f"| strain spatial resolution (10 % low) (px) | {_fmt(res['strain_px'])} |")
-    print(f"| MEI_u = σ_u · SR_u (px²) | {_fmt(m['displacement_px2'], '.3g')} |")
-    print(f"| MEI_ε = σ_ε · SR_ε (px) | {_fmt(m['strain_px'], '.3g')} |")
+    print(f"| MEI_u = σ_v · SR_u (px²) | {_fmt(m['displacement_px2'], '.3g')} |")
+    print(f"| MEI_ε = σ_Exy · SR_ε² (px²) | {_fmt(m['strain_px2'], '.3g')} |")
     print(f"\n(metrics computed in {time.perf_counter() - t:.0f} s)")
 
 

@@ -26,3 +26,23 @@ def synthetic(model, card, kinds, noise=0.0, rng=None, role="fit"):
 
 def spec_of(model, datasets, starts=4, seed=0, **kw):
     return FitSpec("synthetic", model, tuple(datasets), starts=starts, seed=seed, **kw)
+
+
+def assert_jacobian_exact(model, x, d):
+    """The complex-step Jacobian of data set d's prediction against central differences."""
+    from vlab.identify.jacobian import value_and_jacobian
+    from vlab.identify.solve import predict
+
+    _, J = value_and_jacobian(lambda X: predict(model, X, d), x)
+    h = 1e-6 * np.maximum(1.0, np.abs(x))
+    fd = np.array([(np.real(predict(model, (x + h[j] * e)[None], d))[0] -
+                    np.real(predict(model, (x - h[j] * e)[None], d))[0]) / (2 * h[j])
+                   for j, e in enumerate(np.eye(len(x)))]).T
+    assert np.allclose(J, fd, rtol=1e-5, atol=1e-7 * np.max(np.abs(J)))
+
+
+def assert_inside(out, truth: dict):
+    """Every true constant inside its fitted 95 % interval."""
+    for k, v in truth.items():
+        lo, hi = out.data["uncertainty"][k]["interval"]
+        assert lo <= v <= hi, (k, v, lo, hi)

@@ -238,3 +238,16 @@ def test_the_shipped_treloar_cards_read_back_to_the_fit(tmp_path):
         assert np.allclose(back.params["mu"], ref["mu"], rtol=1e-12, atol=0)
         assert np.allclose(back.params["alpha"], ref["alpha"], rtol=1e-12, atol=0)
         assert abs(back.K / ref["K"] - 1) < 1e-12
+
+
+def test_fe_in_the_loop_export_refuses_a_target_without_the_scene_s_energy_before_fitting(tmp_path):
+    """An FE fit's card is the scene's coupled Neo-Hookean (not an incompressible stand-in): a
+    target without that energy is refused before any solve (it was a traceback after the fit)."""
+    folder = ROOT / "specimens" / "dic-field-fit"
+    fit = tmp_path / "field-fit.toml"
+    fit.write_text((folder / "field-fit.toml").read_text().replace('fields = "field"', f'fields = "{folder / "field"}"')
+                   .replace('scene = "block-clamped.toml"', f'scene = "{folder / "block-clamped.toml"}"'))
+    out = tmp_path / "fit"
+    res = runner.invoke(app, ["fit", str(fit), "--out", str(out), "--export", "abaqus"])
+    assert res.exit_code == 2 and "febio, felupe" in res.output and not out.exists()
+    assert res.exception is None or isinstance(res.exception, SystemExit)

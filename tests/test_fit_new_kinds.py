@@ -8,13 +8,13 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from fit_helpers import assert_inside, assert_jacobian_exact
 
 from vlab.fields import SceneError
 from vlab.identify.card import card_of
 from vlab.identify.datasets import Dataset
 from vlab.identify.fitfile import FitSpec, load_fit
 from vlab.identify.fitting import fit_homogeneous
-from vlab.identify.jacobian import value_and_jacobian
 from vlab.identify.kinds.confined import axial_stress
 from vlab.identify.kinds.inflation import pressure
 from vlab.identify.kinds.torsion import torque_and_force
@@ -116,25 +116,14 @@ def test_jacobians_of_the_new_kinds_are_exact(kind):
              "confined-compression": {"geometry": {}, "outputs": ("stress",)}}[kind]
     a = {"torsion": PSI[::4], "inflation": np.linspace(1.05, 2.5, 5)}.get(kind, np.linspace(0.7, 0.98, 5))
     d = _data(kind, a, np.zeros(len(a) * len(extra["outputs"])), extra)
-    _, J = value_and_jacobian(lambda X: predict(model, X, d), x)
-    h = 1e-6 * np.maximum(1.0, np.abs(x))
-    fd = np.array([(np.real(predict(model, (x + h[j] * e)[None], d))[0] -
-                    np.real(predict(model, (x - h[j] * e)[None], d))[0]) / (2 * h[j])
-                   for j, e in enumerate(np.eye(len(x)))]).T
-    assert np.allclose(J, fd, rtol=1e-5, atol=1e-7 * np.max(np.abs(J)))
-
-
-def _inside(out, truth: dict):
-    for k, v in truth.items():
-        lo, hi = out.data["uncertainty"][k]["interval"]
-        assert lo <= v <= hi, (k, v, lo, hi)
+    assert_jacobian_exact(model, x, d)
 
 
 def test_noisy_mooney_rivlin_torsion_is_fitted_back_within_its_intervals():
     mr = Constitutive(law_for("mooney-rivlin"))
     out = fit_homogeneous(FitSpec("t", mr, (_torsion_set(mr, [C10, C01], np.random.default_rng(1)),), starts=4))
     assert out.converged and out.data["identifiability"]["identifiable"]  # the axial force separates C10, C01
-    _inside(out, {"C10": C10, "C01": C01})
+    assert_inside(out, {"C10": C10, "C01": C01})
     assert out.data["trust"]["trustworthy"]
 
 
@@ -156,7 +145,7 @@ def test_a_noisy_neo_hookean_sphere_is_fitted_back_within_its_interval():
     noisy = p * (1 + 0.005 * np.random.default_rng(2).standard_normal(len(p)))
     out = fit_homogeneous(FitSpec("s", nh, (_data("inflation", lam, noisy, extra),), starts=2))
     assert out.converged
-    _inside(out, {"mu": 0.4})
+    assert_inside(out, {"mu": 0.4})
 
 
 def test_confined_compression_with_uniaxial_data_is_fitted_back_to_mu_and_K():
@@ -170,14 +159,14 @@ def test_confined_compression_with_uniaxial_data_is_fitted_back_to_mu_and_K():
             _data("uniaxial", uni.a, yu, None))
     out = fit_homogeneous(FitSpec("c", nh, sets, starts=3))
     assert out.converged
-    _inside(out, {"mu": 0.5, "K": 20.0})
+    assert_inside(out, {"mu": 0.5, "K": 20.0})
 
 
 def test_the_shipped_torsion_example_fits_its_card():
     spec = load_fit(ROOT / "specimens" / "torsion-fit" / "torsion-fit.toml")
     assert spec.datasets[0].extra["geometry"] == {"radius": 5.0}
     out = fit_homogeneous(spec)
-    _inside(out, {"C10": C10, "C01": C01})
+    assert_inside(out, {"C10": C10, "C01": C01})
 
 
 TORSION_CSV = "psi,M,N\n0.01,7.46,-0.045\n0.05,37.3,-1.13\n0.1,74.6,-4.52\n0.2,149.2,-18.1\n"

@@ -63,7 +63,7 @@ class Fit(Record):
         from vlab.identify.fitting import curves
 
         parts = []
-        for d in (s for s in self.outcome.spec.datasets if s.kind != "specimen"):
+        for d in (s for s in self.outcome.spec.datasets if s.kind not in ("specimen", "field")):
             y, n = np.asarray(d.y, float), len(d.a)
             fitted = np.real(np.asarray(curves(self.outcome, d)["at_data"], float))
             floor = 0.01 * np.max(np.abs(y))

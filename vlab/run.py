@@ -25,6 +25,7 @@ from vlab.geometry.shapes import SHAPES
 from vlab.geometry.specimen import Specimen
 from vlab.materials import MODELS
 from vlab.moduli import MIXED_NU_LIMIT
+from vlab.pipeline.dic import check_view, with_dic
 from vlab.pipeline.measure import Instruments, Measured, measure
 from vlab.pipeline.prepare import MeshQualityError, Prepared, build_specimen, checked_quality, make_body, prepare
 from vlab.pipeline.result import Diagnostics, RunResult, SolverObjects
@@ -60,6 +61,7 @@ def _timed_run(scene: Scene, on_level, specimen: Specimen | None, observe=None) 
     with phase_clock() as phases:
         result = _run_scene(scene, on_level, specimen, observe)
         result = _locking_checked(result, on_level, specimen, observe)
+    result = with_dic(result)  # [instruments.dic]: the camera and its DIC (nothing without the table)
     result.timing |= {"assembly_s": 0.0, "linear_solve_s": 0.0} | phases.as_timing()
     result.timing["peak_memory_mb"] = phases.peak_memory_mb  # per phase (vlab.fe.timers)
     return result
@@ -104,6 +106,7 @@ def _run_scene(scene: Scene, on_level, specimen: Specimen | None, observe=None) 
         specimen = seeded.specimen
     with memory_phase("mesh"):
         prepared = prepare(scene, specimen, current())  # the run's settings, passed down to the body
+    check_view(prepared)  # a camera that cannot see its face is refused before the solve
     timing = {"mesh_s": clock() - t0}
     monitor, instruments, deflection = stability_monitor(prepared), Instruments(prepared), _Deflection(prepared)
     observers: list[Observer] = [monitor, deflection, instruments] + ([on_level] if on_level else [])

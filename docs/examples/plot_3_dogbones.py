@@ -2,10 +2,10 @@
 Dogbones, imported and CAD meshes
 =================================
 
-Dumb-bells of five standards between clamped grips, one from explicit dimensions, a user's Gmsh mesh and a dumb-bell drawn in CAD (Gmsh, the ``cad`` extra). E and ν are read by the extensometer over the standard's gauge length.
+Dumb-bells of five standards between clamped grips, one from explicit dimensions, one watched by a virtual camera with DIC, a user's Gmsh mesh and a dumb-bell drawn in CAD (Gmsh, the ``cad`` extra). E and ν are read by the extensometer over the standard's gauge length.
 """
 
-from gallery_helpers import show
+from gallery_helpers import SCRATCH, show, show_images
 
 # %%
 # ``dogbone-iso527-2-1a.toml``
@@ -54,6 +54,18 @@ show('dogbone-astm-d412-c')
 # A dogbone from explicit dimensions, the keys the shipped standards use.
 
 show('dogbone-custom')
+
+# %%
+# ``dogbone-dic.toml``
+# --------------------
+#
+# A small dogbone whose top face a virtual camera watches (``[instruments.dic]``): the speckled
+# face is rendered at every level from the FE displacement, correlated by vlab's DIC, and the
+# report holds the DIC virtual extensometer's E and ν beside the point extensometers' and the
+# last level's DIC, FE levelled through the same subsets and strain window, and their difference.
+
+show('dogbone-dic')
+show_images([SCRATCH / 'dogbone-dic' / 'dic' / 'maps.png'], 'dogbone-dic: DIC, levelled FE and their difference')
 
 # %%
 # ``mesh-import-bar.toml``

@@ -6,9 +6,9 @@ Fitting: Treloar's rubber, an FE-in-the-loop fit and an exported card
 natural rubber in uniaxial, equibiaxial and pure-shear tension (``specimens/treloar1944/``). Seven
 models are fitted to the uniaxial curve alone and ranked by how well they predict the two held-out
 modes; an Ogden-3 card is fitted to all three and compared with Ogden's own 1972 card; that card
-is exported for Abaqus and checked against the Abaqus manual's energy. Last, a fit through vlab's
+is exported for Abaqus and checked against the Abaqus manual's energy. Then a fit through vlab's
 own finite-element test (FE in the loop) recovers the constants of a clamped block from its
-load-cell force.
+load-cell force, and last from its DIC strain maps as well (identification from full fields).
 """
 
 
@@ -160,3 +160,24 @@ print(f"{fe_fit.data['fe']['solves']} whole-test solves; the closed-form (homoge
       f"differs by {homogeneous['mu']:+.2%} in mu, {homogeneous['K']:+.2%} in K")
 fe_fit.write_report(folder / "out")
 show_images([folder / "out" / "specimen.png"], "vlab.fit(block-fe fit file): the readings and vlab's test at the fitted constants")
+
+
+# %%
+# Full fields: μ from DIC strain maps and the load cell
+# -----------------------------------------------------
+#
+# ``specimens/dic-field-fit/`` holds the virtual DIC of the same kind of clamped block: its top face
+# rendered by the virtual camera at μ = 0.4 MPa (0.5 % grey-level noise) and correlated by vlab's
+# DIC (``make_field_data.py`` wrote ``field/``). ``field-fit.toml`` (``kind = "field"``) fits μ from
+# 0.52 MPa by matching the FE strains, levelled through each subset and the DIC's strain window, to
+# the DIC maps at every level, and the FE force to the load cell (docs/dic.md § Identification from
+# full fields).
+
+field_fit = vlab.fit(ROOT / "specimens" / "dic-field-fit" / "field-fit.toml")
+mu = field_fit.parameters["mu"]
+row = field_fit.datasets[0]
+print(f"mu = {mu:.6g} MPa (made with 0.4: {mu / 0.4 - 1:+.3%}) in {field_fit.data['fe']['solves']} whole-test solves; "
+      f"strain rms error {row['strain_rms']:.2g} over {sum(row['subsets_used'])} subset values, force {row['rms_relative']:.2%} rms")
+assert abs(mu / 0.4 - 1) < 0.01
+field_fit.write_report(SCRATCH / "dic-field-fit")
+show_images([SCRATCH / "dic-field-fit" / "field.png"], "vlab.fit(dic-field-fit/field-fit.toml): field.png")

@@ -8,6 +8,8 @@
   bicubic B-spline interpolation), vectorised over subsets;
 - :mod:`vlab.dic.strain` the strain window (local least-squares plane → Green–Lagrange strain);
 - :mod:`vlab.dic.correlate` joins them; :mod:`vlab.dic.command` is ``vlab dic``.
+- :mod:`vlab.dic.metrics` the DIC Challenge 2.0 metrics on synthetic images,
+  :mod:`vlab.dic.resolution` the spatial resolution and MEI of a scene's own camera.
 
 Image coordinates throughout: x to the right (column), y down (row), in pixels, the centre of
 pixel (row i, column j) at (x, y) = (j, i).

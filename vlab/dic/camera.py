@@ -147,7 +147,7 @@ def check_view(camera: Camera, face: Face) -> None:
     lo, hi = face.bounds
     if x1[-1] <= lo[0] or x1[0] >= hi[0] or x2[0] <= lo[1] or x2[-1] >= hi[1]:
         raise CameraError(
-            f"camera.centre = {tuple(np.round(camera.centre_on(face), 6))} mm with a field of view of "
+            f"camera.centre = {[round(float(c), 6) for c in camera.centre_on(face)]} mm with a field of view of "
             f"{x1[-1] - x1[0]:.4g} × {x2[0] - x2[-1]:.4g} mm (x₁ {x1[0]:.4g}…{x1[-1]:.4g}, x₂ "
             f"{x2[-1]:.4g}…{x2[0]:.4g}) cannot see the face (x₁ {lo[0]:.4g}…{hi[0]:.4g}, "
             f"x₂ {lo[1]:.4g}…{hi[1]:.4g} mm): move the centre into the face", "centre")
@@ -173,10 +173,33 @@ def irradiance(camera: Camera, face: Face, pattern: speckle.Pattern, u: np.ndarr
     mesh's nodal displacement (n_vertices, 3), mm): each pixel the mean over its s × s
     sub-samples of I(φ⁻¹(x)), I the speckle on the face and the background off it.
     ``compiled``: None uses the numba kernels when available, False their numpy twins."""
-    (W, H), s = camera.pixels, camera.supersample
     x1, x2 = camera.axes(face)
     x = face.X + face.in_plane(u)
     PX, PY, hit = reference_points(face.X, x, face.cells, x1, x2, compiled)
+    return _speckle_means(camera, pattern, PX, PY, hit, compiled)
+
+
+def irradiance_mapped(camera: Camera, face: Face, pattern: speckle.Pattern, inverse,
+                      compiled: bool | None = None) -> np.ndarray:
+    """The sharp noiseless image (H, W) of the face moved by an analytic in-plane field whose
+    inverse ``inverse(x₁, x₂) -> (X₁, X₂)`` (face mm, arrays of the sub-sample grid) is known
+    exactly: each pixel the mean over its s × s sub-samples of I(X), so a field finer than the
+    FE mesh (a sinusoid of a few subsets' period) is rendered without the FE interpolation.
+    Sub-samples off the reference face see the background: the face's outline is not moved
+    (the field must be small near the edge, where no subset of the region of interest looks)."""
+    x1, x2 = camera.axes(face)
+    _, _, hit = reference_points(face.X, face.X, face.cells, x1, x2, compiled)
+    PX, PY = inverse(*np.meshgrid(x1, x2))
+    PX, PY = np.where(hit, PX, np.nan), np.where(hit, PY, np.nan)
+    return _speckle_means(camera, pattern, np.ascontiguousarray(PX, float), np.ascontiguousarray(PY, float),
+                          hit, compiled)
+
+
+def _speckle_means(camera: Camera, pattern: speckle.Pattern, PX: np.ndarray, PY: np.ndarray, hit: np.ndarray,
+                   compiled: bool | None) -> np.ndarray:
+    """Each pixel's mean over its s × s sub-samples of the speckle at (PX, PY) where ``hit``, of
+    the background elsewhere (the numba kernel when available, else its numpy twin)."""
+    (W, H), s = camera.pixels, camera.supersample
     background = camera.background * camera.levels
     kernels = compiled_kernels() if compiled is not False else None
     if kernels is None:

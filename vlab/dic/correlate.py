@@ -75,8 +75,10 @@ class Field:
 
     @property
     def converged(self) -> float:
-        """The share of subsets that converged to an accepted correlation."""
-        return float((self.status == icgn.OK).mean()) if self.status.size else 0.0
+        """The share of the subsets in the region of interest (all, without one) that converged to
+        an accepted correlation."""
+        asked = self.status != icgn.OUTSIDE
+        return float((self.status[asked] == icgn.OK).mean()) if asked.any() else 0.0
 
     def counts(self) -> dict[str, int]:
         return {name: int((self.status == code).sum()) for code, name in icgn.STATUS.items()}
@@ -97,13 +99,17 @@ def grid(shape: tuple[int, int], settings: Settings) -> tuple[np.ndarray, np.nda
 class Correlator:
     """DIC of any number of deformed images against one reference (the reference side once)."""
 
-    def __init__(self, reference: np.ndarray, settings: Settings = Settings(), compiled: bool | None = None):
+    def __init__(self, reference: np.ndarray, settings: Settings = Settings(), compiled: bool | None = None,
+                 roi: np.ndarray | None = None):
+        """``roi``: a bool image (the reference's shape) of the region of interest; a subset is
+        correlated only if its centre pixel is in it (None: every subset; status OUTSIDE else)."""
         settings.check(reference.shape)
         self.compiled = compiled
         self.reference, self.settings = reference, settings
         self.xs, self.ys = grid(reference.shape, settings)
         X, Y = np.meshgrid(self.xs, self.ys)
         self.cx, self.cy = X.ravel(), Y.ravel()
+        self.active = np.ones(self.cx.size, bool) if roi is None else np.asarray(roi, bool)[self.cy, self.cx]
         self.refd = icgn.prepare(reference, self.cx, self.cy, settings.subset // 2, compiled)
 
     def correlate(self, deformed: np.ndarray, guess: Field | None = None) -> Field:
@@ -116,10 +122,12 @@ class Correlator:
         shape = (self.ys.size, self.xs.size)
         run = _Run(self, deformed, guess)
         coarse = _coarse_subsets(shape, self.settings)
+        coarse = coarse[self.active[coarse]]
+        run.status[~self.active] = icgn.OUTSIDE
         run.refine(coarse, run.searched(coarse))
         good = np.zeros(run.n, bool)
         good[coarse] = run.status[coarse] == icgn.OK
-        rest = np.setdiff1d(np.arange(run.n), coarse)
+        rest = np.setdiff1d(np.flatnonzero(self.active), coarse)
         if good.any() and rest.size:
             run.refine(rest, _predicted(run.p, good, rest, shape, self.cx, self.cy))
         elif rest.size:

@@ -27,9 +27,11 @@ import numpy as np
 from scipy import ndimage
 
 # per-subset outcome codes (the CSV writes their names)
-OK, NO_TEXTURE, LEFT_IMAGE, NOT_CONVERGED, LOW_CORRELATION = range(5)
+# (OUTSIDE: a subset the caller's region of interest leaves out, never correlated)
+OK, NO_TEXTURE, LEFT_IMAGE, NOT_CONVERGED, LOW_CORRELATION, OUTSIDE = range(6)
 STATUS = {OK: "ok", NO_TEXTURE: "no texture", LEFT_IMAGE: "left the image",
-          NOT_CONVERGED: "did not converge", LOW_CORRELATION: "low correlation"}
+          NOT_CONVERGED: "did not converge", LOW_CORRELATION: "low correlation",
+          OUTSIDE: "outside the region of interest"}
 ORDERS = {"bicubic": 3, "biquintic": 5}
 
 

@@ -194,7 +194,9 @@ def _provisional(spec):
     params = {"neo-hookean": {"mu": 1.0, "lambda": 1.0}, "mooney-rivlin": {"C10": 1.0, "C01": 1.0},
               "yeoh": {"C10": 1.0, "C20": 1.0, "C30": 1.0},
               "ogden": {"mu": (1.0,) * law.terms, "alpha": (1.0,) * law.terms}}.get(law.model, {})
-    vol = None if law.model == "neo-hookean" else model.volumetric
+    fe = getattr(spec, "fe", None)  # FE in the loop: the card is the scene's compressible material
+    vol = None if law.model == "neo-hookean" else ((fe or {}).get("volumetric") or model.volumetric)
+    stand_in = fe is None and model.bulk == "incompressible"
     effects = {}
     prony, mullins = (getattr(spec, "effects", None) or {}).get("viscoelastic"), (
         getattr(spec, "effects", None) or {}).get("mullins")
@@ -202,7 +204,7 @@ def _provisional(spec):
         effects["viscoelastic"] = {"tau": (1.0,) * prony.terms, "beta": (1.0,) * prony.terms}
     if mullins is not None:
         effects["mullins"] = {"r": 2.0, "m": 1.0, "beta": 0.0}
-    return ExportCard(law.model, params, 1.0, vol, stand_in=model.bulk == "incompressible",
+    return ExportCard(law.model, params, 1.0, vol, stand_in=stand_in,
                       parts=("hyperelastic",) + tuple(effects), effects=effects)
 
 

@@ -42,7 +42,7 @@ from vlab.fe.body import LoadWrapper
 from vlab.fe.problem import Evaluation
 from vlab.loading.liquid import Liquid
 
-__all__ = ["Liquid", "LiquidBody", "enclosed_volume"]
+__all__ = ["Liquid", "LiquidBody", "enclosed_volume", "enclosed_volume_gradient"]
 
 
 def _prisms(corners: np.ndarray):
@@ -71,6 +71,21 @@ def _prisms(corners: np.ndarray):
 def enclosed_volume(x: np.ndarray, triangles: np.ndarray) -> float:
     """V (mm³) of the node positions ``x`` (n, 3) under ``triangles`` (module docstring)."""
     return _prisms(x[triangles])[0]
+
+
+def enclosed_volume_gradient(x: np.ndarray, triangles: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(the wetted nodes (m,), ∂V/∂x at them (m, 3), mm²) of the node positions ``x`` (n, 3)."""
+    nodes = np.unique(triangles)
+    _, grad_t, _ = _prisms(x[triangles])
+    return nodes, _per_node(grad_t, np.searchsorted(nodes, triangles), len(nodes))
+
+
+def _per_node(grad_t: np.ndarray, local: np.ndarray, m: int) -> np.ndarray:
+    """The triangles' corner gradients (T, 3, 3) summed onto their m nodes (m, 3)."""
+    grad = np.zeros((m, 3))
+    for k in range(3):
+        np.add.at(grad, local[:, k], grad_t[:, k])
+    return grad
 
 
 class LiquidBody(LoadWrapper):
@@ -115,9 +130,7 @@ class LiquidBody(LoadWrapper):
         """(V, p, ∂V/∂x per wetted node (m, 3), ∂²V per triangle) at ``u``."""
         x = self._X[self._nodes] + u[self._dofs].reshape(-1, 3)
         volume, grad_t, hess_t = _prisms(x[self._local])
-        grad = np.zeros_like(x)
-        for k in range(3):
-            np.add.at(grad, self._local[:, k], grad_t[:, k])
+        grad = _per_node(grad_t, self._local, len(x))
         return volume, self.liquid.pressure(self.t, volume), grad, hess_t
 
     def _loaded(self, ev: Evaluation, u: np.ndarray) -> Evaluation:

@@ -167,6 +167,18 @@ VALLEY = ("the file's data do not identify the fitted card, so the design is aro
           "valley: give the expected constants with --expect")
 
 
+def _designable(spec) -> dict:
+    """spec.fe, if its scene is one vlab design plans (vlab.identify.fe_design.check_designable);
+    SceneError for DIC fields (kind = "field": no test design yet)."""
+    from vlab.identify.fe_design import check_designable
+
+    if any(d.kind == "field" for d in spec.datasets):
+        raise SceneError("vlab design plans homogeneous and specimen (kind = \"specimen\") tests; a fit file of DIC "
+                         "fields (kind = \"field\") has no test design yet")
+    check_designable(spec.fe["scene"], "fe.scene")
+    return spec.fe
+
+
 def design_fe(spec, kinds, ranges, points: int, max_size: int | None, noise: float | None, expect: np.ndarray | None,
               specimens, gauges, elongation_sd: float = 0.0) -> dict:
     """design.json's dict for a fit file with specimen data (FE in the loop): candidate specimen tests
@@ -179,7 +191,7 @@ def design_fe(spec, kinds, ranges, points: int, max_size: int | None, noise: flo
     from vlab.identify.fe_design import data_rows, specimen_candidates, specimen_rows, specimen_runs, strain_range
     from vlab.identify.fe_loop import fit_specimen
 
-    fe, names, relative = spec.fe, list(spec.fe["parameters"]), spec.residual == "relative"
+    fe, names, relative = _designable(spec), list(spec.fe["parameters"]), spec.residual == "relative"
     if kinds and not relative:
         raise SceneError("--candidates with a specimen fit file needs options.residual = \"relative\" (its force "
                          "scatter in N has no stress equivalent for homogeneous tests); give --specimens instead")

@@ -23,7 +23,7 @@ import numpy as np
 from vlab.identify.jacobian import H
 from vlab.identify.states import Constitutive, principal_tau
 
-__all__ = ["admissible", "min_eigenvalue", "kind_stability", "stability_map", "PATHS"]
+__all__ = ["admissible", "min_eigenvalue", "kind_stability", "stability_map", "states_stability", "PATHS"]
 
 LAM_MAX, LAM_MIN = 10.0, 0.1
 
@@ -158,6 +158,19 @@ def kind_stability(model: Constitutive, x, kind: str, fitted: tuple[float, float
             out["stable_over_fitted_range"] = bool((up is None or hi < up) and (down is None or lo > down))
         out["fitted_range"] = [float(lo), float(hi)]
     return out
+
+
+def states_stability(model: Constitutive, x, stretches) -> dict:
+    """Drucker's condition at given states, principal stretches (3, n): the material points a
+    closed-form data set reaches (vlab.identify.kinds, FitKind.states: a cylinder's radius, a
+    sphere's wall), which lie on no single scanned path. The smallest eigenvalue of D over them
+    (MPa) and whether D is positive definite at every one (a state outside the law's domain is not).
+    Incompressible: ε = (ln λ1, ln λ2) (the states have λ1 λ2 λ3 = 1); else the three ln λ_i."""
+    lam = np.asarray(stretches, float)
+    eps = np.log(lam[:2] if model.bulk == "incompressible" else lam)
+    m = min_eigenvalue(model, x, eps)
+    return {"states": int(lam.shape[1]), "min_eigenvalue": float(np.nanmin(m)) if np.isfinite(m).any() else None,
+            "stable": bool(np.all(m > 0))}
 
 
 def stability_map(model: Constitutive, x, n: int = 121) -> dict:

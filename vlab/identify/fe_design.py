@@ -46,7 +46,7 @@ from vlab.identify.fe_loop import residuals
 from vlab.identify.fe_sensitivity import simulate
 from vlab.identify.fe_spec import check_scene, load_scene
 
-__all__ = ["SpecimenTest", "SpecimenRun", "specimen_candidates", "specimen_runs", "specimen_rows", "strain_noise_weights", "data_rows",
+__all__ = ["SpecimenTest", "check_designable", "DESIGNED_KINDS", "SpecimenRun", "specimen_candidates", "specimen_runs", "specimen_rows", "strain_noise_weights", "data_rows",
            "strain_range"]
 
 
@@ -100,6 +100,17 @@ def _with_gauge(raw: dict, shape: str, gauge: float) -> dict:
     return raw
 
 
+DESIGNED_KINDS = ("uniaxial", "planar", "biaxial")
+
+
+def check_designable(scene, label: str) -> None:
+    """The candidates are extension tests (gauge lengths, extensometer strain ranges): test.kind in
+    DESIGNED_KINDS (vlab fit also fits torsion, inflation and the die; vlab design does not plan them)."""
+    if scene.test.kind not in DESIGNED_KINDS:
+        raise SceneError(f"{label}: vlab design plans extension tests (gauge length, extensometer strain range); "
+                         f"test.kind = {scene.test.kind!r} is fitted by vlab fit but not designed")
+
+
 def _candidate(fe: dict, path: Path | None, gauge: float | None):
     """(fe dict of the candidate: the fit's card and volumetric energy on the candidate's specimen,
     mesh and test; its SpecimenTest without a range)."""
@@ -114,6 +125,7 @@ def _candidate(fe: dict, path: Path | None, gauge: float | None):
         label = f"--specimens {path.name}"
         path, raw, scene = load_scene(path.resolve(), label)
         check_scene(scene, fe["model"], label)
+        check_designable(scene, label)
     if gauge is not None:
         raw = _with_gauge(raw, scene.specimen.shape, gauge)
         try:
@@ -125,8 +137,10 @@ def _candidate(fe: dict, path: Path | None, gauge: float | None):
         raise SceneError(f"--gauge-lengths {gauge:g}: the {scene.specimen.shape} of {label} places its "
                          f"extensometer marks {length:g} mm apart whatever the gauge length asked")
     # the fit's own scene keeps the axes its data read (a cruciform may be read on x only)
-    axes = tuple(fe["axes"]) if path == Path(fe["scene_path"]) else tuple(kind_of(scene.test).axes)
-    cand = fe | {"scene_path": str(path), "scene_raw": raw, "scene": scene, "axes": axes}
+    own = path == Path(fe["scene_path"])
+    axes = tuple(fe["axes"]) if own else tuple(kind_of(scene.test).axes)
+    cand = fe | {"scene_path": str(path), "scene_raw": raw, "scene": scene, "axes": axes,
+                 "channels": fe.get("channels") if own else None}  # another scene's: a load cell per axis
     return cand, SpecimenTest(str(path), path.stem, scene.test.kind, scene.specimen.shape, float(length), 0.0, 0.0)
 
 

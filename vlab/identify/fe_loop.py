@@ -1,11 +1,16 @@
 """FE in the loop: fit the scene's material constants until vlab's own test reproduces the
-specimen's readings (extensometer strain e_i, load-cell force F_i in N).
+specimen's readings: per channel (vlab.identify.fe_readings) a control e_i (extensometer strain,
+twist, stretch, volume ratio, pole height) and a reading F_i (load-cell force in N, torque in N·mm,
+axial force, a free end's stretch, pressure or stress in MPa).
 
-The simulated force at a measured strain is the cubic spline F(e) through the recorded levels
-(and (0, 0)); its sensitivity at fixed strain is S_k = dF_k/dp − F'(e_k) de_k/dp (the strain
-itself moves with p between clamped grips), splined the same way. Residuals r_i = (F(e_i) − F_i)/s_i
-(s_i = max(|F_i|, 0.01 max|F|) relative, 1 N absolute; the spline extends at most 10 % of the
-strain range beyond the last level, since the end strain between clamped grips moves with p), J_i = S(e_i)/s_i. Levenberg–Marquardt:
+The simulated reading at a measured control is the cubic spline F(e) through the recorded levels
+(and the unloaded state: e = 0 for a strain or a twist, 1 for a stretch or a volume ratio, F = 0,
+or 1 for a stretch reading); its sensitivity at fixed control is S_k = dF_k/dp − F'(e_k) de_k/dp (an
+extensometer's strain or a bulge's pole height itself moves with p; a prescribed control does not),
+splined the same way. Residuals r_i = (F(e_i) − F_i)/s_i (s_i = max(|F_i|, 0.01 max|F|) relative
+(of F − 1 for a stretch reading: its change), 1 unit absolute; the spline extends at most 10 % of
+the control's range beyond the last level, since a measured end control moves with p),
+J_i = S(e_i)/s_i. Levenberg–Marquardt:
 (JᵀJ + λ diag JᵀJ) δ = −Jᵀr, a step that lowers Σ r² is kept (λ/10), else λ×10; every trial
 point is one whole-test solve; a trial that would leave the admissible box (vlab.identify.fe_spec.
 admissible) is halved first, a trial whose test fails is a rejected step. Converged when every
@@ -31,42 +36,56 @@ from vlab.identify.fe_spec import admissible
 from vlab.identify.laws import law_for
 from vlab.identify.states import Constitutive
 
-__all__ = ["fit_specimen", "residuals", "closed_form"]
+__all__ = ["fit_specimen", "residuals", "closed_form", "lm_fit"]
 
 EXTRAPOLATION = 0.1  # data may reach 10 % of the simulated strain range beyond its end
 MATCHED = 1e-9  # rms weighted residual at which noise-free readings count as reproduced (solver rtol 1e-8)
 
 
-def _axis(sim, a: int, e_data, F_data, weight: float, relative: bool, name: str):
-    """(r, J, F(e_i)) of one loading axis: the spline of the simulated force at the data's strains."""
-    e = np.r_[0.0, sim.strain[:, a]]
-    F = np.r_[0.0, sim.force[:, a]]
-    if np.any(np.diff(e) <= 0):
-        raise RuntimeError(f"the simulated extensometer strain of axis {'xy'[a]} is not monotonic; "
-                           "cannot match strains")
-    lo, hi = min(e[0], e[-1]), max(e[0], e[-1])
-    reach = EXTRAPOLATION * (hi - lo)  # the end strain moves with the constants between clamped grips
+UNSTRAINED = {"stretch": 1.0, "volume_ratio": 1.0, "axial_stretch": 1.0}  # a key's value unloaded (else 0)
+
+
+def _axis(sim, a: int, e_data, F_data, weight: float, relative: bool, name: str, keys=("strain", "force")):
+    """(r, J, F(e_i)) of one channel: the spline of the simulated reading at the data's controls."""
+    e0, F0 = UNSTRAINED.get(keys[0], 0.0), UNSTRAINED.get(keys[1], 0.0)
+    e = np.r_[e0, sim.strain[:, a]]
+    F = np.r_[F0, sim.force[:, a]]
+    step = np.diff(e)
+    if not (np.all(step > 0) or np.all(step < 0)):
+        raise RuntimeError(f"the simulated {keys[0]} of channel {a} is not monotonic; cannot match the data's "
+                           f"{keys[0]}")
+    order = slice(None) if step[0] > 0 else slice(None, None, -1)  # a compression runs down
+    lo, hi = e.min(), e.max()
+    reach = EXTRAPOLATION * (hi - lo)  # a measured end control moves with the constants
     if np.min(e_data) < lo - reach or np.max(e_data) > hi + reach:
-        raise SceneError(f"{name}: the data's strain range {np.min(e_data):.4g}..{np.max(e_data):.4g} (axis "
-                         f"{'xy'[a]}) is not covered by the scene's test ({lo:.4g}..{hi:.4g}): change the "
-                         "scene's test.stretch")
-    spline = CubicSpline(e, F)
+        raise SceneError(f"{name}: the data's {keys[0]} range {np.min(e_data):.4g}..{np.max(e_data):.4g} (channel "
+                         f"{keys[1]} against {keys[0]}) is not covered by the scene's test ({lo:.4g}..{hi:.4g}): "
+                         "change the scene's test load (stretch, twist, volume_ratio)")
+    spline = CubicSpline(e[order], F[order])
     dF, de = sim.dforce[:, a, :], sim.dstrain[:, a, :]
     S = np.vstack([np.zeros(dF.shape[1]), dF - spline(sim.strain[:, a], 1)[:, None] * de])
     Fi = spline(e_data)
-    Si = CubicSpline(e, S, axis=0)(e_data)
-    scale = np.maximum(np.abs(F_data), 0.01 * np.max(np.abs(F_data))) if relative else np.ones_like(F_data)
+    Si = CubicSpline(e[order], S[order], axis=0)(e_data)
+    size = np.abs(F_data - F0)
+    scale = np.maximum(size, 0.01 * np.max(size)) if relative else np.ones_like(F_data)
     w = np.sqrt(weight) / scale
     return (Fi - F_data) * w, Si * w[:, None], Fi
 
 
+def channel_keys(d) -> tuple[tuple[str, str], ...]:
+    """(control key, reading key) of each channel of data set d (an extension test's by default)."""
+    default = (("strain", "force"), ("strain2", "force2"))[: 1 if d.b is None else 2]
+    return tuple((d.extra or {}).get("channels", default))
+
+
 def residuals(sim, d, relative: bool):
-    """(r, J, F(e_i)) of data set d against a simulation: axis x, then (a cruciform's) axis y,
-    each force relative to its own readings."""
+    """(r, J, F(e_i)) of data set d against a simulation: channel after channel (a cruciform's axis
+    x then y; torsion's torque then axial force), each reading relative to its own readings."""
     n = d.points
-    parts = [_axis(sim, 0, d.a, d.y[:n], d.weight, relative, d.name)]
+    keys = channel_keys(d)
+    parts = [_axis(sim, 0, d.a, d.y[:n], d.weight, relative, d.name, keys[0])]
     if d.b is not None:
-        parts.append(_axis(sim, 1, d.b, d.y[n:], d.weight, relative, d.name))
+        parts.append(_axis(sim, 1, d.b, d.y[n:], d.weight, relative, d.name, keys[1]))
     return tuple(np.concatenate([q[k] for q in parts]) for k in range(3))
 
 
@@ -126,35 +145,39 @@ def _lm(prob: _Problem, p0):
     return p, r, J, sim, trail, False, f"not converged within fe.max_solves = {prob.fe['max_solves']} whole-test solves"
 
 
-_HOMOGENEOUS_KIND = {"uniaxial": "uniaxial", "planar": "planar", "biaxial": "biaxial"}
-
-
 def _homogeneous_comparison(spec, sim, p, se, names) -> dict:
-    """The closed-form fit of the same readings, as if the specimen were ideal: stress = F/A0,
-    stretch = 1 + e, in the scene's kind (a cruciform: biaxial with both axes)."""
+    """The closed-form fit of the same readings, as if the specimen were ideal (the scene kind's
+    ``closed_form`` in vlab.identify.fe_readings: stress = F/A0 and stretch = 1 + e of an extension
+    test, Rivlin's torsion of the scene's radius, the thick sphere, the die's homogeneous state)."""
     from vlab.identify.datasets import Dataset
+    from vlab.identify.fe_readings import SPECIMEN_KINDS
     from vlab.identify.fitting import fit_homogeneous
 
-    bulk = "fit" if "K" in names else "fixed"
-    model = closed_form(spec.fe, bulk)
-    kind = _HOMOGENEOUS_KIND[spec.fe["scene"].test.kind]
-    if kind == "biaxial" and 1 not in spec.fe["axes"]:
-        return {"kind": None, "note": "one axis of a biaxial test has no closed form of its own: give both "
-                                      "axes (strain2, force2) for the homogeneous comparison"}
+    kind = SPECIMEN_KINDS[spec.fe["scene"].test.kind]
+    incompressible = not kind.closed_form_has_K  # Rivlin's cylinder, the thick sphere: K is not in them
+    model = closed_form(spec.fe, "fit" if "K" in names and not incompressible else "fixed")
     sets = []
     for d in (d for d in spec.datasets if d.kind == "specimen" and d.role == "fit"):
-        n, two = d.points, d.b is not None
-        y = np.r_[d.y[:n] / sim.area0[0], d.y[n:] / sim.area0[1]] if two else d.y / sim.area0[0]
-        sets.append(Dataset(d.name, d.file, kind, "fit", d.weight,
-                            "nominal", 1.0 + d.a, None if not two else 1.0 + d.b, y))
+        c = kind.closed_form(d, spec.fe["scene_raw"], sim.area0)
+        if c is None:
+            return {"kind": None, "note": f"no closed form of these readings ({_channels_text(d)}) on this "
+                                          f"{spec.fe['scene'].specimen.shape}"}
+        sets.append(Dataset(d.name, d.file, c["kind"], "fit", d.weight, "nominal", c["a"], c["b"], c["y"],
+                            c["extra"]))
     hom = fit_homogeneous(dataclasses.replace(spec, model=model, datasets=tuple(sets), fe=None, starts=3))
     values = spec.fe["fixed"] | dict(zip(model.names, model.card_vector(hom.x)))
-    out = {"kind": sets[0].kind, "parameters": {n: float(values[n]) for n in names},
+    compared = [(n, v, s) for n, v, s in zip(names, p, se) if not (incompressible and n == "K")]
+    out = {"kind": sets[0].kind, "parameters": {n: float(values[n]) for n, _, _ in compared},
            "area0_mm2": sim.area0.tolist()}
-    out["difference_in_standard_errors"] = {n: float((values[n] - v) / s) if s > 0 else None
-                                            for n, v, s in zip(names, p, se)}
-    out["relative_difference"] = {n: float(values[n] / v - 1) for n, v in zip(names, p)}
+    out["difference_in_standard_errors"] = {n: float((values[n] - v) / s) if s > 0 else None for n, v, s in compared}
+    out["relative_difference"] = {n: float(values[n] / v - 1) for n, v, _ in compared}
+    if incompressible:
+        out["note"] = "the closed form is incompressible: K held at the scene's value and not compared"
     return out
+
+
+def _channels_text(d) -> str:
+    return ", ".join(f"{r} against {c}" for c, r in channel_keys(d))
 
 
 def closed_form(fe: dict, bulk: str) -> Constitutive:
@@ -194,15 +217,8 @@ def _fit_specimen(spec, run, t0):
 
     prob = _Problem(spec, run)
     names = prob.names
-    p0 = np.array([spec.fe["start"][n] for n in names])
-    try:
-        p, r, J, sim, trail, converged, reason = _lm(prob, p0)
-    except RuntimeError as exc:
-        raise SceneError(f"fe.scene: {exc}") from None
+    (p, r, J, sim, trail, converged, reason), (cov, s2, dof, cond, reasons, stats) = lm_fit(prob, spec)
     t_fit = time.perf_counter() - t0
-    cov, s2, dof, cond = unc.covariance(J, r)
-    reasons = unc.undetermined(J, list(names), dof)
-    stats = unc.summarize(p, cov, list(names), dof, spec.confidence, reasons)
     se = np.sqrt(np.clip(np.diag(cov), 0, None))
     values = prob.values(p)
     model = closed_form(spec.fe, "fit")
@@ -228,6 +244,20 @@ def _fit_specimen(spec, run, t0):
     return outcome
 
 
+def lm_fit(prob, spec):
+    """(_lm's result from fe.start, (cov, s², dof, κ, undetermined, summary) at its end point); a
+    test that fails at the start is a SceneError."""
+    names = list(prob.names)
+    try:
+        p, r, J, sim, trail, converged, reason = _lm(prob, np.array([spec.fe["start"][n] for n in names]))
+    except RuntimeError as exc:
+        raise SceneError(f"fe.scene: {exc}") from None
+    cov, s2, dof, cond = unc.covariance(J, r)
+    reasons = unc.undetermined(J, names, dof)
+    stats = unc.summarize(p, cov, names, dof, spec.confidence, reasons)
+    return (p, r, J, sim, trail, converged, reason), (cov, s2, dof, cond, reasons, stats)
+
+
 def _model_entry(spec, model: Constitutive, values: dict, names) -> dict:
     """fit.json's model entry: the law, its terms, the bulk term (fitted or the scene's K), μ0."""
     return {"name": model.law.model, "terms": model.law.terms, "bulk": "fit" if "K" in names else "fixed",
@@ -251,7 +281,7 @@ def _attach_figure(outcome, writer) -> None:
     """The specimen figure the fit report draws beside the closed-form ones."""
     outcome.extras["writers"] = [("specimen.png", writer)]
     outcome.extras["figures"] = [("specimen.png", "The specimen's readings (points) against vlab's own test at the "
-                                  "fitted constants (line), force against extensometer strain.")]
+                                  "fitted constants (line), each reading against its control.")]
 
 
 def _fe_record(spec, prob, run, trail, homogeneous: dict) -> dict:
@@ -265,21 +295,25 @@ def _fe_record(spec, prob, run, trail, homogeneous: dict) -> dict:
 
 def _specimen_stability(model, x, spec) -> dict:
     """Drucker stability of the FE-fitted card along the homogeneous paths, judged over the data:
-    one-axis readings span the uniaxial stretches 1 + strain; two-axis (cruciform) readings are
-    judged on both the uniaxial and the equibiaxial path up to the largest arm strain (the centre
-    of a cruciform lies between those paths, not on either: stated in ``basis``)."""
+    the paths and stretch ranges of each data set are its scene kind's (vlab.identify.fe_readings:
+    an extension test's uniaxial stretches 1 + strain, a cruciform's also equibiaxial (its centre
+    lies between those paths, not on either), torsion's surface shear as pure shear, the die's
+    isochoric part, the inflated wall's equibiaxial stretch), said in ``basis``."""
+    from vlab.identify.fe_readings import SPECIMEN_KINDS
+
+    kind = SPECIMEN_KINDS[spec.fe["scene"].test.kind]
     ranges: dict = {}
+    bases = []
     for d in (d for d in spec.datasets if d.kind == "specimen" and d.role == "fit"):
-        strain = np.concatenate([d.a, d.b]) if d.b is not None else np.asarray(d.a)
-        span = (1.0 + min(0.0, float(np.min(strain))), 1.0 + float(np.max(strain)))
-        for kind in ("uniaxial", "equibiaxial") if d.b is not None else ("uniaxial",):
-            lo, hi = ranges.get(kind, span)
-            ranges[kind] = (min(lo, span[0]), max(hi, span[1]))
+        paths, basis = kind.stability(d, spec.fe["scene_raw"])
+        bases.append(basis)
+        for path, (lo, hi) in paths.items():
+            old = ranges.get(path, (lo, hi))
+            ranges[path] = (min(old[0], lo), max(old[1], hi))
     kinds = {k: kind_stability(model, x, k, ranges.get(k)) for k in ("uniaxial", "equibiaxial", "planar")}
     judged = [v["stable_over_fitted_range"] for v in kinds.values() if "stable_over_fitted_range" in v]
-    basis = ("stretch = 1 + extensometer strain on the uniaxial path"
-             + ("; two-axis readings also on the equibiaxial path" if "equibiaxial" in ranges else ""))
-    return {"kinds": kinds, "stable_over_all_fitted_ranges": bool(all(judged)), "basis": basis}
+    return {"kinds": kinds, "stable_over_all_fitted_ranges": bool(all(judged)),
+            "basis": "; ".join(dict.fromkeys(bases))}
 
 
 def _dataset_errors(sim, d) -> dict:
@@ -294,21 +328,32 @@ def _dataset_errors(sim, d) -> dict:
 
 
 def _plot(spec, sim, J, cov, tq, path):
+    """One panel per channel: the data's reading against its control (points) and vlab's test at
+    the fitted constants (line)."""
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(6, 4.2))
-    for d in (d for d in spec.datasets if d.kind == "specimen"):
-        n = d.points
-        ax.plot(d.a, d.y[:n], "o", ms=4, label=f"{d.name} ({d.role}), axis x")
-        if d.b is not None:
-            ax.plot(d.b, d.y[n:], "s", ms=4, label=f"{d.name} ({d.role}), axis y")
-    for a in range(sim.strain.shape[1]):
-        ax.plot(np.r_[0, sim.strain[:, a]], np.r_[0, sim.force[:, a]], "k-" if a == 0 else "k--", lw=1.2,
-                label=f"vlab test at the fitted constants, axis {'xy'[a]}")
-    ax.set_xlabel("extensometer strain")
-    ax.set_ylabel("force (N)")
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
+    sets = [d for d in spec.datasets if d.kind == "specimen"]
+    keys = channel_keys(sets[0])
+    fig, axes = plt.subplots(1, len(keys), figsize=(6 * len(keys), 4.2), squeeze=False)
+    for a, (control, reading) in enumerate(keys):
+        ax = axes[0, a]
+        for d in sets:
+            n = d.points
+            ax.plot(d.a if a == 0 else d.b, d.y[a * n:(a + 1) * n], "os"[a], ms=4, label=f"{d.name} ({d.role})")
+        e0, F0 = UNSTRAINED.get(control, 0.0), UNSTRAINED.get(reading, 0.0)
+        ax.plot(np.r_[e0, sim.strain[:, a]], np.r_[F0, sim.force[:, a]], "k-", lw=1.2,
+                label="vlab test at the fitted constants")
+        ax.set_xlabel(LABELS.get(control, control))
+        ax.set_ylabel(LABELS.get(reading, reading))
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
+
+
+LABELS = {"strain": "extensometer strain", "force": "force (N)", "strain2": "extensometer strain, axis y",
+          "force2": "force, axis y (N)", "twist": "twist ψ (rad/mm)", "torque": "torque (N·mm)",
+          "axial_force": "axial force (N)", "axial_stretch": "axial stretch", "stretch": "stretch",
+          "stress": "axial nominal stress (MPa)", "volume_ratio": "volume ratio", "pole_height": "pole height (mm)",
+          "pressure": "pressure (MPa)"}

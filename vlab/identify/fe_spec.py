@@ -13,8 +13,11 @@ fitted (vlab.identify.fe_stress gives ∂P/∂p of each). Fittable constants, by
 neo-hookean mu, K (the scene's other constant is converted to K); mooney-rivlin C10, C01, K;
 yeoh C10, C20, C30, K; gent mu, Jm, K; arruda-boyce mu, lambda_m, K; ogden "mu[p]", "alpha[p]"
 (one per term; "mu" or "alpha" alone: every term), K. ``start`` takes the same names (quoted:
-"alpha[1]" = 2.5) or a card list (mu = [..]). A cruciform (``kind = "biaxial"``) is fitted on both
-axes when the data give columns strain2 and force2 (the second load cell and extensometer).
+"alpha[1]" = 2.5) or a card list (mu = [..]). The scene's test.kind is one of
+vlab.identify.fe_readings.SPECIMEN_KINDS, whose entry says what the data's columns are (an extension
+test: strain, force; a cruciform also strain2, force2; torsion: twist, torque and axial_force or a
+free end's axial_stretch; inflation: stretch, volume_ratio or pole_height, and pressure; confined
+compression: stretch, stress); every specimen data set gives the same channels (fe["channels"]).
 """
 
 from __future__ import annotations
@@ -23,13 +26,14 @@ from pathlib import Path
 
 from vlab import fields
 from vlab.fields import SceneError, Table
+from vlab.identify.fe_readings import SPECIMEN_KINDS
 from vlab.materials.arruda_boyce import LAMBDA_M_MAX
 from vlab.materials.ogden import ALPHA_RANGE
 
-__all__ = ["parse_fe", "FITTABLE_MODELS", "fittable", "admissible", "load_scene", "check_scene"]
+__all__ = ["parse_fe", "specimen_scene", "FITTABLE_MODELS", "fittable", "admissible", "load_scene", "check_scene"]
 
 FITTABLE_MODELS = ("neo-hookean", "mooney-rivlin", "yeoh", "gent", "arruda-boyce", "ogden")
-FE_KINDS = ("uniaxial", "biaxial", "planar")
+FE_KINDS = tuple(SPECIMEN_KINDS)
 SIGN_FREE = ("C01", "C20", "C30")  # may take either sign; every other constant keeps its own
 
 
@@ -54,7 +58,8 @@ def load_scene(path: Path, label: str):
 
 def check_scene(scene, model_name: str, label: str) -> None:
     """A scene vlab can run in the loop: the fit's material model (one of FITTABLE_MODELS), the
-    displacement formulation, no [effects], test.kind in FE_KINDS."""
+    displacement formulation, no [effects], and what the test kind's entry checks (test.kind in
+    FE_KINDS: specimen_scene)."""
     name = scene.material.model
     if name != model_name:
         raise SceneError(f"{label}: the scene's material.model is {name!r} but model.name is "
@@ -64,9 +69,8 @@ def check_scene(scene, model_name: str, label: str) -> None:
                          f"got {name!r}")
     if scene.mesh.formulation != "displacement" or scene.effects:
         raise SceneError(f"{label}: FE-in-the-loop fits need mesh.formulation = \"displacement\" and no [effects]")
-    if scene.test.kind not in FE_KINDS:
-        raise SceneError(f"{label}: test.kind must be one of {', '.join(FE_KINDS)} for an FE-in-the-loop fit, "
-                         f"got {scene.test.kind!r}")
+    _check_kind(scene.test.kind, label)
+    SPECIMEN_KINDS[scene.test.kind].check(scene)
 
 
 def fittable(values: dict) -> tuple[str, ...]:
@@ -125,38 +129,69 @@ def _start(raw, params, values: dict) -> dict:
     return out
 
 
-def _axes(scene, datasets) -> tuple[int, ...]:
-    from vlab.loading.kinds import kind_of
+def _check_data_kinds(datasets, scene) -> None:
+    """Only specimen data sets, or only DIC fields (kind = "field", on an unreduced mesh)."""
+    kinds = {d.kind for d in datasets if d.role == "fit"}
+    if kinds not in ({"specimen"}, {"field"}):
+        raise SceneError("an FE-in-the-loop fit takes only data sets of kind = \"specimen\", or only of kind = "
+                         f"\"field\" (DIC fields, vlab.identify.field_fit), got {', '.join(sorted(kinds))}")
+    if kinds == {"field"} and scene.mesh.symmetry != "none":
+        raise SceneError(f"fe.scene: a field fit needs mesh.symmetry = \"none\" (the camera sees the whole face), "
+                         f"got {scene.mesh.symmetry!r}")
 
-    kind = scene.test.kind
-    two = [d.b is not None for d in datasets if d.kind == "specimen"]
-    axes = kind_of(scene.test).axes
-    if any(two) and 1 not in axes:  # the kind has no load cell along y
-        raise SceneError(f"columns strain2/force2 (a second load cell) need a biaxial scene (a cruciform); "
-                         f"fe.scene's test.kind is {kind!r}")
-    if any(two) != all(two):
-        raise SceneError("give strain2 and force2 in every specimen data set or in none")
-    return tuple(axes) if any(two) else (0,)
+
+def _channels(datasets) -> tuple[tuple[str, str], ...]:
+    """The (control, reading) column keys every specimen data set gives (the same in each); DIC
+    fields (kind = "field"): the extensometer and the x load cell."""
+    sets = [d for d in datasets if d.kind == "specimen"]
+    if not sets:
+        return (("strain", "force"),)
+    channels = {tuple(d.extra["channels"]) for d in sets}
+    if len(channels) > 1:
+        a, b = sorted(channels, key=len)[:2]
+        raise SceneError(f"the specimen data sets give different columns ({_show(a)} and {_show(b)}): give the "
+                         "same readings in every specimen data set (the fit matches one simulated test)")
+    return next(iter(channels))
+
+
+def _show(channels) -> str:
+    return ", ".join(f"{r} against {c}" for c, r in channels)
+
+
+def specimen_scene(raw, base: Path):
+    """(the [fe] Table, (path, raw dict, parsed scene)) of the fit's [fe] table, its test.kind one
+    of FE_KINDS (read before the specimen data sets: their columns are the kind's)."""
+    if raw is None:
+        raise SceneError("a data set of kind = \"specimen\" or \"field\" needs an [fe] table with scene = "
+                         "\"<scene>.toml\"")
+    t = Table("fe", raw, ("scene", "parameters", "start", "max_solves", "cache"))
+    loaded = _scene(t, base)
+    _check_kind(loaded[2].test.kind, "fe.scene")
+    return t, loaded
+
+
+def _check_kind(kind: str, label: str) -> None:
+    if kind not in FE_KINDS:
+        raise SceneError(f"{label}: test.kind must be one of {', '.join(FE_KINDS)} for an FE-in-the-loop fit, "
+                         f"got {kind!r}")
 
 
 def parse_fe(raw, base: Path, model, datasets) -> dict:
     """The validated [fe] table as a dict (scene path, raw scene dict, parsed scene, parameters...)."""
     from vlab.identify.fe_stress import flat_constants
 
-    if raw is None:
-        raise SceneError("a data set of kind = \"specimen\" needs an [fe] table with scene = \"<scene>.toml\"")
-    t = Table("fe", raw, ("scene", "parameters", "start", "max_solves", "cache"))
-    path, scene_raw, scene = _scene(t, base)
+    t, (path, scene_raw, scene) = specimen_scene(raw, base)
     name = scene.material.model
     check_scene(scene, model.law.model, "fe.scene")
-    if any(d.kind != "specimen" for d in datasets if d.role == "fit"):
-        raise SceneError("an FE-in-the-loop fit takes only data sets of kind = \"specimen\"")
+    _check_data_kinds(datasets, scene)
     values = flat_constants(scene.material)
     params = _parameters(t, values)
     return {"scene_path": str(path), "scene_raw": scene_raw, "scene": scene, "parameters": params,
             "model": name, "volumetric": getattr(scene.material, "volumetric", None),
             "start": _start(t.get("start", {}), params, values), "fixed": values,
-            "axes": _axes(scene, datasets), "max_solves": t.integer("max_solves", 1, 200, 15),
+            "channels": (ch := _channels(datasets)),  # a field fit: the load cell (and its strain control)
+            "axes": tuple(sorted({SPECIMEN_KINDS[scene.test.kind].quantity(r, scene).axis for _, r in ch})),
+            "max_solves": t.integer("max_solves", 1, 200, 15),
             "cache": _cache(t, base)}
 
 

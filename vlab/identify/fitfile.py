@@ -12,7 +12,8 @@
                material are fitted per specimen and pooled, vlab.identify.specimens)
     [options]  residual (relative | absolute), starts (1..1000), seed, confidence (0.5..0.999),
                max_evaluations (per start, default 400)
-    [fe]       scene (kind = "specimen"), parameters (the card keys fitted), start, max_solves
+    [fe]       scene (kind = "specimen" or "field"), parameters (the card keys fitted), start, max_solves
+    kind = "field": a DIC fields folder instead of a file (vlab.identify.field_data)
 """
 
 from __future__ import annotations
@@ -26,7 +27,7 @@ import numpy as np
 from vlab import fields
 from vlab.fields import SceneError, Table
 from vlab.identify.card import INCOMPRESSIBLE_K_RATIO
-from vlab.identify.datasets import (COLUMN_KEYS, FORCE_UNITS, STRESS_UNITS, Dataset, check_monotonic,
+from vlab.identify.datasets import (COLUMN_KEYS, STRESS_UNITS, Dataset, check_monotonic,
                                     check_plausible, read_columns)
 from vlab.identify.kinds import FIT_KINDS
 from vlab.identify.laws import MODEL_NAMES, law_for
@@ -37,7 +38,8 @@ __all__ = ["FitSpec", "load_fit", "parse_fit", "parse_fit_text", "parse_model_na
 
 K_MAX = 1e9  # MPa: 2000 times diamond's bulk modulus; beyond it the residuals overflow (1e300 was inf)
 WEIGHT_MAX = 1e6  # a data set's weight relative to the others; 1e300 overflowed the residuals (SVD failed)
-BUILTIN_KINDS = ("uniaxial", "equibiaxial", "planar", "biaxial", "simple-shear", "volumetric", "specimen")
+BUILTIN_KINDS = ("uniaxial", "equibiaxial", "planar", "biaxial", "simple-shear", "volumetric", "specimen", "field")
+FE_DATA = ("specimen", "field")  # the kinds fitted with FE in the loop ([fe] scene)
 
 
 def kinds() -> tuple[str, ...]:
@@ -121,20 +123,24 @@ def _columns(t: Table, kind: str) -> dict[str, str]:
     return out
 
 
-def _dataset(raw, i: int, base: Path) -> Dataset:
-    """One [[data]] table; its ``specimen`` (any kind) is read here and carried by the Dataset."""
+def _dataset(raw, i: int, base: Path, scene=None) -> Dataset:
+    """One [[data]] table; its ``specimen`` (any kind) is read here and carried by the Dataset;
+    ``scene`` the [fe] scene, whose test kind says a specimen data set's columns."""
     from vlab.identify.specimens import split_specimen
 
     rest, specimen = split_specimen(raw, i)
-    d = _dataset_of(rest, i, base)
+    d = _dataset_of(rest, i, base, scene)
     return d if specimen is None else dataclasses.replace(d, specimen=specimen)
 
 
-def _dataset_of(raw, i: int, base: Path) -> Dataset:
+def _dataset_of(raw, i: int, base: Path, scene=None) -> Dataset:
     from vlab.identify.records import dataset_hook
     record = dataset_hook(raw, i, base)  # a lab record (relaxation, dma) or a raw machine export
     if record is not None:
         return record
+    if isinstance(raw, dict) and raw.get("kind") == "field":  # a DIC fields folder (vlab.identify.field_data)
+        from vlab.identify.field_data import field_dataset
+        return field_dataset(raw, i, base)
     t = Table(f"data[{i}]", raw, ("file", "kind", "columns", "stress_measure", "units", "role",
                                   "weight", "name", "geometry"))
     file = t.get("file")
@@ -147,8 +153,11 @@ def _dataset_of(raw, i: int, base: Path) -> Dataset:
         raise SceneError(f"{t.field('geometry')}: kind = {kind!r} takes no geometry (it is for kinds "
                          f"{', '.join(k for k, v in FIT_KINDS.items() if v.geometry)}, and raw "
                          "force–displacement exports)")
-    units = FORCE_UNITS if kind == "specimen" else STRESS_UNITS
-    unit = t.choice("units", tuple(units), "N" if kind == "specimen" else "MPa")
+    if kind == "specimen":
+        from vlab.identify.fe_columns import specimen_dataset
+        return specimen_dataset(t, file, base, scene, WEIGHT_MAX)
+    units = STRESS_UNITS
+    unit = t.choice("units", tuple(units), "MPa")
     measure = t.choice("stress_measure", ("nominal", "true"), "nominal")
     role = t.choice("role", ("fit", "validate"), "fit")
     weight = t.number("weight", 1.0, gt=0, le=WEIGHT_MAX, note=" (relative to the other data sets)")
@@ -193,7 +202,7 @@ def _closed_form_dataset(t: Table, kind, file: str, base: Path) -> Dataset:
 def _to_dataset(path, name, kind, role, weight, measure, factor, wanted, cols) -> Dataset:
     lines = cols.pop("_line")
     for key in ("strain", "strain2"):
-        if key in cols and kind != "specimen":
+        if key in cols:
             cols[key.replace("strain", "stretch")] = 1.0 + cols.pop(key)
             wanted[key.replace("strain", "stretch")] = wanted.pop(key)
     for key in ("stretch", "stretch2"):
@@ -205,24 +214,15 @@ def _to_dataset(path, name, kind, role, weight, measure, factor, wanted, cols) -
         j = int(np.argmax(cols["volume_ratio"] <= 0))
         raise SceneError(f"{path.name} row {int(lines[j])} column {wanted['volume_ratio']!r}: volume ratio must "
                          f"be > 0, got {cols['volume_ratio'][j]:g}")
-    control = {"simple-shear": "shear", "specimen": "strain", "volumetric": "volume_ratio"}.get(kind, "stretch")
+    control = {"simple-shear": "shear", "volumetric": "volume_ratio"}.get(kind, "stretch")
     if kind != "biaxial":
         check_monotonic(path, wanted[control], cols[control], lines)
     if kind == "biaxial":
         a, b, y = cols["stretch"], cols["stretch2"], np.r_[cols["stress"], cols["stress2"]] * factor
-    elif kind == "specimen":
-        if ("strain2" in cols) != ("force2" in cols):
-            raise SceneError(f"{path.name}: a second axis needs both columns.strain2 and columns.force2 "
-                             "(a cruciform's second extensometer and load cell)")
-        a, b, y = cols["strain"], cols.get("strain2"), cols["force"] * factor
-        if "force2" in cols:
-            check_monotonic(path, wanted["strain2"], cols["strain2"], lines)
-            y = np.r_[y, cols["force2"] * factor]
     else:
         a, b, y = cols[control], None, cols["stress"] * factor
-    if kind != "specimen":
-        check_plausible(path, kind, wanted.get(control, control), a if b is None else np.r_[a, a], y,
-                        lines if b is None else np.r_[lines, lines])
+    check_plausible(path, kind, wanted.get(control, control), a if b is None else np.r_[a, a], y,
+                    lines if b is None else np.r_[lines, lines])
     return Dataset(str(name), str(path), kind, role, weight, measure, a, b, y)
 
 
@@ -232,6 +232,14 @@ def _options(raw) -> dict:
             "max_evaluations": t.integer("max_evaluations", 1, 100000, 400),
             "starts": t.integer("starts", 1, 1000, 20), "seed": t.integer("seed", 0, 2**31 - 1, 0),
             "confidence": t.number("confidence", 0.95, ge=0.5, le=0.999)}
+
+
+def _fe_scene(data: dict, raw_data: list, base: Path):
+    """The [fe] scene when a data set is of kind "specimen" (its test kind says the data's columns)."""
+    if not any(isinstance(d, dict) and d.get("kind") == "specimen" for d in raw_data):
+        return None
+    from vlab.identify.fe_spec import specimen_scene
+    return specimen_scene(data.get("fe"), base)[1][2]
 
 
 def parse_fit(data: dict, base_dir: Path, default_name: str = "fit") -> FitSpec:
@@ -253,7 +261,8 @@ def parse_fit(data: dict, base_dir: Path, default_name: str = "fit") -> FitSpec:
     raw_data = data["data"]
     if not isinstance(raw_data, list) or not raw_data:
         raise SceneError("[[data]] must list at least one data set (file, kind, columns, ...)")
-    datasets = tuple(_dataset(d, i, Path(base_dir)) for i, d in enumerate(raw_data))
+    scene = _fe_scene(data, raw_data, Path(base_dir))
+    datasets = tuple(_dataset(d, i, Path(base_dir), scene) for i, d in enumerate(raw_data))
     needs_k = [d.kind for d in datasets
                if d.kind == "volumetric" or (d.kind in FIT_KINDS and FIT_KINDS[d.kind].compressible)]
     if model.bulk == "incompressible" and needs_k:
@@ -262,11 +271,11 @@ def parse_fit(data: dict, base_dir: Path, default_name: str = "fit") -> FitSpec:
     if not any(d.role == "fit" for d in datasets):
         raise SceneError("no data set has role = \"fit\": at least one must be fitted")
     fe = None
-    if any(d.kind == "specimen" for d in datasets):
+    if any(d.kind in FE_DATA for d in datasets):
         from vlab.identify.fe_spec import parse_fe
         fe = parse_fe(data.get("fe"), Path(base_dir), model, datasets)
     elif "fe" in data:
-        raise SceneError("[fe] is only used with a data set of kind = \"specimen\"")
+        raise SceneError("[fe] is only used with a data set of kind = \"specimen\" or \"field\"")
     check_records(model, effects, datasets, fe)
     from vlab.identify.specimens import check_specimens
     check_specimens(model, effects, datasets, fe)

@@ -14,7 +14,7 @@ import numpy as np
 
 from vlab.identify import uncertainty as unc
 from vlab.identify.card import card_of
-from vlab.identify.drucker import kind_stability
+from vlab.identify.drucker import kind_stability, states_stability
 from vlab.identify.fitfile import FitSpec
 from vlab.identify.jacobian import value_and_jacobian
 from vlab.identify.kinds import FIT_KINDS
@@ -88,7 +88,10 @@ def _stability(model, x, spec) -> dict:
             kinds[d.kind] = (min(lo, float(np.min(d.a))), max(hi, float(np.max(d.a))))
     out = {k: kind_stability(model, x, k, r) for k, r in kinds.items()}
     fitted = [v["stable_over_fitted_range"] for v in out.values() if "stable_over_fitted_range" in v]
-    return {"kinds": out, "stable_over_all_fitted_ranges": bool(all(fitted))}
+    states = {f"{d.name} ({d.kind})": states_stability(model, x, FIT_KINDS[d.kind].states(d))
+              for d in spec.datasets if d.kind in FIT_KINDS and FIT_KINDS[d.kind].states is not None}
+    fitted += [v["stable"] for v in states.values()]
+    return {"kinds": out, "data_states": states, "stable_over_all_fitted_ranges": bool(all(fitted))}
 
 
 def _candidates(model, x, fit_sets, factor_of):
@@ -300,6 +303,9 @@ def fit_any(spec: FitSpec, execution=None) -> FitOutcome:
 def fit_one(spec: FitSpec, execution=None) -> FitOutcome:
     """The homogeneous fit, or the FE-in-the-loop fit when a data set is a specimen's readings
     (its whole-test solves on Dask with ``execution``, vlab.study.sweep.Execution)."""
+    if spec.fe is not None and any(d.kind == "field" for d in spec.datasets):
+        from vlab.identify.field_fit import fit_field
+        return fit_field(spec, execution)
     if spec.fe is not None:
         from vlab.identify.fe_loop import fit_specimen
         return fit_specimen(spec, execution)

@@ -78,8 +78,11 @@ def _limit_text(side: dict | None, bound: str, lim: float) -> str:
 
 
 def _stability_rows(st: dict) -> list:
-    return [[kind, _limit_text(s["tension"], "from", 10), _limit_text(s["compression"], "below", 0.1),
-             _f(s.get("stable_over_fitted_range"))] for kind, s in st["kinds"].items()]
+    """A row per scanned path, then one per closed-form data set judged at its own states."""
+    paths = [[kind, _limit_text(s["tension"], "from", 10), _limit_text(s["compression"], "below", 0.1),
+              _f(s.get("stable_over_fitted_range"))] for kind, s in st["kinds"].items()]
+    return paths + [[html.escape(name), f"{s['states']} states of the data", f"min eig D {_f(s['min_eigenvalue'], 4)} MPa",
+                     _f(s["stable"])] for name, s in st.get("data_states", {}).items()]
 
 
 def _fe_section(d: dict) -> str:
@@ -87,13 +90,21 @@ def _fe_section(d: dict) -> str:
     fe = d.get("fe")
     if not fe:
         return ""
+    if "field" in fe:  # FE model updating on DIC fields
+        from vlab.identify.field_fit import field_section
+        return field_section(d)
     hom = fe["homogeneous_fit"]
+    head = f"<h2>FE in the loop</h2><p>{fe['solves']} whole-test solves of {html.escape(fe['scene'])}; "
+    if not hom.get("parameters"):
+        return head + f"{html.escape(hom.get('note', 'no closed-form comparison'))}.</p>"
     rows = [[html.escape(n), _f(d["parameters"][n], 6), _f(v, 6), f"{100 * hom['relative_difference'][n]:+.3g} %",
              _f(hom["difference_in_standard_errors"][n], 3)] for n, v in hom["parameters"].items()]
-    return (f"<h2>FE in the loop</h2><p>{fe['solves']} whole-test solves of {html.escape(fe['scene'])}; the "
-            "closed-form uniaxial fit of the same readings (stress = force / A0, stretch = 1 + strain) for "
-            "comparison: the error a specimen's inhomogeneity would put into a homogeneous fit.</p>"
-            + _table(["constant", "FE fit", "homogeneous fit", "difference", "difference (standard errors)"], rows))
+    return (head + f"the closed-form fit of the same readings (kind {html.escape(str(hom['kind']))}: an extension "
+            "test's stress = force / A0 and stretch = 1 + strain; torsion by Rivlin's integrals; the thick sphere; "
+            "the die's homogeneous state) for comparison: the error a specimen's inhomogeneity (and the mesh) "
+            "would put into a closed-form fit.</p>"
+            + _table(["constant", "FE fit", "closed-form fit", "difference", "difference (standard errors)"], rows)
+            + (f"<p>{html.escape(hom['note'])}.</p>" if hom.get("note") else ""))
 
 
 def _specimens_section(d: dict) -> str:
@@ -215,7 +226,7 @@ def write_fit_files(outcome, tmp: Path, fit_text: str | None = None) -> dict:
     from vlab.identify.plots import plot_curves, plot_stability_map
 
     d = outcome.data = strict(outcome.data)  # what the console and the page show is what fit.json holds
-    sets = [s for s in outcome.spec.datasets if s.kind != "specimen"]
+    sets = [s for s in outcome.spec.datasets if s.kind not in ("specimen", "field")]
     tmp = Path(tmp)
     images = list(outcome.extras.get("figures", []))
     if sets:

@@ -58,6 +58,9 @@ def fit_request(path: Path, models: str | Sequence[str] | None = None, export: s
     if names and any(d.kind in ("relaxation", "dma") for d in spec.datasets):
         raise SceneError("--models ranks equilibrium fits; a fit file with relaxation or DMA records is fitted "
                          "with its own [model] (leave out --models)")
+    if names and any(d.kind == "field" for d in spec.datasets):
+        raise SceneError("--models ranks models on curves; a fit file of DIC fields (kind = \"field\") is fitted "
+                         "through its scene's own material model (leave out --models)")
     if names and len(specimen_ids(spec.datasets)) > 1:
         raise SceneError("--models ranks models on one data set; a fit file whose data sets name several specimens "
                          "is fitted per specimen and pooled with its own [model] (leave out --models)")

@@ -45,7 +45,8 @@ def _scaled_svd(J: np.ndarray):
     norms = np.where(norms > 0, norms, 1.0)
     if n == 0:
         return norms, np.zeros(p), np.eye(p)
-    _, s, Vt = np.linalg.svd(J / norms, full_matrices=True)
+    # V is p × p either way; the full U (n × n) is never used (a 24k-row field fit asked for 4.5 GB)
+    _, s, Vt = np.linalg.svd(J / norms, full_matrices=n < p)
     sv = np.zeros(p)
     sv[:len(s)] = s[:p]
     return norms, sv, Vt.T

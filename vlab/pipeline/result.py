@@ -69,6 +69,7 @@ class RunResult:
     diagnostics: Diagnostics
     solver: SolverObjects
     reference: dict | None = None
+    dic: object | None = None  # vlab.pipeline.dic.DicRun of a scene with [instruments.dic]
 
     @property
     def converged(self) -> bool:

@@ -58,6 +58,7 @@ class ReportPage:
     provenance: dict
     notes: list[str] = field(default_factory=list)
     view3d: str | None = None  # the interactive 3-D view's page in the folder
+    sections: list[str] = field(default_factory=list)  # whole HTML sections after the figures (DIC)
 
 
 def _image_source(folder: Path, name: str, inline: bool) -> str:
@@ -116,7 +117,7 @@ def write_comparison(page: ReportPage, folder: Path, inline_images: bool = False
 <h1>vlab report: {html.escape(page.title)}</h1>
 <p>{html.escape(prov.get('description') or '')}</p>
 <table><tr><th></th>{heads}</tr>{rows}</table>{notes}
-{_view3d(page, folder, inline_images)}{figures}{_spring_note(page)}
+{_view3d(page, folder, inline_images)}{figures}{"".join(page.sections)}{_spring_note(page)}
 <h2>Files</h2><ul>{links}</ul>
 <h2>Provenance</h2>
 <p>vlab {html.escape(prov['vlab_version'])} · {html.escape(prov['date'])} · scene content hash

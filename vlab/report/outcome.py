@@ -24,6 +24,7 @@ class ModelOutcome:
     source: object
     checks: dict
     critical_mode: object = None  # eigenvector of the first loss of stability (full DOF vector), if any
+    dic: object = None  # vlab.pipeline.dic.DicRun of a scene with [instruments.dic]
 
     @cached_property
     def snapshot(self) -> Snapshot:
@@ -49,7 +50,7 @@ def outcome_of(result, label: str | None = None, snapshot_now: bool = True) -> M
         data["input"]["label"] = label
     critical = result.solver.critical_state
     return ModelOutcome(label, data, _snapshot_of(result, label) if snapshot_now else result,
-                        _model_checks(result), None if critical is None else critical.mode)
+                        _model_checks(result), None if critical is None else critical.mode, result.dic)
 
 
 def _model_checks(result) -> dict:

@@ -79,7 +79,7 @@ def curve_columns(result: RunResult) -> dict[str, list[float]]:
 def result_to_dict(result: RunResult) -> dict:
     """The results.json dict of a run (JSON-safe: NaN/inf as None)."""
     scene, history, d = result.scene, result.history, result.diagnostics
-    return _clean({
+    return _clean(_with_dic(result, {
         "vlab_version": __version__,
         "date": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
         "scene": {"name": scene.name, "hash": scene.content_hash(), "source": scene.source},
@@ -104,7 +104,18 @@ def result_to_dict(result: RunResult) -> dict:
         "warnings": d.warnings,
         "failure": None if history.failure is None else failure_dict(scene, history.failure),
         "accuracy_estimate": d.accuracy_estimate,  # vlab.study.estimate; None if off
-    })
+    }))
+
+
+def _with_dic(result: RunResult, data: dict) -> dict:
+    """measured.dic and dic (vlab.report.dic_report) for a scene with [instruments.dic]."""
+    if getattr(result, "dic", None) is None:
+        return data
+    from vlab.report.dic_report import measured_dict, summary_dict
+
+    data["measured"]["dic"] = measured_dict(result)
+    data["dic"] = summary_dict(result)
+    return data
 
 
 def _instrument_geometry(result: RunResult) -> dict:

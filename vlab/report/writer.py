@@ -104,9 +104,22 @@ def write_report(outcomes: list, out: Path, scene, scene_text: str | None,
         page = ReportPage(title=scene.name, models=datas, checks={o.model: o.checks for o in outcomes},
                           departures=departures, figures=figures, links=links,
                           provenance=_provenance(scene, scene_text, outcomes), notes=notes,
-                          view3d=view["file"] if view else None)
+                          view3d=view["file"] if view else None, sections=_dic_sections(outcomes, tmp, options.single_file))
         write_comparison(page, tmp, inline_images=options.single_file)
     return summary
+
+
+def _dic_sections(outcomes: list, folder: Path, inline: bool) -> list[str]:
+    """The DIC section of each outcome that has one (vlab.report.dic_report), its maps inlined
+    in a single-file report."""
+    if all(o.dic is None for o in outcomes):
+        return []
+    from vlab.report.dic_report import html_section
+    from vlab.report.html import _image_source
+
+    single = len(outcomes) == 1
+    return [html_section(o.data, "" if single else f"{o.model}/", lambda name: _image_source(folder, name, inline))
+            for o in outcomes if o.dic is not None]
 
 
 def _beside_figures(outcomes: list, tmp: Path, title: str, options: ReportOptions, shared: Path | None) -> tuple:
@@ -148,6 +161,10 @@ def _write_model_files(outcome, root: Path, sub: str, options: ReportOptions) ->
     (folder / "results.json").write_text(json.dumps(outcome.data, indent=2))
     write_columns_csv(outcome.data["curve"], folder / "curve.csv")
     files = ["results.json", "curve.csv"]
+    if outcome.dic is not None:  # [instruments.dic]: images, fields, levels.csv, dic.json, maps
+        from vlab.report.dic_report import write_folder
+
+        files += write_folder(outcome.data, outcome.dic, folder)
     if options.vtu:
         pvd = write_time_series(outcome.snapshot, folder, outcome.model)
         files.append(pvd.name)

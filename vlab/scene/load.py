@@ -16,6 +16,7 @@ from vlab import fields
 from vlab.fields import SceneError
 from vlab.loading.kinds import kind_of
 from vlab.scene.effects import check_effects_scope, parse_effects
+from vlab.scene.instruments import parse_instruments
 from vlab.scene.material import check_path, continuum, parse_compare, parse_material
 from vlab.scene.measure import parse_measure
 from vlab.scene.mesh import check_formulation, check_symmetry, parse_mesh
@@ -25,6 +26,7 @@ from vlab.scene.test import parse_test
 
 if TYPE_CHECKING:
     from vlab.scene.material import MaterialSpec
+    from vlab.scene.instruments import InstrumentsSpec
     from vlab.scene.measure import MeasureSpec
     from vlab.scene.mesh import MeshSpec
     from vlab.scene.solver import SolverSpec
@@ -34,7 +36,7 @@ if TYPE_CHECKING:
 __all__ = ["Scene", "SECTIONS", "TOP_KEYS", "parse_scene", "load_scene", "load_scene_text"]
 
 
-SECTIONS = ("specimen", "mesh", "material", "test", "measure", "solver", "effects", "compare")
+SECTIONS = ("specimen", "mesh", "material", "test", "measure", "solver", "effects", "compare", "instruments")
 
 
 TOP_KEYS = ("name", "description") + SECTIONS + ("uncertainty",)  # [uncertainty]: `vlab budget` only
@@ -60,6 +62,7 @@ class Scene:
         """The spec of the declared effect ``name``, or None."""
         return next((e for e in self.effects if e.name == name), None)
     base_dir: str = "."  # where relative paths in the scene (specimen.file) are taken from
+    instruments: InstrumentsSpec | None = None  # [instruments] (vlab.scene.instruments); None: none declared
 
     def content_hash(self) -> str:
         """sha256 hex of the canonical JSON of ``source`` (sorted keys; key order irrelevant)."""
@@ -92,7 +95,8 @@ def _parse(data: Mapping[str, Any]) -> Scene:
                   measure=parse_measure(data.get("measure", {}), specimen),
                   solver=parse_solver(data.get("solver", {})),
                   source=copy.deepcopy(dict(data)), base_dir=str(SCENE_DIR.get()),
-                  effects=parse_effects(data.get("effects", {}), material, test))
+                  effects=parse_effects(data.get("effects", {}), material, test),
+                  instruments=parse_instruments(data.get("instruments"), specimen))
     if "uncertainty" in data:  # validated with the scene it perturbs (a run ignores it)
         from vlab.uncertainty.spec import parse_uncertainty
 

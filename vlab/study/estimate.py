@@ -34,7 +34,9 @@ def companion_scene(scene: Scene, factor: float = COARSENING) -> Scene:
     over: dict = {"mesh.size": size}
     if scene.mesh.gauge_size is not None:
         over["mesh.gauge_size"] = min(scene.mesh.gauge_size * factor, size)
-    return parse_scene(apply_overrides(scene.source, over), origin="accuracy-estimate companion",
+    # the companion compares E, ν and the stress only: no camera, no DIC
+    source = {k: v for k, v in scene.source.items() if k != "instruments"}
+    return parse_scene(apply_overrides(source, over), origin="accuracy-estimate companion",
                        base_dir=scene.base_dir)
 
 

@@ -7,18 +7,22 @@ A kind is a ``FitKind``:
 - ``name``: the ``[[data]] kind``; ``columns``: (required, optional) column keys; ``control``: the
   column the curve runs along (strictly monotonic);
 - ``geometry``: {key: meaning} of the required ``[data.geometry]`` lengths (mm, > 0);
+  ``geometry_limits``: {key: (unit, lo, hi)} for a geometry entry that is not a length (the
+  pre-stretch of tension–torsion: dimensionless, lo ≤ value ≤ hi);
 - ``units`` ({name: factor to the kind's unit}) and ``default_unit``; ``measures``: the
   ``stress_measure`` values that apply (empty: the key is refused);
 - ``compressible``: the kind is meaningless for an incompressible card (it fixes K);
 - ``build(path, cols, wanted, lines, factor, geometry)`` → (a, b, y, extra), every check done;
 - ``predict(model, X, d)`` → (m, len(d.y)) at internal coordinates X (m, n_x), analytic in X;
 - ``max_I1(d)``: the largest I1 the data reach (the starts' bounds, e.g. Gent's Jm);
-- ``labels``: (x label, y label of each output, in the order of ``d.extra["outputs"]``).
+- ``labels``: (x label, y label of each output, in the order of ``d.extra["outputs"]``);
+- ``states(d)``: principal stretches (3, k) of material points the data reach (at the data's own
+  twists, stretches, ...), where vlab.identify.drucker.states_stability judges the fitted card.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
@@ -42,6 +46,8 @@ class FitKind:
     predict: Callable
     max_I1: Callable
     labels: tuple
+    geometry_limits: dict = field(default_factory=dict)
+    states: Callable | None = None
 
 
 def gauss(n: int) -> tuple[np.ndarray, np.ndarray]:
@@ -66,7 +72,11 @@ def parse_geometry(t: Table, kind: FitKind) -> dict:
     for key, meaning in kind.geometry.items():
         if key not in g.raw:
             raise SceneError(f"{g.field(key)} is required for kind = {kind.name!r}: {meaning}")
-        out[key] = g.number(key, gt=0, note=f" (mm, {meaning})")
+        if key in kind.geometry_limits:
+            unit, lo, hi = kind.geometry_limits[key]
+            out[key] = g.number(key, ge=lo, le=hi, note=f" ({unit}, {meaning})")
+        else:
+            out[key] = g.number(key, gt=0, note=f" (mm, {meaning})")
     return out
 
 

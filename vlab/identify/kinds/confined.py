@@ -46,7 +46,13 @@ def max_I1(d) -> float:
     return float(np.max(d.a ** (-2.0 / 3.0) * (d.a**2 + 2.0)))
 
 
+def states(d):
+    """diag(λ, 1, 1) at each row (J = λ)."""
+    lam = np.asarray(d.a, float)
+    return np.array([lam, np.ones_like(lam), np.ones_like(lam)])
+
+
 KIND = FitKind(
     name="confined-compression", columns=(("stretch", "stress"), ()), control="stretch", geometry={},
     units=STRESS_UNITS, default_unit="MPa", measures=("nominal", "true"), compressible=True, build=build,
-    predict=predict, max_I1=max_I1, labels=("axial stretch λ", {"stress": "axial stress (MPa)"}))
+    predict=predict, max_I1=max_I1, labels=("axial stretch λ", {"stress": "axial stress (MPa)"}), states=states)

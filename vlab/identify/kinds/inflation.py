@@ -72,8 +72,16 @@ def max_I1(d) -> float:
     return float(np.max(2.0 * d.a**2 + d.a**-4.0))
 
 
+def states(d):
+    """Equibiaxial (λ, λ, λ⁻²) through the wall, λ from λ_b to λ_a at each row."""
+    la = np.asarray(d.a, float)
+    lb = outer_stretch(la, wall_ratio(d.extra["geometry"]))
+    lam = (lb[:, None] + (la - lb)[:, None] * np.linspace(0.0, 1.0, 5)).ravel()
+    return np.array([lam, lam, lam**-2.0])
+
+
 KIND = FitKind(
     name="inflation", columns=(("stretch", "pressure"), ()), control="stretch",
     geometry={"inner_radius": "the sphere's inner radius A", "thickness": "its wall thickness H"},
     units=STRESS_UNITS, default_unit="MPa", measures=(), compressible=False, build=build, predict=predict,
-    max_I1=max_I1, labels=("inner hoop stretch λ_a", {"pressure": "pressure (MPa)"}))
+    max_I1=max_I1, labels=("inner hoop stretch λ_a", {"pressure": "pressure (MPa)"}), states=states)

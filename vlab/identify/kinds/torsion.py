@@ -28,7 +28,7 @@ from vlab.fields import SceneError
 from vlab.identify.datasets import STRESS_RANGE, check_monotonic
 from vlab.identify.kinds.base import FitKind, gauss
 
-__all__ = ["KIND", "shear_functions", "torque_and_force"]
+__all__ = ["KIND", "check_torque", "shear_functions", "torque_and_force"]
 
 NODES = 32
 WRONG_SIGN = 0.02
@@ -64,7 +64,7 @@ def predict(model, X, d):
     return np.concatenate([M, N], axis=-1) if "axial_force" in d.extra["outputs"] else M
 
 
-def _check_torque(path, wanted, psi, torque, lines, radius: float) -> None:
+def check_torque(path, wanted, psi, torque, lines, radius: float) -> None:
     """The torque's size (as the surface shear stress 2M/(πa³), MPa) within STRESS_RANGE, and its
     sign that of the twist."""
     tau = 2.0 * np.abs(torque) / (np.pi * radius**3)
@@ -85,7 +85,7 @@ def _check_torque(path, wanted, psi, torque, lines, radius: float) -> None:
 def build(path, cols, wanted, lines, factor, geometry):
     psi, torque = cols["twist"], cols["torque"] * factor
     check_monotonic(path, wanted["twist"], psi, lines)
-    _check_torque(path, wanted, psi, torque, lines, geometry["radius"])
+    check_torque(path, wanted, psi, torque, lines, geometry["radius"])
     outputs = ("torque", "axial_force") if "axial_force" in cols else ("torque",)
     y = np.r_[torque, cols["axial_force"]] if "axial_force" in cols else torque
     return psi, None, y, {"geometry": geometry, "outputs": outputs}
@@ -96,8 +96,14 @@ def max_I1(d) -> float:
     return 3.0 + float(np.max(np.abs(d.a))) ** 2 * d.extra["geometry"]["radius"] ** 2
 
 
+def states(d):
+    """Simple shears ψ r along the radius (λ = 1 of the stretched cylinder's states)."""
+    from vlab.identify.kinds.tension_torsion import section_states  # (it builds on this module)
+    return section_states(d.a, d.extra["geometry"]["radius"], 1.0)
+
+
 KIND = FitKind(
     name="torsion", columns=(("twist", "torque"), ("axial_force",)), control="twist",
     geometry={"radius": "the cylinder's radius a"}, units={"N*mm": 1.0, "N*m": 1e3}, default_unit="N*mm",
     measures=(), compressible=False, build=build, predict=predict, max_I1=max_I1,
-    labels=("twist ψ (rad/mm)", {"torque": "torque (N·mm)", "axial_force": "axial force (N)"}))
+    labels=("twist ψ (rad/mm)", {"torque": "torque (N·mm)", "axial_force": "axial force (N)"}), states=states)
