@@ -81,4 +81,4 @@ def test_a_torsion_report_is_coloured_by_the_shear_strain_of_the_surface(tmp_pat
     summary = write_report([outcome], tmp_path / "r", parse_scene(raw), None, ReportOptions(vtu=False))
     assert summary["renders"]["side_by_side"]["file"] == "render_max-shear.png"
     page = (tmp_path / "r" / "index.html").read_text(encoding="utf-8")
-    assert "max shear strain" in page and "largest twist" in page
+    assert "max shear strain" in page and "twist farthest from rest" in page

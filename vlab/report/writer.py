@@ -185,7 +185,7 @@ def _renders(outcomes, tmp: Path, options: ReportOptions, figures: list) -> tupl
         meta = render_side_by_side([o.snapshot for o in outcomes], tmp / f"render_{options.field}.png", ropts)
         snap = outcomes[0].snapshot
         peak = snap.control.split(" (")[0]  # "twist (rad/mm)": the quantity's name
-        figures.append(Figure(meta["file"], _render_caption(meta, f"at its peak (largest {peak}) or, for a "
+        figures.append(Figure(meta["file"], _render_caption(meta, f"at its peak ({peak} farthest from rest) or, for a "
                                                             "monotonic test, at its end", snap)))
         renders = {"side_by_side": meta}
         if any(len(render_states(o.snapshot)) > 1 for o in outcomes):  # the test came back from its peak
