@@ -196,3 +196,28 @@ def test_the_renders_name_the_control_of_each_inflation(name, test, label):
         raw["test"] = {k: v for k, v in raw["test"].items() if k not in ("stretch", "volume_ratio")} | test
     parsed = parse_scene(raw)
     assert kind_of(parsed.test).control_label(parsed.test, parsed.specimen.shape) == label
+
+
+def test_the_bulge_s_first_levels_cross_into_membrane_action_without_cutbacks(monkeypatch):
+    """From a flat sheet the pole leaves plate bending for membrane action while it rises through a
+    few thicknesses; one level across that took 40–90 Newton iterations and a cutback. The kind's
+    schedule adds levels there (each first level at most twice the one before, the regular ones
+    halved below a cap of 10 t₀), keeps every protocol level, and the curve is the same: the
+    pressure maximum of the run without them, to the solver's tolerance."""
+    from vlab.loading.kinds import run_levels
+    from vlab.loading.kinds.base import TestKind
+    from vlab.loading.kinds.inflation import Inflation
+
+    parsed = parse_scene(scene())
+    t = run_levels(parsed).t
+    regular = np.arange(1, 25) / 24
+    assert np.all(np.isin(regular, t))
+    added = np.setdiff1d(t, regular)[-4:]
+    np.testing.assert_allclose(added, [1 / 96, 1 / 48, 1.5 / 24, 2.5 / 24])  # 10 t₀: v − 1 = 0.101
+    data = bulge()
+    assert sum(data["solver"]["cutbacks"]) == 0 and max(data["solver"]["newton_iterations"]) <= 15
+    monkeypatch.setattr(Inflation, "scheduled", TestKind.scheduled)
+    plain = result_to_dict(run_scene(parsed))
+    assert sum(plain["solver"]["newton_iterations"]) > sum(data["solver"]["newton_iterations"])
+    for key in ("stretch", "pressure"):
+        assert data["measured"]["limit_point"][key] == pytest.approx(plain["measured"]["limit_point"][key], rel=1e-8)

@@ -54,3 +54,18 @@ def test_the_closed_form_largest_eigenvalue_is_lapacks_to_round_off():
     C = np.concatenate([np.einsum("kI...,kJ...->IJ...", F, F), np.stack(special, axis=-1)], axis=-1)
     reference = np.linalg.eigvalsh(np.moveaxis(C, -1, 0))[:, -1]
     assert np.allclose(largest_eigenvalue(C), reference, rtol=1e-12, atol=1e-15)
+
+
+@pytest.mark.parametrize("gamma", [0.0, 0.3, 1.5, 4.0])
+def test_the_max_shear_strain_of_simple_shear_is_its_amount_of_shear(gamma):
+    """F = I + γ e1⊗e2: λ± = √(1 + γ²/4) ± γ/2 and λ₂ = 1, so λ₁ − λ₃ = γ; rotated and stacked."""
+    from vlab.post.fields import max_shear_strain
+
+    c, s = np.cos(0.7), np.sin(0.7)
+    R = np.array([[c, 0, -s], [0, 1, 0], [s, 0, c]])
+    F = np.eye(3)
+    F[0, 1] = gamma
+    batch = np.stack([F, R @ F], axis=-1)  # (3, 3, 2)
+    assert max_shear_strain(batch) == pytest.approx([gamma, gamma], abs=1e-12)
+    stretched = np.diag([1.4, 0.8, 1.1])  # principal stretches: 1.4 − 0.8
+    assert max_shear_strain(stretched[..., None]) == pytest.approx([0.6], rel=1e-12)

@@ -146,8 +146,15 @@ def test_an_angle_is_refused_for_another_kind():
         parse_scene(raw)
 
 
+@cache
+def tension_torsion(sequence: str) -> dict:
+    raw = scene("neo-hookean", A / 4, twist=0.3)
+    raw["test"] |= {"stretch": 1.2, "steps": 4, "sequence": sequence}
+    return result_to_dict(run_scene(parse_scene(raw)))
+
+
 def test_tension_torsion_follows_rivlins_extended_and_twisted_cylinder():
-    """Axial stretch λ with the twist ψ (both ramped together, length held, the end faces contracting
+    """Axial stretch λ with the twist ψ (sequence = "together": both ramped, length held, the end faces contracting
     by λ^(-1/2)): for an incompressible Neo-Hookean cylinder (Rivlin 1949; deformed radius a/√λ,
     twist per deformed length ψ/λ, σ_θz = μ τ r λ², radial equilibrium with σ_rr(a') = 0)
 
@@ -158,9 +165,7 @@ def test_tension_torsion_follows_rivlins_extended_and_twisted_cylinder():
     (N − A μ (λ − λ⁻²)) +10 % (the torsion study's N error at this mesh: +6 % at ψ = 0.5)."""
     from vlab.geometry.cylinder import section_area
 
-    raw = scene("neo-hookean", A / 4, twist=0.3)
-    raw["test"] |= {"stretch": 1.2, "steps": 4}
-    data = result_to_dict(run_scene(parse_scene(raw)))
+    data = tension_torsion("together")
     assert data["converged"], data["failure"]
     c = data["curve"]
     area = section_area(A, A / 4)
@@ -173,6 +178,26 @@ def test_tension_torsion_follows_rivlins_extended_and_twisted_cylinder():
     # before the twist counts (the first rows: ψ a ≤ 4e-3), the pre-stretch's homogeneous force
     assert c["axial_force"][0] == pytest.approx(tension[0], rel=2e-3)
     assert (c["axial_force"][-1] - tension[-1]) / poynting[-1] == pytest.approx(1.0, abs=0.2)
+
+
+def test_a_lab_s_tension_torsion_stretches_first_and_ends_where_the_ramped_one_does():
+    """sequence = "stretch-then-twist" (the default with a stretch): phase 1 reaches λ = 1.2 at zero
+    twist, phase 2 twists at the held stretch. An elastic card's final state does not depend on
+    the path, so the final torque and axial force equal the ramped test's to the solver's
+    tolerance (Newton rtol 1e-8 on the residual)."""
+    phased, ramped = tension_torsion("stretch-then-twist"), tension_torsion("together")
+    assert phased["converged"], phased["failure"]
+    c = phased["curve"]
+    phase = np.array(c["phase"])
+    assert phase[0] == 1 and phase[-1] == 2 and np.all(np.diff(phase) >= 0)
+    end_1 = int(np.flatnonzero(phase == 1)[-1])
+    assert np.all(np.array(c["twist"])[phase == 1] == 0.0)
+    assert np.abs(c["torque"][:end_1 + 1]).max() <= 1e-9 * abs(c["torque"][-1])
+    assert c["axial_stretch"][end_1] == pytest.approx(1.2, rel=1e-12)
+    assert np.allclose(np.array(c["axial_stretch"])[phase == 2], 1.2, rtol=1e-12)  # held through the twist
+    assert phased["curve"]["units"]["phase"].startswith("1 (stretch")
+    for key in ("torque", "axial_force"):
+        assert c[key][-1] == pytest.approx(ramped["curve"][key][-1], rel=1e-6)
 
 
 def test_a_pre_stretch_with_a_free_end_is_refused():

@@ -28,7 +28,8 @@ FORCE_HELP = ("Replace a non-empty folder vlab did not make (never one holding t
 FORCE = typer.Option(False, "--force", help=FORCE_HELP)
 QUIET = typer.Option(False, "--quiet", "-q", help="No progress output.")
 TRUE_MEASURES = typer.Option(False, "--true", help="Plot true instead of engineering stress and strain.")
-FIELD = typer.Option("von-mises", "--field", help="Render colouring: von-mises, max-stretch or J.")
+FIELD = typer.Option(None, "--field", help="Render colouring: von-mises, max-stretch, J or max-shear "
+                                            "(default: the test kind's: max-shear for torsion, else von-mises).")
 WORKERS_HELP = ("Worker processes of the local Dask cluster (default 2, at most the cores); not with "
                 "--scheduler.")
 SINGLE_FILE = typer.Option(False, "--single-file", help="Inline the images in index.html.")
@@ -97,7 +98,7 @@ def _write(writer, *args):
 def run(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (default: built-in block test)."),
         out: Optional[Path] = typer.Option(None, "--out", "-o", help="Output folder (default reports/<scene name>)."),
         quiet: bool = QUIET,
-        true: bool = TRUE_MEASURES, field: str = FIELD, single_file: bool = SINGLE_FILE,
+        true: bool = TRUE_MEASURES, field: str | None = FIELD, single_file: bool = SINGLE_FILE,
         gif: bool = typer.Option(False, "--gif", help="Also write an animated GIF of the test."),
         render: bool = typer.Option(True, "--render/--no-render", help="3D renders of the deformed specimen."),
         estimate: bool = typer.Option(True, "--estimate/--no-estimate",
@@ -269,11 +270,11 @@ def info():
              f"(stability checks always factorize directly)")
 
 
-def _report_options(true: bool, field: str, single_file: bool, gif_model, render: bool):
+def _report_options(true: bool, field: str | None, single_file: bool, gif_model, render: bool):
     from vlab.post.fields import FIELDS
     from vlab.report.writer import ReportOptions
 
-    if field not in FIELDS:
+    if field is not None and field not in FIELDS:
         fail("invalid option", f"--field {field!r}; allowed: {', '.join(FIELDS)}")
     return ReportOptions(true_measures=true, field=field, single_file=single_file, gif_model=gif_model,
                          render=render)
@@ -301,7 +302,7 @@ def compare(scene: Optional[Path] = typer.Argument(None, help="Scene TOML file (
             workers: Optional[int] = typer.Option(None, "--workers", "-j", min=1,
                                                   help="Parallel processes (default: one per core)."),
             quiet: bool = QUIET,
-            true: bool = TRUE_MEASURES, field: str = FIELD, single_file: bool = SINGLE_FILE,
+            true: bool = TRUE_MEASURES, field: str | None = FIELD, single_file: bool = SINGLE_FILE,
             gif: Optional[str] = typer.Option(None, "--gif", help="Animate this model's test as a GIF."),
             render: bool = typer.Option(True, "--render/--no-render", help="3D renders of the deformed specimens."),
             force: bool = FORCE):

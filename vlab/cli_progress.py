@@ -48,12 +48,9 @@ def scheduled_levels(scene) -> int:
 
 def scheduled_ramps(scene) -> list[tuple[str, int]]:
     """The scene's levels as ramps: (name, levels) in order (vlab.loading.protocol's schedule)."""
-    from vlab.loading.kinds import kind_of
-    from vlab.loading.protocol import protocol_levels
+    from vlab.loading.kinds import run_levels
 
-    m, test = scene.measure, scene.test
-    grip_stretch = tuple(1.0 + g for g in kind_of(test).grip_strain(test.targets))
-    levels = protocol_levels(test.protocol, grip_stretch, test.steps, m.modulus_window, m.modulus_points)
+    levels = run_levels(scene)
     return ramps_of(levels.t)
 
 

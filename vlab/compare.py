@@ -19,7 +19,6 @@ from typing import Callable
 
 import vlab as _vlab
 from vlab import settings
-from vlab.loading.schedule import monotonic_schedule
 from vlab.materials.registry import MODELS
 from vlab.measure.departure import REFERENCE_MODEL, departure_strains  # noqa: F401  (public here too)
 from vlab.report.outcome import ModelOutcome, outcome_of
@@ -78,10 +77,10 @@ def scene_for_model(scene: Scene, model: str) -> Scene:
 
 
 def scheduled_levels(scene: Scene) -> int:
-    from vlab.loading.kinds import kind_of
+    """The levels the scene runs at (its protocol's and its kind's: vlab.loading.kinds.run_levels)."""
+    from vlab.loading.kinds import run_levels
 
-    grip = tuple(1.0 + g for g in kind_of(scene.test).grip_strain(scene.test.targets))
-    return len(monotonic_schedule(grip, scene.test.steps, scene.measure.modulus_window))
+    return len(run_levels(scene))
 
 
 def run_model(scene: Scene, model: str, on_level: Callable[[int], None] | None = None) -> ModelOutcome:

@@ -16,10 +16,11 @@ from __future__ import annotations
 from vlab.materials.homogeneous import InadmissibleState
 
 
-def inadmissible_request(material, kind, targets: tuple[float, ...]) -> str | None:
-    """Why no homogeneous equilibrium of test ``kind`` exists at ``targets`` (None if one does)."""
-    if material is None or material.is_linear or not kind.homogeneous:  # spring network: no oracle;
-        return None  # torsion: no homogeneous state to decide it
+def inadmissible_request(material, kind, targets: tuple[float, ...], shape: str | None = None) -> str | None:
+    """Why no homogeneous equilibrium of test ``kind`` on ``shape`` exists at ``targets`` (None if
+    one does, or if the kind has no state there: ``TestKind.has_state``)."""
+    if material is None or material.is_linear or not kind.has_state(shape):  # spring network: no oracle;
+        return None  # torsion, a membrane's volume ratio: no homogeneous state to decide it
     try:
         kind.state(material, targets)
     except InadmissibleState as exc:

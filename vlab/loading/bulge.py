@@ -22,9 +22,25 @@ from vlab.loading.liquid import Liquid
 from vlab.geometry.specimen import Specimen
 from vlab.loading.grips import GripLoading
 
-__all__ = ["LIQUID_BULK_MODULUS", "bulge_loading", "face_triangles", "wetted_triangles"]
+__all__ = ["LIQUID_BULK_MODULUS", "bulge_loading", "cap_area_ratio", "face_triangles", "wetted_triangles"]
 
 LIQUID_BULK_MODULUS = 2200.0  # MPa, water at 20 °C
+
+
+def cap_area_ratio(volume_ratio: float) -> float:
+    """A = 1 + η², the area of the spherical cap that encloses the bulge of ``volume_ratio`` v over
+    the flat disc's area π a² (η = h/a, the cap's height over the rim's radius).
+
+    The bulge holds V = (v − 1) π a³ (the chamber V₀ = π a³); a cap of height h holds
+    π h (3a² + h²)/6, so η³ + 3η = 6 (v − 1), whose one real root is (Cardano, q = 3 (v − 1))
+    η = ∛(q + √(q² + 1)) + ∛(q − √(q² + 1)); a cap has the area π (a² + h²). Of every surface
+    spanning the rim and enclosing V the cap has the least area, so some point of an incompressible
+    sheet reaches the area stretch λ₁ λ₂ ≥ A, and Ī₁ = λ₁² + λ₂² + (λ₁ λ₂)⁻² ≥ 2A + A⁻² there (for
+    A ≥ 1): the equibiaxial stretch √A is a lower bound of the bulge's worst state."""
+    q = 3.0 * (volume_ratio - 1.0)
+    root = np.sqrt(q * q + 1.0)
+    eta = np.cbrt(q + root) + np.cbrt(q - root)
+    return float(1.0 + eta * eta)
 
 
 def face_triangles(mesh, on_face, normal) -> np.ndarray:

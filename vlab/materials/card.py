@@ -8,7 +8,7 @@ take ``density`` (kg/m³). Every error is a SceneError naming ``<section>.<key>`
 range and what was got; a card whose initial tangent A(I) is not positive definite on symmetric
 strains (shear 2μ0, bulk 3K) is refused with the eigenvalue that fails.
 
-``check_path(spec, kind, targets)`` refuses a test whose isochoric (incompressible) path passes a
+``check_path(spec, kind, test, specimen)`` refuses a test whose isochoric (incompressible) path passes a
 model's locking limit (Gent: Ī₁ − 3 → Jm), naming the limit and the stretch where it is reached.
 """
 
@@ -209,24 +209,23 @@ def build_split_law(spec) -> Any:
     return split(spec)
 
 
-def check_path(spec, kind, targets_list) -> None:
+def check_path(spec, kind, test, specimen) -> None:
     """Refuse a test past a model's locking limit on its isochoric path (the incompressible path:
-    a compressible card only passes it by a large dilatation). ``kind`` is the test kind
-    (vlab.loading.kinds: ``at`` maps the load parameter to its control values, ``isochoric`` those
-    to the isochoric F); ``targets_list`` the control values at t = 1 of each test."""
+    a compressible card only passes it by a large dilatation). ``kind`` is the test's kind
+    (vlab.loading.kinds: ``locking_path(test, specimen)`` gives the [test] key of the load and
+    the isochoric F at each load fraction s; ``at`` maps s to the control values)."""
     law = build_material(spec)
     note = law.locking_note
     if note is None:
         return
     from vlab.materials.homogeneous import isochoric_path_limit
 
-    key = kind.load_key
-    for targets in targets_list:
-        s = isochoric_path_limit(law, lambda s: kind.isochoric(kind.at(targets, s)))
-        if s is not None:
-            raise SceneError(f"test.{key}: {note} (material.Jm); the isochoric path of the test "
-                             f"reaches it at {key} {_show(kind.at(targets, s))}, so {key} {_show(targets)} is "
-                             f"past the locking limit; lower the {key} or raise material.Jm")
+    key, path = kind.locking_path(test, specimen)
+    s = isochoric_path_limit(law, path)
+    if s is not None:
+        raise SceneError(f"test.{key}: {note} (material.Jm); the isochoric path of the test "
+                         f"reaches it at {key} {_show(kind.at(test.targets, s))}, so {key} {_show(test.targets)} is "
+                         f"past the locking limit; lower the {key} or raise material.Jm")
 
 
 def _show(stretch) -> str:

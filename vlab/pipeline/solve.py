@@ -22,8 +22,7 @@ from vlab.fe.linsolve import solver_in_use
 from vlab.fe.newton import CHORD_CONTRACTION, NewtonOptions
 from vlab.fe.system import System
 from vlab.fe.stepping import Failure, Level, SolveHistory, Stepping, run_schedule
-from vlab.loading.kinds import kind_of
-from vlab.loading.protocol import protocol_levels
+from vlab.loading.kinds import kind_of, run_levels
 from vlab.loading.restraint import under_constrained_message, unrestrained_modes
 from vlab.pipeline.prepare import Prepared
 from vlab.scene import Scene
@@ -82,9 +81,7 @@ def solve(prepared: Prepared, monitor: StabilityMonitor, observers: list[Observe
 
 
 def _stepping(scene: Scene, monitor: StabilityMonitor, linear_solver: str) -> Stepping:
-    grip_stretch = tuple(1.0 + g for g in kind_of(scene.test).grip_strain(scene.test.targets))
-    levels = protocol_levels(scene.test.protocol, grip_stretch, scene.test.steps,
-                             scene.measure.modulus_window, scene.measure.modulus_points)
+    levels = run_levels(scene)
     return Stepping(
         schedule=levels.t, times=levels.time,
         force_held=levels.force_held if levels.force_held.any() else None,
@@ -104,7 +101,7 @@ def _refusal(prepared: Prepared) -> str | None:
     if modes:
         return under_constrained_message(modes)
     test = prepared.scene.test
-    return inadmissible_request(prepared.ground, kind_of(test), test.targets)
+    return inadmissible_request(prepared.ground, kind_of(test), test.targets, prepared.scene.specimen.shape)
 
 
 def _watch_limit_points(scene: Scene) -> bool:

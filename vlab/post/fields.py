@@ -4,6 +4,11 @@ At every quadrature point (F and P from the body's material):
     J       = det F                                      volume ratio, 1
     σ       = P Fᵀ / J                                   Cauchy stress, MPa
     λ_max   = √(largest eigenvalue of C = Fᵀ F)          maximum principal stretch, 1
+    γ_max   = λ_max − λ_min, λ_min = 1/√(largest eigenvalue of C⁻¹)
+                                                         maximum shear strain, 1: in simple shear
+                                                         F = I + γ e1⊗e2 (λ± = √(1 + γ²/4) ± γ/2,
+                                                         λ₂ = 1) it is the amount of shear γ, so a
+                                                         twisted cylinder's surface reads ψ a
     E       = ½ (Fᵀ F − I)                              Green–Lagrange strain, 1
 Cell values are the volume averages Σ_q v dx / Σ_q dx over the reference quadrature weights; the
 von Mises stress σ_vm = √(3/2 s:s), s = σ − (tr σ / 3) I (MPa), is taken of the cell-averaged σ.
@@ -25,6 +30,7 @@ FIELDS: dict[str, tuple[str, str]] = {
     "von-mises": ("von Mises Cauchy stress", "MPa"),
     "max-stretch": ("max principal stretch", "1"),
     "J": ("volume ratio J", "1"),
+    "max-shear": ("max shear strain λ₁ − λ₃", "1"),
 }
 
 
@@ -35,11 +41,13 @@ class CellFields:
     von_mises: np.ndarray
     max_stretch: np.ndarray
     J: np.ndarray
+    max_shear: np.ndarray | None = None
     cauchy: np.ndarray | None = None  # (3, 3, n_cells) cell-averaged Cauchy stress, MPa
     green_lagrange: np.ndarray | None = None  # (3, 3, n_cells) cell-averaged E, 1
 
     def get(self, name: str) -> np.ndarray:
-        return {"von-mises": self.von_mises, "max-stretch": self.max_stretch, "J": self.J}[name]
+        return {"von-mises": self.von_mises, "max-stretch": self.max_stretch, "J": self.J,
+                "max-shear": self.max_shear}[name]
 
 
 def von_mises(sigma: np.ndarray) -> np.ndarray:
@@ -52,6 +60,19 @@ def von_mises(sigma: np.ndarray) -> np.ndarray:
 def max_principal_stretch(F: np.ndarray) -> np.ndarray:
     """√ of the largest eigenvalue of C = FᵀF, for F shaped (3, 3, *batch)."""
     return np.sqrt(largest_eigenvalue(np.einsum("kI...,kJ...->IJ...", F, F)))
+
+
+def max_shear_strain(F: np.ndarray) -> np.ndarray:
+    """λ_max − λ_min of F shaped (3, 3, *batch): λ_min² = 1 / (largest eigenvalue of C⁻¹), with
+    C⁻¹ = adj C / det C, so both come from the closed-form largest eigenvalue."""
+    C = np.einsum("kI...,kJ...->IJ...", F, F)
+    adj = np.empty_like(C)
+    for i in range(3):
+        for j in range(3):
+            r, c = [k for k in range(3) if k != j], [k for k in range(3) if k != i]
+            adj[i, j] = (-1) ** (i + j) * (C[r[0], c[0]] * C[r[1], c[1]] - C[r[0], c[1]] * C[r[1], c[0]])
+    det_c = np.einsum("i...,i...->...", C[0], adj[:, 0])
+    return np.sqrt(largest_eigenvalue(C)) - np.sqrt(det_c / largest_eigenvalue(adj))
 
 
 def largest_eigenvalue(C: np.ndarray) -> np.ndarray:
@@ -96,4 +117,5 @@ def cell_fields(body, evaluation) -> CellFields:
         sigma = cell_average(cauchy(material.stress(F), F), dx)
     E_q = 0.5 * (np.einsum("kI...,kJ...->IJ...", F, F) - np.eye(3).reshape(3, 3, 1, 1))
     return CellFields(von_mises=von_mises(sigma), max_stretch=cell_average(max_principal_stretch(F), dx),
-                      J=cell_average(J_q, dx), cauchy=sigma, green_lagrange=cell_average(E_q, dx))
+                      J=cell_average(J_q, dx), max_shear=cell_average(max_shear_strain(F), dx), cauchy=sigma,
+                      green_lagrange=cell_average(E_q, dx))

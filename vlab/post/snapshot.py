@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import skfem
 
+from vlab.geometry.fixtures import Fixture, box
 from vlab.geometry.symmetry import reflection
 from vlab.post.fields import FIELDS, cell_fields
 from vlab.post.vtk_cells import vtk_cells
@@ -32,7 +33,8 @@ class Snapshot:
     grip_stretch: (n_frames, n_axes); control: what ``stretch`` holds (the kind's control_name);
     completed: whether the test reached its end; rest: the control at rest; view: (direction, up)
     of the specimen's photograph (vlab.geometry.specimen.View) or None (the default view);
-    plates: per rigid plate (lo (3,), hi (3,), displacement (n_frames, 3)) mm."""
+    plates: per rigid plate (lo (3,), hi (3,), displacement (n_frames, 3)) mm; fixtures: the test
+    kind's rigid fixtures (vlab.geometry.fixtures.Fixture: a die and its platens)."""
 
     model: str
     mesh: skfem.Mesh
@@ -51,6 +53,7 @@ class Snapshot:
     rest: float = 1.0  # ``stretch`` at rest: 1 for a stretch, 0 for a shear γ or a twist
     view: tuple[np.ndarray, np.ndarray] | None = None
     plates: tuple[tuple[np.ndarray, np.ndarray, np.ndarray], ...] = ()
+    fixtures: tuple[Fixture, ...] = ()
 
     @property
     def n_frames(self) -> int:
@@ -61,6 +64,11 @@ class Snapshot:
         """(n_vertices, 3) reference vertex positions, mm (z = 0 for a sheet)."""
         p = self.mesh.p.T
         return np.hstack([p, np.zeros((len(p), 3 - p.shape[1]))])
+
+    def rigid_parts(self) -> tuple[Fixture, ...]:
+        """Every rigid part to draw: the plates (as boxes) and the kind's fixtures."""
+        plates = tuple(Fixture("plate", *box(lo, hi), moved) for lo, hi, moved in self.plates)
+        return plates + self.fixtures
 
     def field_range(self, name: str, frame: int = -1) -> tuple[float, float]:
         values = self.fields[name][frame]
@@ -116,7 +124,8 @@ def take_snapshot(result) -> Snapshot:
     return Snapshot(result.scene.material.model, mesh, t, stretch, u, fields, marks, vtk_cells(space),
                     nodal, tensors, time, grip, control, result.converged, kind.rest,
                     None if view is None else (np.asarray(view.direction, float), np.asarray(view.up, float)),
-                    _plates(result.specimen, u))
+                    _plates(result.specimen, u), tuple(part.placed(_in_3d(mesh.p.T), u)
+                                                        for part in kind.fixtures(result.specimen)))
 
 
 def _plates(specimen, u: np.ndarray) -> tuple:

@@ -4,8 +4,9 @@ Every panel of a picture uses the same camera (framing the union of all deformed
 same colour range (the union of the field's range over all panels), so sizes and colours compare
 directly. Each panel shows the deformed mesh coloured by the chosen cell field, the undeformed
 outline in grey, the gauge marks (extensometer, transverse, thickness) as coloured points on
-the deformed body and the specimen's rigid plates (a shear test's) in grey, moved with the
-vertices bonded to them. The camera looks along the specimen's own view where it has one (the
+the deformed body, the specimen's rigid plates (a shear test's) in grey, moved with the
+vertices bonded to them, and the test's fixtures (vlab.geometry.fixtures: a confined-compression
+die see-through in blue-grey, its platens in grey). The camera looks along the specimen's own view where it has one (the
 shear layers face-on). One scalar bar, titled with the field and its unit, serves all panels;
 the axis triad and the scale bar sit beside it (vlab.render.guides).
 """
@@ -48,7 +49,7 @@ def field_title(field: str) -> str:
     return f"{label} [{unit}]"
 
 
-NON_NEGATIVE = {"von-mises", "max-stretch", "J"}  # fields whose colour scale never goes below 0
+NON_NEGATIVE = {"von-mises", "max-stretch", "J", "max-shear"}  # fields whose colour scale never goes below 0
 UNIFORM_RTOL = 1e-6  # a spread below this fraction of the field's magnitude is round-off: one colour
 
 
@@ -151,6 +152,13 @@ class _Scene:
             plotter.add_mesh(box, color=PLATE_COLOUR, show_edges=True, edge_color="#595959", line_width=0.8,
                              ambient=0.35, diffuse=0.7)
             self.plates.append((box, box.points.copy()))
+        self.fixtures = []
+        for fixture in snapshot.fixtures:  # a die see-through, its platens solid
+            surface = pv.PolyData(fixture.at(0), faces=np.hstack([np.full((len(fixture.triangles), 1), 3),
+                                                                  fixture.triangles]).ravel())
+            plotter.add_mesh(surface, color=fixture.colour, opacity=fixture.opacity, ambient=0.35, diffuse=0.7,
+                             smooth_shading=fixture.opacity < 1.0)
+            self.fixtures.append((surface, fixture))
         self.marks = {}
         for name, (_, current) in snapshot.marks.items():
             cloud = pv.PolyData(current[0].copy())
@@ -166,17 +174,17 @@ class _Scene:
             cloud.points = s.marks[name][1][frame]
         for (box, rest), (_, _, moved) in zip(self.plates, s.plates):
             box.points = rest + moved[frame]
+        for surface, fixture in self.fixtures:
+            surface.points = fixture.at(frame)
 
 
 def framed_points(snapshot: Snapshot, frames) -> list[np.ndarray]:
     """What the camera must hold of a snapshot at ``frames``: the deformed vertices and the
-    corners of its plates, each frame, and the reference vertices."""
+    vertices of its plates and fixtures, each frame, and the reference vertices."""
     found = [snapshot.points]
     for f in frames:
         found.append(snapshot.points + snapshot.displacement[f])
-        for lo, hi, moved in snapshot.plates:
-            found.append(np.array([[a, b, c] for a in (lo[0], hi[0]) for b in (lo[1], hi[1])
-                                   for c in (lo[2], hi[2])]) + moved[f])
+        found += [part.at(f) for part in snapshot.rigid_parts()]
     return found
 
 

@@ -3,7 +3,8 @@
 in ``../_assets/plotly-<version>.min.js`` (vlab.report.shared), else shipped in the report folder,
 or inlined in a single-file report) drawing the
 deformed specimens as WebGL meshes the reader rotates and zooms, with a field menu, a model menu
-and a load-level slider; the gauge marks are points, the undeformed outline grey lines.
+and a load-level slider; the gauge marks are points, the undeformed outline grey lines, and the
+rigid parts (a shear test's plates, a die and its platens) meshes of their own colour, moved rigidly.
 
 Only the specimen's boundary is sent: its surface triangles (from pyvista's surface filter, each
 keeping the index of the volume cell it bounds), the displacement of the surface vertices and the
@@ -35,12 +36,25 @@ def _b64(array: np.ndarray, dtype) -> str:
     return base64.b64encode(np.ascontiguousarray(array, dtype=dtype).tobytes()).decode("ascii")
 
 
+def peak_frame(snapshot: Snapshot) -> int:
+    """The frame of the largest |control − its rest value| (a stretch's 1, a twist's 0)."""
+    return int(np.argmax(np.abs(snapshot.stretch - snapshot.rest)))
+
+
 def chosen_levels(snapshot: Snapshot, limit: int = MAX_LEVELS) -> list[int]:
-    """Up to ``limit`` frames: evenly spaced, with the peak (largest |stretch − 1|) and the last."""
+    """Up to ``limit`` frames: evenly spaced, with the peak (``peak_frame``) and the last."""
     n = snapshot.n_frames
     keep = set(np.unique(np.linspace(0, n - 1, min(n, limit - 1)).round().astype(int)).tolist())
-    keep |= {int(np.argmax(np.abs(snapshot.stretch - 1.0))), n - 1}
+    keep |= {peak_frame(snapshot), n - 1}
     return sorted(keep)
+
+
+def fixtures_payload(snapshot: Snapshot, levels: list[int]) -> list[dict]:
+    """The rigid parts (plates, a die and its platens: Snapshot.rigid_parts) at ``levels``: each
+    surface once, its rigid translation per level."""
+    return [{"name": p.name, "X": _b64(p.points, np.float32), "tri": _b64(p.triangles, np.int32),
+             "colour": p.colour, "opacity": p.opacity, "move": [[float(v) for v in p.displacement[f]] for f in levels]}
+            for p in snapshot.rigid_parts()]
 
 
 def _surface(snapshot: Snapshot):
@@ -71,23 +85,26 @@ def model_payload(snapshot: Snapshot) -> dict:
     return {
         "name": snapshot.model, "nv": len(vertices), "X": _b64(X, np.float32), "tri": _b64(tri, np.int32),
         "tcell": _b64(tcell, np.int32), "outline": _b64(xyz, np.float32),
-        "levels": [f"grip stretch {s[f]:.4g} (level {f} of {snapshot.n_frames - 1})" for f in levels],
+        "levels": [f"{snapshot.control} {s[f]:.4g} (level {f} of {snapshot.n_frames - 1})" for f in levels],
         "U": [_b64(snapshot.displacement[f][vertices], np.float32) for f in levels],
         "fields": {name: [_b64(snapshot.fields[name][f][used_cells], np.float32) for f in levels]
                    for name in FIELDS},
         "marks": {name: {"colour": MARK_COLOURS.get(name, "black"),
                          "xyz": [_b64(cur[f], np.float32) for f in levels]}
                   for name, (_, cur) in snapshot.marks.items()},
-        "start": levels.index(int(np.argmax(np.abs(s - 1.0)))),
+        "fixtures": fixtures_payload(snapshot, levels),
+        "start": levels.index(peak_frame(snapshot)),
     }
 
 
 def view_box(snapshots: list[Snapshot]) -> dict:
-    """plotly's scene box (extents over every level, largest 1: plotly's "data" mode scales a long
-    specimen past the frame) and the eye: front-right above, or straight above a flat sheet."""
+    """plotly's scene box (extents of the specimens and their rigid parts over every level, largest
+    1: plotly's "data" mode scales a long specimen past the frame) and the eye: front-right above,
+    or straight above a flat sheet."""
     from vlab.render.camera import VIEW_DIRECTION, is_flat
 
-    pts = np.vstack([s.points + u for s in snapshots for u in s.displacement])
+    pts = np.vstack([s.points + u for s in snapshots for u in s.displacement]
+                    + [p.at(f) for s in snapshots for p in s.rigid_parts() for f in range(s.n_frames)])
     extent = np.maximum(np.ptp(pts, axis=0), 1e-9 * float(np.ptp(pts, axis=0).max()))
     ratio = extent / extent.max()
     flat = is_flat(np.vstack([s.points for s in snapshots]))
@@ -132,14 +149,15 @@ def _missing_note(shared: str | None) -> str:
 
 
 def write_view(snapshots: list[Snapshot], folder: Path, title: str, inline: bool = False,
-               shared_root: Path | None = None) -> dict:
-    """Write ``view3d.html`` (plotly.js as :func:`plotly_source` chooses); returns what it wrote."""
+               shared_root: Path | None = None, field: str = "von-mises") -> dict:
+    """Write ``view3d.html`` (plotly.js as :func:`plotly_source` chooses), opening on ``field``;
+    returns what it wrote."""
     import plotly
 
     folder = Path(folder)
     script, own, shared = plotly_source(folder, shared_root, inline)
     data = {"title": title, "models": [model_payload(s) for s in snapshots], "ranges": field_ranges(snapshots),
-            "view": view_box(snapshots), "plotly_missing": _missing_note(shared),
+            "view": view_box(snapshots), "plotly_missing": _missing_note(shared), "field": field,
             "fields": {k: f"{label} [{unit}]" for k, (label, unit) in FIELDS.items()}}
     payload = json.dumps(data, separators=(",", ":")).replace("</", "<\\/")
     page = (Path(__file__).parent / "assets" / "view3d.html").read_text(encoding="utf-8")

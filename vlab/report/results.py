@@ -65,10 +65,8 @@ def _clean(value):
 def curve_columns(result: RunResult) -> dict[str, list[float]]:
     """Named curve columns: the test kind's (vlab.loading.kinds: ``columns``; stretch kinds: axis 0
     unsuffixed, axis 1 suffixed ``_y``), then time, centre averages and the lateral gauges."""
-    from vlab.loading.kinds import kind_of
-
     c = result.curve
-    cols = kind_of(c.kind).columns(c)
+    cols = _kind(result).columns(c)  # the test's variant (a phased tension–torsion adds its phase)
     if c.time:
         cols["time"] = list(c.time)
     for key, values in c.centre.items():  # cruciform: FE centre averages, e.g. centre_stress_x

@@ -19,7 +19,7 @@ import datetime as _dt
 import json
 import logging
 import os
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 from vlab.report.folder import report_folder
@@ -50,7 +50,7 @@ def write_curve_csv(result: RunResult, path: Path) -> None:
 @dataclass(frozen=True)
 class ReportOptions:
     true_measures: bool = False  # stress–strain in true instead of engineering measures
-    field: str = "von-mises"  # render colouring: von-mises | max-stretch | J
+    field: str | None = None  # render colouring: von-mises | max-stretch | J | max-shear; None: the kind's
     single_file: bool = False  # images inlined in index.html as base64
     gif_model: str | None = None  # animate this model's test
     render: bool = True  # 3D renders (skipped with a note where the machine cannot render)
@@ -83,6 +83,7 @@ def write_report(outcomes: list, out: Path, scene, scene_text: str | None,
                          f"{', '.join(o.model for o in outcomes)}")
     datas = [o.data for o in outcomes]
     test_kind = kind_of_data(datas[0])
+    options = replace(options, field=options.field or test_kind.render_field)  # None: the kind's colouring
     departures = comparison_departures(outcomes)
     kind = "true" if options.true_measures else "engineering"
     job = figure_job(datas, options.true_measures, departures, test_kind.lateral_ratio)
@@ -182,14 +183,15 @@ def _renders(outcomes, tmp: Path, options: ReportOptions, figures: list) -> tupl
     ropts = RenderOptions(field=options.field)
     try:
         meta = render_side_by_side([o.snapshot for o in outcomes], tmp / f"render_{options.field}.png", ropts)
-        plates = any(o.snapshot.plates for o in outcomes)
-        figures.append(Figure(meta["file"], _render_caption(meta, "at its peak (largest grip stretch) or, for a "
-                                                            "monotonic test, at its end", plates)))
+        snap = outcomes[0].snapshot
+        peak = snap.control.split(" (")[0]  # "twist (rad/mm)": the quantity's name
+        figures.append(Figure(meta["file"], _render_caption(meta, f"at its peak ({peak} farthest from rest) or, for a "
+                                                            "monotonic test, at its end", snap)))
         renders = {"side_by_side": meta}
         if any(len(render_states(o.snapshot)) > 1 for o in outcomes):  # the test came back from its peak
             end = render_side_by_side([o.snapshot for o in outcomes], tmp / f"render_{options.field}_end.png",
                                       RenderOptions(field=options.field, state="end"))
-            figures.append(Figure(end["file"], _render_caption(end, "at the end of the test", plates)))
+            figures.append(Figure(end["file"], _render_caption(end, "at the end of the test", snap)))
             renders["end"] = end
         if options.gif_model:
             snap = {o.model: o.snapshot for o in outcomes}[options.gif_model]
@@ -221,23 +223,33 @@ def _interactive(outcomes, tmp: Path, title: str, options: ReportOptions, shared
     from vlab.report.interactive import write_view
 
     return write_view([o.snapshot for o in outcomes], tmp, title, inline=options.single_file,
-                      shared_root=shared)
+                      shared_root=shared, field=options.field)
 
 
 GUIDES_CAPTION = ("Lower left: the scene's axes as the camera sees them (x red, y green, z blue; ⊙ towards the "
                   "reader); lower right: a scale bar.")
 
 
-def _render_caption(meta: dict, when: str, plates: bool = False) -> str:
+FIXTURE_WORDS = {"plate": "grey blocks: the rigid plates", "die": "see-through blue-grey: the rigid die",
+                 "fixed platen": "grey discs or plates: the platens (the one on the right moves)"}
+FIELD_WORDS = {"max-shear": " (in simple shear the amount of shear γ: on a twisted cylinder's surface the "
+                            "surface shear twist × radius)"}
+
+
+def _render_caption(meta: dict, when: str, snapshot=None) -> str:
+    """The render's caption: when, the field and its range (what it means where that is not
+    plain), the outline, the marks and the rigid parts drawn (``snapshot``'s plates and fixtures)."""
     from vlab.render.specimens import field_title
 
     lo, hi = meta["clim"]
     scale = (f"uniform field, {meta['uniform']:.4g} in every cell" if meta["uniform"] is not None
              else f"{lo:.4g} to {hi:.4g}")
+    names = [] if snapshot is None else list(dict.fromkeys(p.name for p in snapshot.rigid_parts()))
+    parts = "".join(f"; {FIXTURE_WORDS[n]}" for n in names if n in FIXTURE_WORDS)
     return (f"Deformed specimens {when}; one camera and one colour scale for all panels "
-            f"({field_title(meta['field'])}: {scale}); grey: undeformed outline; points: extensometer "
-            f"(red, magenta), transverse (orange) and thickness (blue) gauge marks"
-            f"{'; grey blocks: the rigid plates' if plates else ''}. {GUIDES_CAPTION}")
+            f"({field_title(meta['field'])}{FIELD_WORDS.get(meta['field'], '')}: {scale}); grey: undeformed "
+            f"outline; points: extensometer (red, magenta), transverse (orange) and thickness (blue) gauge "
+            f"marks{parts}. {GUIDES_CAPTION}")
 
 
 def _critical_modes(outcomes, tmp: Path, figures: list) -> dict:

@@ -87,7 +87,7 @@ def _parse(data: Mapping[str, Any]) -> Scene:
     test = parse_test(data["test"], specimen.shape, specimen)
     _check_test(test, specimen, data.get("effects", {}))
     if continuum(material.model):  # a locking limit on the test's path (Gent)
-        check_path(material, kind_of(test), [test.targets])
+        check_path(material, kind_of(test), test, specimen)
     check_symmetry(mesh, test, specimen)
     check_effects_scope(data.get("effects", {}), specimen.shape, mesh, material.model)
     scene = Scene(name=name, description=description, specimen=specimen,

@@ -46,7 +46,7 @@ from __future__ import annotations
 
 from vlab.loading.kinds.base import TestKind
 
-__all__ = ["KINDS", "TestKind", "kind_of", "peak_grip_strain", "register"]
+__all__ = ["KINDS", "TestKind", "kind_of", "peak_grip_strain", "register", "run_levels"]
 
 KINDS: dict[str, TestKind] = {}
 
@@ -68,6 +68,19 @@ def peak_grip_strain(test) -> float:
     """The largest |grip strain| of a TestSpec at t = 1 (λ − 1 of any grip, or γ): what an
     effect's caveats compare with its own strain or time scales, whatever the kind."""
     return max(abs(g) for g in kind_of(test).grip_strain(test.targets))
+
+
+def run_levels(scene):
+    """The levels a scene's test runs at (vlab.loading.protocol.Levels): its protocol's over the
+    kind's grip strain, with the modulus window's, and the kind's own (``TestKind.scheduled``:
+    a phase before the protocol, a finer start) for the scene's specimen spec."""
+    from vlab.loading.protocol import protocol_levels
+
+    test, m = scene.test, scene.measure
+    kind = kind_of(test)
+    grip_stretch = tuple(1.0 + g for g in kind.grip_strain(test.targets))
+    levels = protocol_levels(test.protocol, grip_stretch, test.steps, m.modulus_window, m.modulus_points)
+    return kind.scheduled(levels, test, scene.specimen)
 
 
 def _register_builtins() -> None:

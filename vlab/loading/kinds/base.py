@@ -8,7 +8,7 @@ marks along each loaded axis.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Callable
 
 from vlab import fields
 from vlab.fields import SceneError
@@ -75,6 +75,7 @@ class TestKind:
     load_key = "stretch"
     rest = 1.0  # the control column's value at rest (a stretch 1; a shear γ or a twist ψ: 0)
     control_name = "grip stretch"  # what the renders' titles call the control value (vlab.post.snapshot)
+    render_field = "von-mises"  # the renders' default colouring (vlab.post.fields.FIELDS)
     axes: tuple[int, ...] = (0,)
     oracle_setups: dict[str, str] = {}  # specimen shape -> grips on which ``state`` is the exact answer
     cyclic = False  # may run test.protocol = "cyclic"
@@ -144,6 +145,12 @@ class TestKind:
         """Grip strain at t = 1 per control (λ − 1): what schedules and rates count."""
         return tuple(s - 1.0 for s in targets)
 
+    def scheduled(self, levels, test, specimen):
+        """The protocol's ``levels`` (vlab.loading.protocol.Levels) as this kind runs them on the
+        ``specimen`` spec: as they are, unless the kind runs a phase of its own before them
+        (tension–torsion's stretch) or needs finer levels somewhere (a bulge's first ones)."""
+        return levels
+
     def grip_stretches(self, targets: tuple[float, ...]) -> tuple[float, ...]:
         """The grip stretch of every axis the grips move or hold (vlab.loading.grips)."""
         return tuple(targets)
@@ -157,10 +164,28 @@ class TestKind:
 
         return grip_loading(specimen, X, self.grip_stretches(test.targets), test.grips)
 
+    def fixtures(self, specimen) -> tuple:
+        """The rigid fixtures of the test that the renders draw around the meshed ``specimen``
+        (vlab.geometry.fixtures.Part: a die, its platens); none unless the kind has some."""
+        return ()
+
     def isochoric(self, values):
         """The isochoric (incompressible) deformation gradient (3, 3) at control values ``values``:
         the path a locking limit is checked on (vlab.materials.card.check_path)."""
         raise NotImplementedError
+
+    def locking_path(self, test, specimen) -> tuple[str, Callable[[float], Any]]:
+        """(the [test] key the load was given as, s ↦ the isochoric F (3, 3) at load fraction s):
+        what a locking limit is checked on (vlab.materials.card.check_path). ``specimen`` is the
+        parsed shape spec (its dimensions). The control values map to F through ``isochoric``;
+        a kind whose control is not a stretch of the material (a volume, a twist) says how."""
+        key = self.load_key_for(specimen.shape, dict(test.options))
+        return key, lambda s: self.isochoric(self.at(test.targets, s))
+
+    def has_state(self, shape: str) -> bool:
+        """Whether ``state`` of the control values is the material's state on ``shape`` (what the
+        admissibility check reads): ``homogeneous`` unless the kind says otherwise."""
+        return self.homogeneous
 
     def has_oracle(self, shape: str, grips: str) -> bool:
         return self.oracle_setups.get(shape) == grips

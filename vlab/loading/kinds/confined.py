@@ -21,9 +21,14 @@ from vlab import fields
 from vlab.fields import SceneError
 from vlab.loading.kinds.base import PlotSpec, TestKind, relative_error, stretch_value
 
+PLATEN_DEPTH = 0.08  # a platen's thickness in the renders, per specimen length
+DIE_GAP = 0.02  # the drawn die wall's clearance, per section size (the bore itself is the specimen's)
+DIE_OPACITY = 0.22  # the die's wall is drawn see-through: the specimen inside shows
+
 
 class ConfinedCompression(TestKind):
     name = "confined-compression"
+    control_name = "platen stretch"
     axes = (0,)
     oracle_setups = {"cylinder": "die", "block": "die"}
     symmetric = False
@@ -58,6 +63,33 @@ class ConfinedCompression(TestKind):
         from vlab.loading.die import die_loading
 
         return die_loading(specimen, X, test.targets[0])
+
+    def fixtures(self, specimen) -> tuple:
+        """The die (see-through: its bore, a tube r = a about the cylinder's axis, or the block's four
+        side walls) and the two platens (discs or plates of the section, PLATEN_DEPTH × L thick),
+        the one on x = L bonded to that end face; the die runs on past both platens. Its wall is
+        drawn DIE_GAP of the section outside the specimen's surface, which it would otherwise
+        cover pixel for pixel."""
+        from vlab.geometry import fixtures as fx
+
+        X = specimen.mesh.p.T
+        lo, hi = X.min(axis=0), X.max(axis=0)
+        depth = PLATEN_DEPTH * (hi[0] - lo[0])
+        tol = 1e-9 * specimen.length_scale
+        ends = ((lo[0] - depth, lo[0], lambda P: np.abs(P[:, 0] - lo[0]) <= tol),
+                (hi[0], hi[0] + depth, lambda P: np.abs(P[:, 0] - hi[0]) <= tol))
+        if specimen.shape == "cylinder":
+            centre, radius = 0.5 * (lo[1:] + hi[1:]), 0.5 * float(hi[1] - lo[1])
+            wall = fx.tube(lo[0] - 2 * depth, hi[0] + 2 * depth, centre, (1.0 + DIE_GAP) * radius)
+            plates = [fx.disc(a, b, centre, radius) for a, b, _ in ends]
+        else:
+            gap = DIE_GAP * (hi - lo)
+            wall = fx.square_tube((lo[0] - 2 * depth, lo[1] - gap[1], lo[2] - gap[2]),
+                                  (hi[0] + 2 * depth, hi[1] + gap[1], hi[2] + gap[2]))
+            plates = [fx.box((a, lo[1], lo[2]), (b, hi[1], hi[2])) for a, b, _ in ends]
+        return (fx.Part("die", *wall, None, fx.DIE_COLOUR, DIE_OPACITY),
+                fx.Part("fixed platen", *plates[0], ends[0][2], fx.PLATEN_COLOUR),
+                fx.Part("moving platen", *plates[1], ends[1][2], fx.PLATEN_COLOUR))
 
     def isochoric(self, values):
         return np.eye(3)  # the die's state changes only the volume: no isochoric part to lock

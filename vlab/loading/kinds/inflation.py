@@ -35,6 +35,9 @@ from vlab import fields
 from vlab.fields import SceneError
 from vlab.loading.kinds.base import LoadFromZero, PlotSpec, TestKind, relative_error, stretch_value
 
+GROWTH = 2.0  # a bulge's first levels: each at most this factor above the one before
+TRANSITION_HEIGHT = 10.0  # pole height, in sheet thicknesses, up to which a bulge's levels are halved
+
 
 class Inflation(TestKind):
     name = "inflation"
@@ -124,6 +127,44 @@ class Inflation(TestKind):
     def isochoric(self, values):
         lam = values[0]
         return np.diag([lam, lam, lam**-2])  # the inner wall: equibiaxial, isochoric
+
+    def locking_path(self, test, specimen):
+        """A sphere's inner wall, diag(λ, λ, λ⁻²) at the hoop stretch λ; a membrane's volume ratio v
+        is not a stretch: its path is the equibiaxial stretch √A(v) of the least-area cap that
+        holds the pumped volume (vlab.loading.bulge.cap_area_ratio), a lower bound of the bulge's
+        worst state, so a test is refused only where the sheet surely locks."""
+        key, path = super().locking_path(test, specimen)
+        if specimen.shape != "membrane":
+            return key, path
+        from vlab.loading.bulge import cap_area_ratio
+
+        return key, lambda s: self.isochoric([np.sqrt(cap_area_ratio(self.at(test.targets, s)[0]))])
+
+    def scheduled(self, levels, test, specimen):
+        """A membrane pumped under volume control leaves plate bending for membrane action while its
+        pole rises through a few thicknesses t₀, and Newton needs 40–90 iterations and cutbacks
+        to cross that from a bent plate in one level. Its monotonic schedule gains levels there:
+        the first regular level t₁ over GROWTH^k (k = 1, 2, …) down to the modulus window's last
+        level, and a midpoint in every regular interval that starts before the least-area cap of
+        the pumped volume (vlab.loading.bulge.cap_area_ratio) reaches TRANSITION_HEIGHT × t₀."""
+        if specimen.shape != "membrane" or test.option("control") != "volume" or test.protocol.name != "monotonic":
+            return levels
+        from vlab.loading.protocol import Levels
+
+        t = np.asarray(levels.t, dtype=float)
+        first = 1.0 / test.steps
+        window = t[t < first * (1.0 - 1e-9)]
+        floor = window.max() * np.sqrt(GROWTH) if window.size else 0.0
+        extra = [x for x in first / GROWTH ** np.arange(1, 8) if x > floor]
+        eta = TRANSITION_HEIGHT * specimen.thickness / specimen.radius  # the cap's height / a
+        band = eta * (3.0 + eta * eta) / 6.0 / (test.targets[0] - 1.0)  # its load parameter: V = (v − 1) π a³
+        extra += [(k + 0.5) * first for k in range(1, test.steps) if k * first < band]
+        merged = np.unique(np.concatenate([t, extra]))
+        return Levels(merged, None, np.zeros(len(merged), dtype=bool))
+
+    def has_state(self, shape: str) -> bool:
+        """A membrane's control is a volume ratio: no material state follows from it alone."""
+        return shape != "membrane"
 
     def areas(self, specimen) -> dict[int, float]:
         return {0: specimen.area0[0]}  # the octant's cavity volume V₀ (mm³): the pressure reader's

@@ -27,6 +27,13 @@ function traces(m, field, level) {
   const o = columns(G.outline, 3, G.outline.length / 3);
   out.push({type: "scatter3d", mode: "lines", x: o[0], y: o[1], z: o[2], name: "undeformed outline",
     line: {color: "#888", width: 2}, hoverinfo: "skip", connectgaps: false});
+  const named = new Set();  // one legend entry per kind of part (a shear test's two plates: one)
+  for (const F of M.fixtures || []) { const P = f32(F.X), T = i32(F.tri), d = F.move[level], k = P.length / 3;
+    const q = [[], [], []]; for (let p = 0; p < k; p++) for (let c = 0; c < 3; c++) q[c].push(P[3 * p + c] + d[c]);
+    const t = columns(T, 3, T.length / 3);
+    out.push({type: "mesh3d", x: q[0], y: q[1], z: q[2], i: t[0], j: t[1], k: t[2], name: F.name, color: F.colour,
+      opacity: F.opacity, flatshading: true, hoverinfo: "skip", legendgroup: F.name, showlegend: !named.has(F.name),
+      lighting: {ambient: 0.55}}); named.add(F.name); }
   for (const [name, mark] of Object.entries(M.marks)) { const p = columns(f32(mark.xyz[level]), 3, 2);
     out.push({type: "scatter3d", mode: "markers", x: p[0], y: p[1], z: p[2], name,
       marker: {size: 6, color: mark.colour, line: {color: "black", width: 1}}}); }
@@ -48,6 +55,7 @@ function setModel() { const M = D.models[+$("model").value];
   $("level").max = M.levels.length - 1; $("level").value = M.start; draw(); }
 D.models.forEach((M, i) => $("model").add(new Option(M.name, i)));
 Object.entries(D.fields).forEach(([k, label]) => $("field").add(new Option(label, k)));
+if (D.field in D.fields) $("field").value = D.field;  // the report's colouring (torsion: the shear strain)
 $("model").onchange = setModel; $("field").onchange = draw; $("level").oninput = draw;
 window.addEventListener("resize", draw);
 if (typeof Plotly === "undefined") $("view").textContent = D.plotly_missing;  // moved without ../_assets
