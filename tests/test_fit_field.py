@@ -250,6 +250,9 @@ def test_mu_of_a_dogbone_from_vlab_runs_own_images_within_1_percent(tmp_path):
     r = subprocess.run([sys.executable, "-m", "vlab", "fit", str(fit), "--out", "out"],
                        capture_output=True, text=True, timeout=600, cwd=tmp_path)
     assert r.returncode == 0, r.stdout + r.stderr
-    mu = json.loads((tmp_path / "out" / "fit.json").read_text())["parameters"]["mu"]
+    d = json.loads((tmp_path / "out" / "fit.json").read_text())
+    mu = d["parameters"]["mu"]
     print(f"dogbone: mu = {mu:.6g}, error {mu / MU - 1:+.3%}")
     assert abs(mu / MU - 1) < 0.01
+    e2e = d["datasets"][0]["end_to_end"]  # the scene's own mu = 0.4 made the images
+    assert e2e["constants"]["mu"]["relative_error"] == pytest.approx(mu / MU - 1, rel=1e-9)
