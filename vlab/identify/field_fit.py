@@ -228,7 +228,7 @@ def _truth_section(row: dict) -> str:
     head = (f"<h3>End to end: {html.escape(row['name'])}</h3><p>The images were rendered and correlated by vlab run "
             f"of the scene {html.escape(str(e['scene']))} ({html.escape(str(e['source_model']))}).")
     if not e["comparable"]:
-        return head + f" {html.escape(e['note'])}</p>"
+        return head + f" {html.escape(e['note'][:1].upper() + e['note'][1:])}</p>"
     rows = "".join(f"<tr><td>{html.escape(n)}</td><td>{c['true']:.6g}</td><td>{c['fitted']:.6g}</td>"
                    f"<td>{100 * c['relative_error']:+.3f} %</td><td>"
                    f"{'—' if c['standard_errors'] is None else format(c['standard_errors'], '+.2f')}</td></tr>"
