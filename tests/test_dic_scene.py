@@ -226,6 +226,12 @@ def test_the_dic_folder_holds_images_fields_levels_and_json(report):
     assert camera["face"]["axis"] == "z" and camera["face"]["side"] == 1 and "convention" in camera
     assert (dic / "maps.png").stat().st_size > 10_000
     assert "Digital image correlation" in (report / "index.html").read_text()
+    source = meta["source"]  # what made the images: the scene's [material] as given, its moduli, the seeds
+    assert source["scene"] == "dogbone-dic" and source["material"] == {"model": "linear", "E": 200.0, "nu": 0.3}
+    moduli = source["moduli"]  # the closed forms of E and nu, not vlab's conversion
+    assert moduli["mu"] == pytest.approx(200.0 / 2.6, rel=1e-14) and moduli["K"] == pytest.approx(200.0 / 1.2, rel=1e-14)
+    assert moduli["lambda"] == pytest.approx(200.0 * 0.3 / (1.3 * 0.4), rel=1e-14)
+    assert source["seeds"] == {"camera": 0, "speckle": 1}
 
 
 def test_an_order_2_run_renders_through_quadratic_face_cells(tmp_path):

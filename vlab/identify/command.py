@@ -17,6 +17,7 @@ __all__ = ["fit_command"]
 
 def _print_fit(console: Console, d: dict, errors: Console | None = None) -> None:
     """The fit's summary on ``console`` (stdout in the CLI); its warnings on ``errors`` (stderr)."""
+    from vlab.identify.field_truth import summary_lines
     from vlab.identify.report import percent
 
     # Text, not markup: the CLI's console prints verbatim (a name or reason may hold "[...]")
@@ -33,6 +34,8 @@ def _print_fit(console: Console, d: dict, errors: Console | None = None) -> None
                   if x["kind"] == "field" else "")  # the relative errors of a field fit are its force's
         console.print(f"  {x['name']} ({x['kind']}, {x['role']}): {'force ' if strain else ''}rms "
                       f"{percent(x['rms_relative'])}, max {percent(x['max_relative'])}{strain}", highlight=False)
+        for line in summary_lines(x.get("end_to_end")):
+            console.print(f"    {line}", highlight=False, soft_wrap=True)
     _print_specimens(console, d.get("specimens"))
     for w in d["warnings"]:
         (errors or console).print(Text.assemble("  ", ("warning", "yellow"), f" {w}"), highlight=False,

@@ -79,6 +79,7 @@ class FieldData:
     strain_noise: float
     force_resolution: float
     subset: int = 0
+    source: dict | None = None  # dic.json's "source" (vlab run: what made the images); None for real images
 
 
 def field_dataset(raw: dict, i: int, base: Path):
@@ -103,7 +104,8 @@ def field_dataset(raw: dict, i: int, base: Path):
     fmax = max(abs(lv.force) for lv in levels)
     sigma_f = t.number("force_resolution", max(FORCE_SHARE * fmax, 1e-12), gt=0, note=" (N)")
     sigma_e = t.number("strain_noise", _noise_floor(settings), gt=0, le=1.0, note=" (strain)")
-    data = FieldData(str(folder), xs, ys, step, window, camera, levels, sigma_e, sigma_f, subset)
+    data = FieldData(str(folder), xs, ys, step, window, camera, levels, sigma_e, sigma_f, subset,
+                     _source(settings, folder))
     disp = np.array([lv.displacement for lv in levels])
     force = np.array([lv.force for lv in levels])
     return Dataset(str(t.get("name", folder.name)), str(folder), "field", "fit",
@@ -121,6 +123,18 @@ def _dic_json(folder: Path) -> dict:
     if not isinstance(d, dict):
         raise SceneError(f"{path}: must hold a JSON object (vlab dic's dic.json)")
     return d
+
+
+def _source(settings: dict, folder: Path) -> dict | None:
+    """dic.json's "source" (vlab run's record of the scene and material that made the images), None
+    if absent; a SceneError naming the file when it is there without a material table."""
+    source = settings.get("source")
+    if source is None:
+        return None
+    if not isinstance(source, dict) or not isinstance(source.get("material"), dict):
+        raise SceneError(f"{folder / 'dic.json'} source: must be an object with a \"material\" table (vlab run "
+                         f"writes the scene's [material] there), got {fields.show(source)}")
+    return source
 
 
 def _noise_floor(settings: dict) -> float:

@@ -28,6 +28,7 @@ from vlab.identify.drucker import kind_stability
 from vlab.identify.fe_loop import _card_space, _identifiability, _model_entry, _one_start, closed_form, lm_fit
 from vlab.identify.field_model import face_points, interpolation, levelled, subset_interpolation, usable
 from vlab.identify.field_sim import simulate_field
+from vlab.identify.field_truth import end_to_end
 
 __all__ = ["fit_field", "field_residuals", "field_section"]
 
@@ -139,6 +140,8 @@ def fit_field(spec, execution=None):
     model = closed_form(spec.fe, "fit")
     x, cov_x = _card_space(model, values, names, cov)
     errors = [_dataset_errors(d, s) for d, s in zip(prob.sets, summaries)]
+    for row, d in zip(errors, prob.sets):  # virtual images: the constants that made them (field_truth)
+        row["end_to_end"] = end_to_end(d.extra["field"], spec.fe, dict(zip(names, map(float, p))), stats["uncertainty"])
     data = {
         "name": spec.name, "converged": bool(converged), "reason": reason,
         "model": _model_entry(spec, model, values, names),
@@ -213,7 +216,28 @@ def field_section(d: dict) -> str:
             f"{html.escape(fe['scene'])} ({fe['dofs']} DOFs); the FE strains levelled through the DIC's strain "
             "window at each subset, against the DIC strains, and the load cell.</p><table><tr><th>data</th>"
             "<th>levels</th><th>strain values (subsets × levels)</th><th>σ_E</th><th>σ_F (N)</th>"
-            f"<th>strain rms error</th><th>strain max error</th><th>force rms relative</th></tr>{rows}</table>")
+            f"<th>strain rms error</th><th>strain max error</th><th>force rms relative</th></tr>{rows}</table>"
+            + "".join(_truth_section(e) for e in d["datasets"] if e.get("end_to_end")))
+
+
+def _truth_section(row: dict) -> str:
+    """The end-to-end error of one data set made by vlab run (vlab.identify.field_truth)."""
+    import html
+
+    e = row["end_to_end"]
+    head = (f"<h3>End to end: {html.escape(row['name'])}</h3><p>The images were rendered and correlated by vlab run "
+            f"of the scene {html.escape(str(e['scene']))} ({html.escape(str(e['source_model']))}).")
+    if not e["comparable"]:
+        return head + f" {html.escape(e['note'][:1].upper() + e['note'][1:])}</p>"
+    rows = "".join(f"<tr><td>{html.escape(n)}</td><td>{c['true']:.6g}</td><td>{c['fitted']:.6g}</td>"
+                   f"<td>{100 * c['relative_error']:+.3f} %</td><td>"
+                   f"{'—' if c['standard_errors'] is None else format(c['standard_errors'], '+.2f')}</td></tr>"
+                   for n, c in e["constants"].items())
+    held = "".join(f" {html.escape(n)} was held at {h['value']:.6g} against the images' {h['source']:.6g}."
+                   for n, h in e["held"].items() if not h["matches_source"])
+    return (head + f" The identified constants against those that made the images:{held}</p><table><tr>"
+            "<th>constant</th><th>made the images</th><th>identified</th><th>relative error</th>"
+            f"<th>error in standard errors</th></tr>{rows}</table>")
 
 
 def _plot(d, summary, path) -> None:

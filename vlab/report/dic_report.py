@@ -9,7 +9,8 @@ Files, in the model's folder (the report folder for one model):
                               displacement (λ − 1) L₀ in mm, load-cell force in N)
     dic/dic.json              settings, camera (pixels, mm_per_px, centre, face, the pixel ↔ face
                               convention), per image the correlation summary and FE-vs-DIC levelled,
-                              the noise floor, the virtual extensometer, timing
+                              the noise floor, the virtual extensometer, timing, and
+                              "source": what made the images (source_entry; `vlab dic` has none)
     dic/maps.png              the last level: DIC, levelled FE and their difference
 
 results.json gets ``measured.dic`` (the virtual extensometer's E and ν beside the point
@@ -85,7 +86,7 @@ def write_folder(result_data: dict, run, folder: Path) -> list[str]:
     data = {"reference": names[0], "columns": list(output.COLUMNS), "images": images,
             "levels_csv": {"columns": ["image", "displacement", "force"], "units": {"displacement": "mm", "force": "N"},
                            "displacement": "grip displacement (lambda_grip - 1) L0, L0 the full specimen's grip separation"},
-            "virtual_extensometer": result_data["measured"].get("dic")} | {
+            "virtual_extensometer": result_data["measured"].get("dic"), "source": source_entry(result_data, rec.view)} | {
         k: v for k, v in result_data["dic"].items() if k in ("camera", "settings", "noise_floor", "metrics", "timing")}
     (root / "dic.json").write_text(json.dumps(_clean(data), indent=2), encoding="utf-8")
     files = ["dic/dic.json", "dic/levels.csv"]
@@ -93,6 +94,20 @@ def write_folder(result_data: dict, run, folder: Path) -> list[str]:
         plot_maps(root / "maps.png", rec.fields[-1], run.levelled_last, names[-1], rec.view.camera.pitch)
         files.append("dic/maps.png")
     return files
+
+
+def source_entry(result_data: dict, view) -> dict:
+    """dic.json's "source": what made the images, for `vlab fit` to score its identification
+    against (vlab.identify.field_truth). The scene's name, its [material] table as the scene gave it
+    (a [compare.<label>] card or a --set override included), the small-strain moduli it implies
+    (vlab.moduli.from_pair of the given pair, or of (μ0, K) for a card: E, ν, λ, μ, K, M in MPa,
+    K = λ + 2μ/3) and the seeds of the camera's sensor noise and of the speckle."""
+    scene, given = result_data["scene"], result_data["input"]
+    moduli = {k: given[k] for k in ("E", "nu", "lambda", "mu", "K", "M")}
+    return {"scene": scene["name"], "material": dict(scene["source"]["material"]),
+            "moduli": moduli | {"units": {"E": "MPa", "nu": "1", "lambda": "MPa", "mu": "MPa", "K": "MPa", "M": "MPa"}},
+            "seeds": {"camera": view.camera.seed, "speckle": view.speckle.seed},
+            "note": "virtual images: vlab run rendered them from the FE solution of this material"}
 
 
 def _clean(value):
