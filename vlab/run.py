@@ -143,6 +143,7 @@ def _diagnostics(prepared: Prepared, solved: Solved, measured: Measured, monitor
     out = Diagnostics(
         mesh_quality=prepared.quality.as_dict(),
         linear_solver={"requested": scene.solver.linear, "newton": solved.linear_solver,
+                       "choice": solved.linear_choice,
                        "direct": solver_in_use(), "amg_setups": solved.history.amg_setups,
                        "factorizations": solved.history.factorizations,
                        "stability_methods": _method_counts(monitor)},

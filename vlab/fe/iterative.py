@@ -24,6 +24,8 @@ from __future__ import annotations
 
 import logging
 import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 import scipy.sparse as sp
@@ -32,6 +34,9 @@ from vlab import settings
 from vlab.fe.blas import serial_openblas
 from vlab.fe.linsolve import Factorization, SingularSystem
 from vlab.fe.timers import LINEAR_SOLVE, timed
+
+if TYPE_CHECKING:
+    from vlab.fe.pardiso import FactorCost
 
 log = logging.getLogger(__name__)
 
@@ -68,23 +73,93 @@ def available() -> str | None:
 #: lower: 317 against 443 MB at 16³)
 CROSSOVER = {"pardiso": 20_000, "superlu": 5_000}
 
+#: The DOF count is the crossover of cubes only. What a factorization costs depends on the
+#: mesh's shape: nested dissection fills a 3D body as n^(4/3) (flops ∝ n²) but a thin shell, a
+#: plate or a sheet like a 2D mesh (flops ∝ n^1.5), while a CG iteration costs the same per
+#: stored entry of K in both. So above CROSSOVER, with PARDISO, ``decide`` asks PARDISO's
+#: analysis (its METIS ordering, kept for the factorizations) how many flops one factorization
+#: takes per stored entry of K_ff, and stays direct below this ratio. Whole runs, quiet 2-core
+#: machine (PARDISO threaded, CG + AMG serial), wall s (CPU s), vlab's Neo-Hookean scenes
+#: (/tmp scripts of 2026-12-06; the octant and the cylinder are benchmarks/kinds_felupe.py's):
+#:   mesh (free DOFs)                          flops/nnz   PARDISO + Cholesky   CG + AMG + LOBPCG
+#:   sphere octant A 10, H 1, 30 steps (44,520)    2,811   24.6 (47.2)          108.0 (112.5)
+#:   plate 60×20×6 h 0.75, 10 steps (60,729)       6,039   14.8 (28.0)           41.8 (43.6)
+#:   plate 30×30×10 h 0.9, 10 steps (46,862)       9,016   13.9 (27.0)           24.2 (25.2)
+#:   cube 24³, 10 steps (45,622)                  12,112   17.1 (32.9)           19.8 (20.5)
+#:   cylinder torsion, 10 steps (49,959)          14,148   69.2 (135.4)          68.1 (71.1)
+#: The direct path is faster in wall time up to ~14,000 and costs no more CPU up to ~9,000;
+#: the crossover sits between: direct while the factorization is the cheaper in both
+FLOPS_PER_NONZERO = 10_000
+#: Beyond this many free DOFs even a shell's factorization costs more per entry (2,811 at 44,520
+#: growing as √n), and METIS's ordering alone takes seconds: CG + AMG without asking
+ANALYSE_UP_TO = 500_000
+#: The factor (two slots of PARDISO's, vlab.fe.pardiso.SLOTS) may take this share of the
+#: memory available when the run starts; else CG + AMG, whose memory grows linearly
+FACTOR_MEMORY_SHARE = 0.5
+
+
+@dataclass(frozen=True)
+class LinearChoice:
+    """The linear path of a run's Newton corrections and stability checks, and why."""
+
+    path: str  # "direct" | "cg-amg"
+    reason: str
+
 
 def choose(requested: str, n_free: int, direct_backend: str, supported: bool = True) -> str:
-    """"direct" or "cg-amg" for ``[solver] linear`` = auto | direct | cg-amg.
+    """"direct" or "cg-amg" for ``[solver] linear`` by the DOF count alone (``decide``, without
+    the factorization's cost: what the size budget uses before the mesh exists)."""
+    return decide(requested, n_free, direct_backend, supported).path
+
+
+def decide(requested: str, n_free: int, direct_backend: str, supported: bool = True,
+           cost: Callable[[], "FactorCost | None"] | None = None) -> LinearChoice:
+    """The path for ``[solver] linear`` = auto | direct | cg-amg.
 
     auto: CG + AMG from the measured crossover of the installed direct solver on (or from the
-    installed settings' ``iterative_from``), if pyamg is installed. An explicit "cg-amg" without
-    pyamg raises ValueError naming the setting. ``supported`` False (a body CG + AMG does not
-    take: see ``supports``) keeps the direct path."""
+    installed settings' ``iterative_from``), if pyamg is installed; there, with PARDISO and no
+    ``iterative_from``, ``cost()`` (PARDISO's analysis of K_ff: vlab.fe.linsolve.factorization_cost)
+    keeps the direct path while a factorization costs ≤ FLOPS_PER_NONZERO flops per stored entry
+    and its factor fits the memory (the comment above). An explicit "cg-amg" without pyamg
+    raises ValueError naming the setting. ``supported`` False (a body CG + AMG does not take:
+    see ``supports``) keeps the direct path."""
     if requested == "cg-amg" and available() is None:
         raise ValueError("solver.linear = 'cg-amg' needs pyamg (pip install pyamg)")
     if not supported:
-        return "direct"
+        return LinearChoice("direct", "CG + AMG does not take this body (not 3D displacement DOFs)")
     if requested != "auto":
-        return requested
+        return LinearChoice(requested, f"solver.linear = {requested!r}")
     start = settings.current().iterative_from
     threshold = start if start is not None else CROSSOVER.get(direct_backend, CROSSOVER["superlu"])
-    return "cg-amg" if n_free >= threshold and available() is not None else "direct"
+    if n_free < threshold or available() is None:
+        why = "pyamg is not installed" if n_free >= threshold else f"{n_free:,} free DOFs < {threshold:,}"
+        return LinearChoice("direct", f"auto: {why}")
+    above = f"auto: {n_free:,} free DOFs ≥ {threshold:,}"
+    if start is not None or direct_backend != "pardiso" or cost is None or n_free > ANALYSE_UP_TO:
+        return LinearChoice("cg-amg", above)
+    return _by_factorization_cost(cost(), above)
+
+
+def _by_factorization_cost(found: "FactorCost | None", above: str) -> LinearChoice:
+    if found is None:
+        return LinearChoice("cg-amg", above)
+    ratio = found.flops_per_nonzero
+    what = (f"{above}, and PARDISO's analysis predicts {found.mflops / 1e3:.3g} GFLOP per factorization, "
+            f"{ratio:,.0f} flops per entry of K_ff")
+    if ratio > FLOPS_PER_NONZERO:
+        return LinearChoice("cg-amg", f"{what} > {FLOPS_PER_NONZERO:,}")
+    fits = found.factor_bytes * 2 <= FACTOR_MEMORY_SHARE * _available_memory()
+    if not fits:
+        return LinearChoice("cg-amg", f"{what}, but its factor ({found.factor_bytes / 1e9:.3g} GB, "
+                                      f"two kept) does not fit half the free memory")
+    return LinearChoice("direct", f"{what} ≤ {FLOPS_PER_NONZERO:,}: a factorization costs less than "
+                                  f"the CG iterations it replaces")
+
+
+def _available_memory() -> float:
+    import psutil
+
+    return float(psutil.virtual_memory().available)
 
 
 def supports(body) -> bool:

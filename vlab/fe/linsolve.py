@@ -232,18 +232,54 @@ class _PatternCache:
         self._entries: list[tuple[np.ndarray, np.ndarray, pardiso.PardisoPattern]] = []
 
     def get(self, K: sp.csr_matrix) -> pardiso.PardisoPattern:
-        for k, (indptr, indices, pattern) in enumerate(self._entries):
-            if (len(indices) == len(K.indices) and np.array_equal(indptr, K.indptr)
-                    and np.array_equal(indices, K.indices)):
-                self._entries.append(self._entries.pop(k))
-                return pattern
+        k = self._find(K)
+        if k is not None:
+            self._entries.append(self._entries.pop(k))
+            return self._entries[-1][2]
         pattern = pardiso.PardisoPattern(K)
         self._entries.append((K.indptr.copy(), K.indices.copy(), pattern))
         del self._entries[:-_PATTERNS_KEPT]
         return pattern
 
+    def _find(self, K: sp.csr_matrix) -> int | None:
+        for k, (indptr, indices, _) in enumerate(self._entries):
+            if (len(indices) == len(K.indices) and np.array_equal(indptr, K.indptr)
+                    and np.array_equal(indices, K.indices)):
+                return k
+        return None
+
+    def drop(self, K: sp.csr_matrix) -> None:
+        k = self._find(K)
+        if k is not None:
+            del self._entries[k]  # the PardisoPattern's __del__ releases PARDISO's memory
+
 
 _patterns = _PatternCache()
+
+
+def factorization_cost(K: sp.spmatrix) -> "pardiso.FactorCost | None":
+    """What one factorization of K's pattern would cost with PARDISO, from its analysis (kept for
+    the factorizations that may follow); None without PARDISO or for a pattern it cannot take.
+    A run that then solves iteratively drops the analysis with ``forget_pattern``."""
+    if solver_in_use() != "pardiso" or K.shape[0] == 0:
+        return None
+    K = _sorted_csr(K)
+    try:
+        pattern = _patterns.get(K)
+        return pattern.predicted_cost(pattern.upper_values(K))
+    except (ValueError, pardiso.PardisoError) as exc:
+        log.debug("no PARDISO analysis of this pattern: %s", exc)
+        return None
+
+
+def forget_pattern(K: sp.spmatrix) -> None:
+    """Release PARDISO's analysis of K's pattern (its memory), if one is cached."""
+    _patterns.drop(_sorted_csr(K))
+
+
+def _sorted_csr(K: sp.spmatrix) -> sp.csr_matrix:
+    K = K if sp.issparse(K) and K.format == "csr" else sp.csr_matrix(K)
+    return K if K.has_sorted_indices else K.sorted_indices()
 
 
 class EmptyFactorization(Factorization):
@@ -262,9 +298,7 @@ def factorize(K: sp.spmatrix) -> Factorization:
     if K.shape[0] == 0:
         return EmptyFactorization()
     if solver_in_use() == "pardiso":
-        K = K if sp.issparse(K) and K.format == "csr" else sp.csr_matrix(K)
-        if not K.has_sorted_indices:
-            K = K.sorted_indices()
+        K = _sorted_csr(K)
         try:
             pattern = _patterns.get(K)
         except ValueError as exc:  # a pattern PARDISO cannot take: SuperLU can

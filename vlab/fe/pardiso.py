@@ -45,6 +45,27 @@ _ERRORS = {-1: "input inconsistent", -2: "not enough memory", -3: "reordering pr
            -11: "read/write problem with OOC data file", -12: "pardiso_64 called from 32-bit library"}
 
 
+@dataclass(frozen=True)
+class FactorCost:
+    """What PARDISO's analysis (phase 11: METIS ordering, symbolic factorization) predicts for
+    every numerical factorization of one sparsity pattern, before any is made."""
+
+    factor_nonzeros: int  # entries of the Cholesky factor L (iparm(18))
+    mflops: int  # 10⁶ floating-point operations of one numerical factorization (iparm(19))
+    matrix_nonzeros: int  # stored entries of the full symmetric matrix (both triangles)
+
+    @property
+    def flops_per_nonzero(self) -> float:
+        """Factorization flops per stored entry of K: a CG iteration costs O(1) per entry (the
+        matrix-vector product and the V-cycle's smoothing), so this ratio, not the DOF count, says
+        how many CG iterations one factorization is worth (vlab.fe.iterative.decide)."""
+        return 1e6 * self.mflops / max(self.matrix_nonzeros, 1)
+
+    @property
+    def factor_bytes(self) -> int:
+        return 8 * self.factor_nonzeros
+
+
 class PardisoError(RuntimeError):
     def __init__(self, code: int, phase: int):
         super().__init__(f"PARDISO phase {phase} error {code}: {_ERRORS.get(code, 'unknown')}")
@@ -198,6 +219,22 @@ class PardisoPattern:
         self.tick += 1
         self.clock[slot] = self.tick
         return slot
+
+    def predicted_cost(self, values: np.ndarray) -> FactorCost:
+        """The analysis's prediction (FactorCost), the analysis kept for the factorizations to
+        come; ``values`` (upper triangle) are not read by an SPD analysis without scaling or
+        matching, only the pattern is."""
+        if self._cost is None:
+            ip = self.handle.iparm
+            ip[17], ip[18] = -1, -1  # report nnz(L) and the factorization's MFLOP count
+            self.handle.call(11, 0, (values, self.ia, self.ja))
+            if self.handle.analysed:  # a new analysis voids the factors made on the old one
+                self.owner = [None] * SLOTS
+            self.handle.analysed = True
+            self._cost = FactorCost(int(ip[17]), int(ip[18]), 2 * len(self.ja) - self.n)
+        return self._cost
+
+    _cost: FactorCost | None = None
 
     def _factor(self, slot: int, matrix) -> None:
         if not self.handle.analysed:

@@ -12,13 +12,16 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Callable
 
+import numpy as np
+import scipy.sparse as sp
+
 from vlab.checks.admissibility import inadmissible_request
 from vlab.checks.conditioning import restrained_but_singular
 from vlab.checks.locking import locking_prone
 from vlab.checks.monitor import MonitorOptions, StabilityMonitor
 from vlab.effects import EFFECTS
-from vlab.fe.iterative import choose as choose_linear, supports
-from vlab.fe.linsolve import solver_in_use
+from vlab.fe.iterative import decide as decide_linear, supports
+from vlab.fe.linsolve import factorization_cost, forget_pattern, solver_in_use
 from vlab.fe.newton import CHORD_CONTRACTION, NewtonOptions
 from vlab.fe.system import System
 from vlab.fe.stepping import Failure, Level, SolveHistory, Stepping, run_schedule
@@ -37,6 +40,7 @@ Observer = Callable[[Level], None]
 class Solved:
     history: SolveHistory
     linear_solver: str  # what Newton's corrections used: "direct" | "cg-amg"
+    linear_choice: str = ""  # why (vlab.fe.iterative.decide)
 
 
 def stability_monitor(prepared: Prepared) -> StabilityMonitor:
@@ -53,11 +57,11 @@ def stability_monitor(prepared: Prepared) -> StabilityMonitor:
 def solve(prepared: Prepared, monitor: StabilityMonitor, observers: list[Observer]) -> Solved:
     """Run the test's load schedule; a request that cannot be solved at all is a failure at level 0."""
     scene, specimen = prepared.scene, prepared.specimen
-    linear_solver = choose_linear(scene.solver.linear, len(prepared.partition.free), solver_in_use(),
-                                  supports(prepared.body))
     refusal = _refusal(prepared)
+    choice = _linear_path(prepared, analyse=refusal is None)  # nothing is solved after a refusal
+    linear_solver = choice.path
     if refusal is not None:
-        return Solved(SolveHistory(failure=Failure(0, 1.0, 1.0, 0.0, refusal, [])), linear_solver)
+        return Solved(SolveHistory(failure=Failure(0, 1.0, 1.0, 0.0, refusal, [])), linear_solver, choice.reason)
     force_floor = 1e-6 * scene.material.moduli.mu * specimen.length_scale**2
 
     def observe(level: Level) -> None:
@@ -77,7 +81,22 @@ def solve(prepared: Prepared, monitor: StabilityMonitor, observers: list[Observe
         reason = pressure_maximum_reason(prepared, history.failure)
         if reason is not None:  # the specimen's pressure maximum, not the solver's failure
             history.failure = replace(history.failure, reason=reason)
-    return Solved(history, linear_solver)
+    return Solved(history, linear_solver, choice.reason)
+
+
+def _linear_path(prepared: Prepared, analyse: bool = True):
+    """The run's linear path (vlab.fe.iterative.decide): above the DOF crossover, PARDISO's
+    analysis of K_ff's pattern says whether a factorization is cheap on this mesh's shape (a shell
+    fills like a 2D mesh); the analysis serves the factorizations, or is dropped for CG + AMG."""
+    partition = prepared.partition
+    n_free = len(partition.free)
+    pattern = sp.csr_matrix((np.ones(len(partition.ff)), partition.ff_indices, partition.ff_indptr),
+                            shape=(n_free, n_free))
+    choice = decide_linear(prepared.scene.solver.linear, n_free, solver_in_use(), supports(prepared.body),
+                           cost=(lambda: factorization_cost(pattern)) if analyse else None)
+    if choice.path == "cg-amg":
+        forget_pattern(pattern)
+    return choice
 
 
 def _stepping(scene: Scene, monitor: StabilityMonitor, linear_solver: str) -> Stepping:

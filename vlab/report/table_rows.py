@@ -43,7 +43,11 @@ def _solvers(solver: dict) -> str:
     text = _fmt(linear.get("direct"))
     if linear.get("newton") not in (None, "direct", linear.get("direct")):
         text += f" (Newton corrections: {_fmt(linear['newton'])})"
-    return f"{text}; {_fmt(solver.get('tangent_kernel'))}"
+    text = f"{text}; {_fmt(solver.get('tangent_kernel'))}"
+    choice = linear.get("choice") or ""
+    if "free DOFs ≥" in choice:  # above the DOF crossover: say what decided the path
+        text += f"<br><small class=why>{html.escape(choice)}</small>"
+    return text
 
 
 
