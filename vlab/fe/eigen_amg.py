@@ -27,7 +27,8 @@ zero. The iterations stop as soon as the pair asked for is there: with ``accurat
 lowest eigenvalue itself is wanted: ``[solver] eigenvalues``, a study, the stability suite) at
 RESIDUAL_TOL, else (only the verdict is wanted) as soon as the lowest pair is *decided* by the
 second rule, which is the verdict's own acceptance test, so it is not weakened: on a thin shell
-(the 50k-DOF sphere octant of benchmarks/kinds_felupe.py, λ₁ ≈ 9e-3 max|K_ii|, the first two
+(the 50k-DOF sphere octant of benchmarks/kinds_felupe.py with ``solver.linear = "cg-amg"``;
+``auto`` now factorizes it, vlab.fe.iterative.decide; λ₁ ≈ 9e-3 max|K_ii|, the first two
 eigenvalues 3 % apart) the warm-started pair is decided after one to three calls of
 FIRST_ITERATIONS on most levels, while reaching RESIDUAL_TOL took another ~45 iterations of a
 call that only ends when the random column, too, converges: 183 of the run's 306 s (profiled,
