@@ -257,6 +257,7 @@ class _PatternCache:
 _patterns = _PatternCache()
 
 
+@timed(LINEAR_SOLVE)
 def factorization_cost(K: sp.spmatrix) -> "pardiso.FactorCost | None":
     """What one factorization of K's pattern would cost with PARDISO, from its analysis (kept for
     the factorizations that may follow); None without PARDISO or for a pattern it cannot take.
