@@ -97,7 +97,7 @@ def test_a_nearly_singular_spd_matrix_is_reported_by_its_condition_number(backen
 
 
 @pytest.mark.skipif(pardiso.library() is None, reason="PARDISO (vlab[fast]) not installed")
-def test_pardiso_analysis_predicts_a_dense_factor_exactly_and_serves_the_factorizations():
+def test_pardiso_analysis_predicts_a_dense_factor():
     """A full n × n SPD matrix has no fill to order away: its Cholesky factor holds at least
     n(n+1)/2 entries, made in n³/3 flops (leading term), whatever the ordering; PARDISO's
     supernodal storage pads its blocks (96,001 entries and 26 MFLOP at n = 400, measured), so
@@ -111,10 +111,9 @@ def test_pardiso_analysis_predicts_a_dense_factor_exactly_and_serves_the_factori
     assert cost.matrix_nonzeros == n * n
     assert n**3 / 3 / 1e6 - 1 <= cost.mflops <= 2 * n**3 / 3 / 1e6
     assert cost.flops_per_nonzero == pytest.approx(1e6 * cost.mflops / n**2)
-    b = np.ones(n)
-    F = linsolve.factorize(K)  # on the analysis just made: one pattern
-    assert F._pattern.predicted_cost(None) is cost
-    assert linsolve.backward_error(K, F.solve(b), b) < 1e-13
+    blocks = cost.of_blocks(3)  # every entry a 3 × 3 block: 9 × the entries, 27 × the flops
+    assert blocks.flops_per_nonzero == pytest.approx(3 * cost.flops_per_nonzero)
+    assert blocks.factor_bytes == 9 * cost.factor_bytes
 
 
 @pytest.mark.skipif(pardiso.library() is None, reason="PARDISO (vlab[fast]) not installed")
@@ -126,8 +125,8 @@ def test_a_late_analysis_voids_older_factors_which_are_then_made_again():
     cost = F._pattern.predicted_cost(F._pattern.upper_values(K))  # analysed anew with the reports
     assert cost.factor_nonzeros > (K.nnz + K.shape[0]) // 2  # a 3D Laplacian fills in
     assert linsolve.backward_error(K, F.solve(b), b) < 1e-13  # refactorized, not a stale factor
-    linsolve.forget_pattern(K)
-    assert linsolve.factorize(K)._pattern is not F._pattern
+    assert linsolve.factorization_cost(K) == cost  # the same prediction from a pattern of its own
+    assert linsolve.factorize(K)._pattern is F._pattern  # which left the cached one alone
 
 
 def test_no_factorization_cost_without_pardiso():

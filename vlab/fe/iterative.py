@@ -77,8 +77,9 @@ CROSSOVER = {"pardiso": 20_000, "superlu": 5_000}
 #: mesh's shape: nested dissection fills a 3D body as n^(4/3) (flops ∝ n²) but a thin shell, a
 #: plate or a sheet like a 2D mesh (flops ∝ n^1.5), while a CG iteration costs the same per
 #: stored entry of K in both. So above CROSSOVER, with PARDISO, ``decide`` asks PARDISO's
-#: analysis (its METIS ordering, kept for the factorizations) how many flops one factorization
-#: takes per stored entry of K_ff, and stays direct below this ratio. Whole runs, quiet 2-core
+#: analysis (METIS ordering and symbolic factorization, of the node graph: vlab.pipeline.solve)
+#: how many flops one factorization takes per stored entry of K_ff, and stays direct below this
+#: ratio. Whole runs, quiet 2-core
 #: machine (PARDISO threaded, CG + AMG serial), wall s (CPU s), vlab's Neo-Hookean scenes
 #: (/tmp scripts of 2026-12-06; the octant and the cylinder are benchmarks/kinds_felupe.py's):
 #:   mesh (free DOFs)                          flops/nnz   PARDISO + Cholesky   CG + AMG + LOBPCG
@@ -144,8 +145,8 @@ def _by_factorization_cost(found: "FactorCost | None", above: str) -> LinearChoi
     if found is None:
         return LinearChoice("cg-amg", above)
     ratio = found.flops_per_nonzero
-    what = (f"{above}, and PARDISO's analysis predicts {found.mflops / 1e3:.3g} GFLOP per factorization, "
-            f"{ratio:,.0f} flops per entry of K_ff")
+    what = (f"{above}, and PARDISO's analysis predicts ~{found.mflops / 1e3:.3g} GFLOP per factorization, "
+            f"~{ratio:,.0f} flops per entry of K_ff")
     if ratio > FLOPS_PER_NONZERO:
         return LinearChoice("cg-amg", f"{what} > {FLOPS_PER_NONZERO:,}")
     fits = found.factor_bytes * 2 <= FACTOR_MEMORY_SHARE * _available_memory()

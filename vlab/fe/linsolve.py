@@ -248,34 +248,24 @@ class _PatternCache:
                 return k
         return None
 
-    def drop(self, K: sp.csr_matrix) -> None:
-        k = self._find(K)
-        if k is not None:
-            del self._entries[k]  # the PardisoPattern's __del__ releases PARDISO's memory
-
 
 _patterns = _PatternCache()
 
 
 @timed(LINEAR_SOLVE)
 def factorization_cost(K: sp.spmatrix) -> "pardiso.FactorCost | None":
-    """What one factorization of K's pattern would cost with PARDISO, from its analysis (kept for
-    the factorizations that may follow); None without PARDISO or for a pattern it cannot take.
-    A run that then solves iteratively drops the analysis with ``forget_pattern``."""
+    """What one factorization of K's pattern would cost with PARDISO, from its analysis (made on
+    a pattern of its own and released: K may stand for a larger matrix, vlab.pipeline.solve's node
+    graph); None without PARDISO or for a pattern it cannot take."""
     if solver_in_use() != "pardiso" or K.shape[0] == 0:
         return None
     K = _sorted_csr(K)
     try:
-        pattern = _patterns.get(K)
+        pattern = pardiso.PardisoPattern(K)
         return pattern.predicted_cost(pattern.upper_values(K))
     except (ValueError, pardiso.PardisoError) as exc:
         log.debug("no PARDISO analysis of this pattern: %s", exc)
         return None
-
-
-def forget_pattern(K: sp.spmatrix) -> None:
-    """Release PARDISO's analysis of K's pattern (its memory), if one is cached."""
-    _patterns.drop(_sorted_csr(K))
 
 
 def _sorted_csr(K: sp.spmatrix) -> sp.csr_matrix:

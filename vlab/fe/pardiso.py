@@ -65,6 +65,12 @@ class FactorCost:
     def factor_bytes(self) -> int:
         return 8 * self.factor_nonzeros
 
+    def of_blocks(self, b: int) -> "FactorCost":
+        """The cost for the matrix whose every entry of this one's pattern is a b × b block (a
+        node graph → its b DOFs per node): b² entries each, in K and in L, and b³ flops per
+        scalar flop of the factorization's dense kernels."""
+        return FactorCost(self.factor_nonzeros * b * b, self.mflops * b**3, self.matrix_nonzeros * b * b)
+
 
 class PardisoError(RuntimeError):
     def __init__(self, code: int, phase: int):
