@@ -101,13 +101,14 @@ def test_a_set_crossover_is_obeyed_without_asking_for_the_cost():
 @pytest.mark.skipif(pardiso.library() is None, reason="PARDISO (vlab[fast]) not installed")
 def test_a_thin_plate_fills_less_per_entry_than_a_cube_and_a_run_records_why(monkeypatch):
     """Nested dissection fills a plate like a 2D mesh: fewer factorization flops per stored entry
-    than a cube of fewer DOFs (the ratio grows with n, as n^(1/2) in 2D and n in 3D: 335 against
-    482 here, 2,811 against 12,112 at ~45,000 DOFs). With the DOF crossover lowered to this test's size, the
-    run asks PARDISO's analysis and records the path and the reason in results.json."""
+    than a cube of fewer DOFs (the ratio grows with n, as n^(1/2) in 2D and n in 3D: on the node
+    graph 615 against 1,310 here (10,086 and 3,993 DOFs), on K_ff 2,811 against 12,112 at
+    ~45,000 DOFs). With the DOF crossover lowered to this test's size, the run asks PARDISO's
+    analysis and records the path and the reason in results.json."""
     linsolve.use_solver("pardiso")
     try:
-        plate = _run_kind({"shape": "block", "size": [24.0, 24.0, 1.0]}, 1.0, monkeypatch)
-        cube = _run_kind({"shape": "block", "size": [7.0, 7.0, 7.0]}, 1.0, monkeypatch)
+        plate = _run_kind({"shape": "block", "size": [40.0, 40.0, 1.0]}, 1.0, monkeypatch)
+        cube = _run_kind({"shape": "block", "size": [10.0, 10.0, 10.0]}, 1.0, monkeypatch)
     finally:
         linsolve.use_solver("auto")
     ratio = {name: float(r.diagnostics.linear_solver["choice"].split("GFLOP per factorization, ~")[1]

@@ -87,12 +87,13 @@ def solve(prepared: Prepared, monitor: StabilityMonitor, observers: list[Observe
 def _linear_path(prepared: Prepared, analyse: bool = True):
     """The run's linear path (vlab.fe.iterative.decide): above the DOF crossover, PARDISO's
     analysis says whether a factorization is cheap on this mesh's shape (a shell fills like a 2D
-    mesh). It analyses the node graph (``_node_graph``), a ninth of K_ff's entries: 0.82 s instead
-    of 3.2 s on the 48³ cube, whose 348,142 free DOFs then go to CG + AMG, 0.12 s on the sphere
-    octant; its flops per entry, times 3, came within 1-8 % of K_ff's own analysis on the meshes
-    of vlab.fe.iterative's table (measured: 2,811 → 3,031 on the sphere octant, 6,039 → 6,476
-    and 9,016 → 9,081 on the plates, 12,112 → 12,209 on the 24³ cube, 14,148 → 15,175 on the
-    torsion cylinder, 94,763 → 91,596 on the 48³ cube)."""
+    mesh). It analyses the node graph (``_node_graph``), a ninth of K_ff's entries: 1.0 s instead
+    of 3.2 s on the 48³ cube, whose 348,142 free DOFs then go to CG + AMG, 0.11 s on the sphere
+    octant. Its flops per entry, times 3, came 3-10 % above K_ff's own on the meshes of
+    vlab.fe.iterative's table (a node with a prescribed DOF counts as a whole 3 × 3 block; measured:
+    2,811 → 3,046 on the sphere octant, 6,039 → 6,491 and 9,016 → 9,882 on the plates, 12,112 →
+    12,987 on the 24³ cube, 14,148 → 15,175 on the torsion cylinder, 94,763 → 97,875 on the 48³
+    cube), so an error leans to CG + AMG, the path of lower memory."""
     partition = prepared.partition
     choice = decide_linear(prepared.scene.solver.linear, len(partition.free), solver_in_use(),
                            supports(prepared.body), cost=(lambda: _node_graph_cost(partition)) if analyse else None)
@@ -105,13 +106,14 @@ def _node_graph_cost(partition):
 
 
 def _node_graph(partition) -> sp.csr_matrix:
-    """The pattern of K_ff on the x DOFs only (DOF 3 i + c of node i): the graph of the nodes
-    whose x DOF is free, each entry standing for a 3 × 3 block of K_ff."""
+    """The pattern of K_ff on one DOF per node (the first free one of node i's DOFs 3 i + c): the
+    graph of the nodes with a free DOF, each entry standing for a 3 × 3 block of K_ff."""
     n_free = len(partition.free)
     K = sp.csr_matrix((np.ones(len(partition.ff_indices)), partition.ff_indices, partition.ff_indptr),
                       shape=(n_free, n_free))
-    x = np.flatnonzero(partition.free % 3 == 0)
-    return K[x][:, x]
+    node = partition.free // 3  # ascending: a node's free DOFs are neighbours
+    first = np.flatnonzero(np.r_[True, node[1:] != node[:-1]])
+    return K[first][:, first]
 
 
 def _stepping(scene: Scene, monitor: StabilityMonitor, linear_solver: str) -> Stepping:
