@@ -79,16 +79,15 @@ CROSSOVER = {"pardiso": 20_000, "superlu": 5_000}
 #: stored entry of K in both. So above CROSSOVER, with PARDISO, ``decide`` asks PARDISO's
 #: analysis (METIS ordering and symbolic factorization, of the node graph: vlab.pipeline.solve)
 #: how many flops one factorization takes per stored entry of K_ff, and stays direct below this
-#: ratio. Whole runs, quiet 2-core
-#: machine (PARDISO threaded, CG + AMG serial), wall s (CPU s), vlab's Neo-Hookean scenes
-#: (/tmp scripts of 2026-12-06; the octant and the cylinder are benchmarks/kinds_felupe.py's):
+#: ratio. Whole runs, `python benchmarks/linear_path.py` (quiet 2-core machine, load 1.1-1.4;
+#: PARDISO threaded, CG + AMG serial), wall s (CPU s), flops per entry from K_ff's own analysis:
 #:   mesh (free DOFs)                          flops/nnz   PARDISO + Cholesky   CG + AMG + LOBPCG
-#:   sphere octant A 10, H 1, 30 steps (44,520)    2,811   24.6 (47.2)          108.0 (112.5)
-#:   plate 60×20×6 h 0.75, 10 steps (60,729)       6,039   14.8 (28.0)           41.8 (43.6)
-#:   plate 30×30×10 h 0.9, 10 steps (46,862)       9,016   13.9 (27.0)           24.2 (25.2)
-#:   cube 24³, 10 steps (45,622)                  12,112   17.1 (32.9)           19.8 (20.5)
-#:   cylinder torsion, 10 steps (49,959)          14,148   69.2 (135.4)          68.1 (71.1)
-#: The direct path is faster in wall time up to ~14,000 and costs no more CPU up to ~9,000;
+#:   sphere octant A 10, H 1, 30 steps (44,520)    2,811   23.4 (45.2)          109.9 (114.7)
+#:   plate 60×20×6 h 0.75, 10 steps (60,729)       6,039   15.8 (29.8)           43.2 (45.1)
+#:   plate 30×30×10 h 0.9, 10 steps (46,862)       9,016   15.2 (29.0)           24.4 (25.4)
+#:   cube 24³, 10 steps (45,622)                  12,112   21.5 (41.6)           21.6 (22.6)
+#:   cylinder torsion, 10 steps (49,959)          14,149   53.9 (105.4)          50.2 (53.0)
+#: The direct path is the faster in wall time up to ~12,000 and costs no more CPU up to ~9,000;
 #: the crossover sits between: direct while the factorization is the cheaper in both
 FLOPS_PER_NONZERO = 10_000
 #: Beyond this many free DOFs even a shell's factorization costs more per entry (2,811 at 44,520
