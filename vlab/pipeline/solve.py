@@ -95,9 +95,8 @@ def _linear_path(prepared: Prepared, analyse: bool = True):
     12,987 on the 24³ cube, 14,148 → 15,175 on the torsion cylinder, 94,763 → 97,875 on the 48³
     cube), so an error leans to CG + AMG, the path of lower memory."""
     partition = prepared.partition
-    choice = decide_linear(prepared.scene.solver.linear, len(partition.free), solver_in_use(),
-                           supports(prepared.body), cost=(lambda: _node_graph_cost(partition)) if analyse else None)
-    return choice
+    return decide_linear(prepared.scene.solver.linear, len(partition.free), solver_in_use(),
+                         supports(prepared.body), cost=(lambda: _node_graph_cost(partition)) if analyse else None)
 
 
 def _node_graph_cost(partition):
